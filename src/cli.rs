@@ -1,0 +1,219 @@
+//! Command-line interface: `solve` runs a scene headless and prints one line per increment;
+//! `view` (feature `gui`) opens the visualiser or renders a screenshot.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use clap::{Parser, Subcommand, ValueEnum};
+use tsm_contact::history::History;
+use tsm_contact::scene::{self, Scene, SceneError};
+use tsm_contact::solver::report::{ContactChange, Flow};
+use tsm_contact::solver::{Event, Formulation, IncrementRecord, Observer};
+
+#[derive(Parser)]
+#[command(name = "tsm-contact", version, about = "Tangent Stiffness Method for large-displacement contact of plane frames")]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum FormulationArg {
+    Timoshenko,
+    BernoulliEuler,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Solve a scene headless: one line per increment, contact events as they happen.
+    Solve {
+        /// Scene file (RON) or the name of a built-in scene.
+        scene: String,
+        /// Number of steps (default: the scene's).
+        #[arg(long)]
+        steps: Option<usize>,
+        /// Override the element formulation.
+        #[arg(long, value_enum)]
+        formulation: Option<FormulationArg>,
+        /// Write the full history as JSON.
+        #[arg(long)]
+        json: Option<PathBuf>,
+        /// Print every Newton iteration's residual.
+        #[arg(long)]
+        verbose: bool,
+    },
+    /// List the built-in scenes.
+    Scenes,
+    /// Open the visualiser on a scene (default: the built-in default scene).
+    #[cfg(feature = "gui")]
+    View {
+        /// Scene file or built-in name.
+        scene: Option<String>,
+        /// Solve this many steps before showing (with --screenshot: before the shot).
+        #[arg(long)]
+        steps: Option<usize>,
+        /// Render to this PNG file after the steps and exit.
+        #[arg(long)]
+        screenshot: Option<PathBuf>,
+    },
+}
+
+/// Load a scene from a path, or a built-in by name.
+pub fn load_scene(name: &str) -> Result<Scene, SceneError> {
+    let path = Path::new(name);
+    if path.exists() {
+        return scene::load_file(path);
+    }
+    match scene::builtin::builtin(name) {
+        Some(r) => r,
+        None => Err(SceneError {
+            file: name.into(),
+            line: None,
+            field: "(file)".into(),
+            message: "no such file and no built-in scene of that name (try `tsm-contact scenes`)".into(),
+        }),
+    }
+}
+
+pub fn run() -> i32 {
+    let cli = Cli::parse();
+    match cli.command {
+        Some(Command::Solve { scene, steps, formulation, json, verbose }) => solve(&scene, steps, formulation, json, verbose),
+        Some(Command::Scenes) => {
+            for (f, _) in scene::builtin::BUILTIN {
+                println!("{}", f.trim_end_matches(".ron"));
+            }
+            0
+        }
+        #[cfg(feature = "gui")]
+        Some(Command::View { scene, steps, screenshot }) => tsm_contact::app::run(scene, steps, screenshot),
+        None => {
+            #[cfg(feature = "gui")]
+            {
+                tsm_contact::app::run(None, None, None)
+            }
+            #[cfg(not(feature = "gui"))]
+            {
+                eprintln!("built without the `gui` feature; use `tsm-contact solve SCENE`");
+                2
+            }
+        }
+    }
+}
+
+struct Printer {
+    history: History,
+    verbose: bool,
+}
+
+impl Observer for Printer {
+    fn iteration(&mut self, r: &tsm_contact::solver::IterationRecord) -> Flow {
+        if self.verbose {
+            println!(
+                "      iter {:>3}  |R| = {:.3e}  |R|/ref = {:.3e}  |du| = {:.3e}",
+                r.iteration, r.residual, r.relative_residual, r.step_norm
+            );
+        }
+        Flow::Continue
+    }
+    fn increment(&mut self, r: &IncrementRecord) -> Flow {
+        let driven = if r.prescribed.is_empty() {
+            format!("lambda {:>9.4}", r.load_factor)
+        } else {
+            r.prescribed.iter().map(|v| format!("{v:>+10.5}")).collect::<Vec<_>>().join(" ")
+        };
+        let it8 = r.iterations_8_orders.map_or("-".into(), |v| v.to_string());
+        println!(
+            "{:>5}  {}  {:>4}  {:>4}  {:>9.2e}  {:>3}  {:>3}  {:>8.2}",
+            r.increment,
+            driven,
+            r.iterations,
+            it8,
+            r.relative_residual,
+            r.cutbacks,
+            r.contacts.len(),
+            r.seconds * 1e3
+        );
+        self.history.increment(r)
+    }
+    fn event(&mut self, e: &Event) {
+        match e {
+            Event::CutBack { increment, reason, fraction } => {
+                println!("      cut-back in increment {increment}: {reason}; now trying {fraction} of the step")
+            }
+            Event::Contact(c) => {
+                let what = match c.change {
+                    ContactChange::Activated => "touches",
+                    ContactChange::Transferred => "moves onto",
+                    ContactChange::Released => "releases from",
+                    ContactChange::SlidOff => "slides off",
+                };
+                println!(
+                    "      event: node {} {} {} element {} (li/l = {:.4}, Yc = {:+.4e}) at iteration {}",
+                    c.node, what, c.body, c.element, c.xi, c.force, c.iteration
+                );
+            }
+        }
+        self.history.event(e);
+    }
+}
+
+fn solve(name: &str, steps: Option<usize>, formulation: Option<FormulationArg>, json: Option<PathBuf>, verbose: bool) -> i32 {
+    let mut scene = match load_scene(name) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return 2;
+        }
+    };
+    if let Some(f) = formulation {
+        scene.model.formulation = match f {
+            FormulationArg::Timoshenko => Formulation::Timoshenko,
+            FormulationArg::BernoulliEuler => Formulation::BernoulliEuler,
+        };
+    }
+    let steps = steps.unwrap_or(scene.steps);
+    let mut solver = match scene.solver() {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return 2;
+        }
+    };
+    println!("# {} ({:?}), {} steps, tolerance {:.0e}", scene.file.name, scene.model.formulation, steps, scene.params.tolerance);
+    println!("# step  prescribed/load  iter  it8  rel.resid  cut  act   ms");
+    let mut printer = Printer {
+        history: History {
+            scene: scene.file.name.clone(),
+            formulation: Some(scene.model.formulation),
+            params: Some(scene.params),
+            node_ids: scene.model.nodes.iter().map(|n| n.id).collect(),
+            ..History::default()
+        },
+        verbose,
+    };
+    let t0 = Instant::now();
+    let mut code = 0;
+    for _ in 0..steps {
+        if let Err(e) = solver.step(&mut printer) {
+            eprintln!("error: {e}");
+            printer.history.error = Some(e.to_string());
+            code = 1;
+            break;
+        }
+    }
+    let total: usize = printer.history.increments.iter().map(|r| r.iterations).sum();
+    println!(
+        "# {} increments, {} iterations, {:.1} ms",
+        printer.history.increments.len(),
+        total,
+        t0.elapsed().as_secs_f64() * 1e3
+    );
+    if let Some(path) = json {
+        if let Err(e) = printer.history.write_json(&path) {
+            eprintln!("error: cannot write {}: {e}", path.display());
+            return 2;
+        }
+    }
+    code
+}

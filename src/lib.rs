@@ -1,0 +1,7 @@
+//! tsm-contact: Tangent Stiffness Method solver for large-displacement contact of plane frames,
+//! with the scene format, the run history, a worker thread and (feature `gui`) an interactive
+//! visualiser.
+
+pub mod history;
+pub mod scene;
+pub mod solver;

@@ -1,0 +1,19 @@
+//! The built-in scenes, compiled into the binary from `assets/scenes/`.
+
+use super::validate::{parse, Scene, SceneError};
+
+/// (file name, RON text) of every built-in scene, default first.
+pub const BUILTIN: &[(&str, &str)] = &[
+    ("mattiasson.ron", include_str!("../../assets/scenes/mattiasson.ron")),
+    ("end_moment.ron", include_str!("../../assets/scenes/end_moment.ron")),
+    ("williams_toggle.ron", include_str!("../../assets/scenes/williams_toggle.ron")),
+];
+
+/// Parse a built-in scene by file name (with or without `.ron`).
+pub fn builtin(name: &str) -> Option<Result<Scene, SceneError>> {
+    let want = name.trim_end_matches(".ron");
+    BUILTIN
+        .iter()
+        .find(|(f, _)| f.trim_end_matches(".ron") == want)
+        .map(|(f, text)| parse(text, &format!("assets/scenes/{f}")))
+}

@@ -1,0 +1,185 @@
+//! The scene file format (RON): what a user writes. Every field is documented in
+//! `docs/scene-format.md`; `validate` turns a `SceneFile` into a solver `Model`.
+
+use serde::{Deserialize, Serialize};
+
+use crate::solver::{Dof, Formulation};
+
+/// A whole scene file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneFile {
+    /// Display name.
+    pub name: String,
+    /// Free text shown in the GUI and `solve` output.
+    #[serde(default)]
+    pub description: String,
+    /// Element formulation for every beam (default Timoshenko).
+    #[serde(default)]
+    pub formulation: Formulation,
+    /// Named sections.
+    pub sections: Vec<SectionDef>,
+    /// Explicit nodes (pins, frame joints). Body nodes are generated.
+    #[serde(default)]
+    pub nodes: Vec<NodeDef>,
+    /// Bodies: straight or polyline beams divided into elements.
+    #[serde(default)]
+    pub bodies: Vec<BodyDef>,
+    /// Supported dofs.
+    #[serde(default)]
+    pub supports: Vec<SupportDef>,
+    /// Reference nodal loads (multiplied by the load factor).
+    #[serde(default)]
+    pub loads: Vec<LoadDef>,
+    /// Prescribed displacements.
+    #[serde(default)]
+    pub prescribed: Vec<PrescribedDef>,
+    /// Which nodes may touch which bodies.
+    #[serde(default)]
+    pub contacts: Vec<ContactDef>,
+    /// Increment control.
+    #[serde(default)]
+    pub control: ControlDef,
+}
+
+/// A section and material.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SectionDef {
+    /// Name referred to by bodies.
+    pub name: String,
+    /// Young's modulus E (N/m^2).
+    #[serde(rename = "E")]
+    pub e: f64,
+    /// Area A (m^2).
+    #[serde(rename = "A")]
+    pub a: f64,
+    /// Second moment of area I (m^4).
+    #[serde(rename = "I")]
+    pub i: f64,
+    /// Shear modulus G (N/m^2); if absent, E / (2 (1 + nu)).
+    #[serde(rename = "G", default)]
+    pub g: Option<f64>,
+    /// Poisson's ratio, used when G is absent (default 0.3).
+    #[serde(default)]
+    pub nu: Option<f64>,
+    /// Shear area Ae (m^2); default A.
+    #[serde(rename = "Ae", default)]
+    pub ae: Option<f64>,
+}
+
+/// An explicit node.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NodeDef {
+    /// Id, unique in the scene.
+    pub id: u32,
+    /// x (m).
+    pub x: f64,
+    /// y (m).
+    pub y: f64,
+    /// Whether the node has a rotation dof (default true; false for contact pins).
+    #[serde(default = "yes")]
+    pub rotation: bool,
+}
+
+fn yes() -> bool {
+    true
+}
+
+/// A body: a polyline through `path`, each segment divided into `elements` equal elements.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodyDef {
+    /// Name.
+    pub name: String,
+    /// Section name.
+    pub section: String,
+    /// Corner points (m), at least two.
+    pub path: Vec<(f64, f64)>,
+    /// Elements per segment of the path.
+    pub elements: usize,
+    /// Id of the first generated node; the rest follow consecutively. A generated node whose id
+    /// is an explicit node's id is that node (it must sit at the same place).
+    pub first_node: u32,
+}
+
+/// A support.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SupportDef {
+    /// Node id.
+    pub node: u32,
+    /// Fix u (default false).
+    #[serde(default)]
+    pub u: bool,
+    /// Fix v (default false).
+    #[serde(default)]
+    pub v: bool,
+    /// Fix phi (default false).
+    #[serde(default)]
+    pub phi: bool,
+}
+
+/// A reference nodal load.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LoadDef {
+    /// Node id.
+    pub node: u32,
+    /// Force along x (N).
+    #[serde(default)]
+    pub fx: f64,
+    /// Force along y (N).
+    #[serde(default)]
+    pub fy: f64,
+    /// Moment (N m).
+    #[serde(default)]
+    pub m: f64,
+}
+
+/// A prescribed displacement.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PrescribedDef {
+    /// Node id.
+    pub node: u32,
+    /// Dof: U, V or Phi.
+    pub dof: Dof,
+    /// Increment per step (m or rad).
+    pub per_step: f64,
+}
+
+/// Contact candidates: these nodes may touch these bodies.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactDef {
+    /// Candidate node ids (explicit pins or body nodes).
+    #[serde(default)]
+    pub nodes: Vec<u32>,
+    /// Every node of these bodies is a candidate too.
+    #[serde(default)]
+    pub node_bodies: Vec<String>,
+    /// Bodies the candidates may touch.
+    pub bodies: Vec<String>,
+}
+
+/// Increment control.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ControlDef {
+    /// Number of steps a run makes (default 10).
+    pub steps: usize,
+    /// Load factor increment per step (default 0 if the scene has no loads, else 1/steps).
+    pub load_per_step: Option<f64>,
+    /// Newton tolerance on the relative residual (default 1e-8).
+    pub tolerance: Option<f64>,
+    /// Largest displacement correction per Newton iteration (m), if any.
+    pub max_step: Option<f64>,
+}
+
+impl Default for ControlDef {
+    fn default() -> Self {
+        ControlDef { steps: 10, load_per_step: None, tolerance: None, max_step: None }
+    }
+}

@@ -1,0 +1,9 @@
+//! Scenes: the RON file format, validation with located errors, and the built-in scenes
+//! shipped in `assets/scenes/`.
+
+pub mod builtin;
+pub mod format;
+pub mod validate;
+
+pub use format::SceneFile;
+pub use validate::{load_file, parse, Scene, SceneError};

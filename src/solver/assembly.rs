@@ -1,0 +1,273 @@
+//! Assembly: the dof map (which global dofs are free, supported or prescribed), the equation
+//! ordering (reverse Cuthill-McKee over the current element graph, contacts included), and the
+//! global internal force vector and band tangent summed from beam and contact elements.
+
+use super::beam::BeamElement;
+use super::contact_element::{contact_response, ContactOptions};
+use super::linear::{reverse_cuthill_mckee, BandMatrix};
+use super::model::Model;
+
+/// What a global dof is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DofKind {
+    /// Solved for.
+    Free,
+    /// Held at zero.
+    Supported,
+    /// Driven; index into `Model::prescribed`.
+    Prescribed(usize),
+}
+
+/// Global dof numbering: node n owns dofs `first[n] .. first[n] + model.node_dofs(n)`.
+#[derive(Clone, Debug)]
+pub struct DofMap {
+    /// First global dof of each node.
+    pub first: Vec<usize>,
+    /// Kind of each global dof.
+    pub kind: Vec<DofKind>,
+}
+
+impl DofMap {
+    /// Number the dofs of `model`.
+    pub fn new(model: &Model) -> DofMap {
+        let mut first = Vec::with_capacity(model.nodes.len());
+        let mut total = 0;
+        for n in 0..model.nodes.len() {
+            first.push(total);
+            total += model.node_dofs(n);
+        }
+        let mut kind = vec![DofKind::Free; total];
+        for s in &model.supports {
+            kind[first[s.node] + s.dof.offset()] = DofKind::Supported;
+        }
+        for (p, pr) in model.prescribed.iter().enumerate() {
+            kind[first[pr.node] + pr.dof.offset()] = DofKind::Prescribed(p);
+        }
+        DofMap { first, kind }
+    }
+
+    /// Total number of dofs.
+    pub fn len(&self) -> usize {
+        self.kind.len()
+    }
+
+    /// True if the model has no dofs.
+    pub fn is_empty(&self) -> bool {
+        self.kind.is_empty()
+    }
+
+    /// The global dof index of (node, offset).
+    pub fn dof(&self, node: usize, offset: usize) -> usize {
+        self.first[node] + offset
+    }
+
+    /// (node, offset) of a global dof.
+    pub fn owner(&self, dof: usize) -> (usize, usize) {
+        let n = self.first.partition_point(|&f| f <= dof) - 1;
+        (n, dof - self.first[n])
+    }
+}
+
+/// A contact node resting on a beam element (what the assembly needs of a contact).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactLink {
+    /// Index of the contact node.
+    pub node: usize,
+    /// Index of the beam element it touches.
+    pub beam: usize,
+}
+
+/// Equation numbers of the free dofs for one element topology, and the band widths.
+#[derive(Clone, Debug)]
+pub struct Ordering {
+    /// Equation of each global dof (None if not free).
+    pub eq: Vec<Option<usize>>,
+    /// Number of equations.
+    pub n_eq: usize,
+    /// Half-bandwidth.
+    pub band: usize,
+    /// The contact topology this ordering was built for.
+    pub links: Vec<ContactLink>,
+}
+
+impl Ordering {
+    /// Order the free dofs of `model` for the element graph with the given contacts.
+    pub fn new(model: &Model, dofs: &DofMap, links: &[ContactLink]) -> Ordering {
+        let nn = model.nodes.len();
+        let mut adj = vec![Vec::new(); nn];
+        let mut connect = |a: usize, b: usize| {
+            if a != b {
+                adj[a].push(b);
+                adj[b].push(a);
+            }
+        };
+        for b in &model.beams {
+            connect(b.i, b.j);
+        }
+        for l in links {
+            let b = &model.beams[l.beam];
+            connect(b.i, l.node);
+            connect(b.j, l.node);
+        }
+        let perm = reverse_cuthill_mckee(&adj);
+        let mut eq = vec![None; dofs.len()];
+        let mut n_eq = 0;
+        for &n in &perm {
+            for o in 0..model.node_dofs(n) {
+                let d = dofs.dof(n, o);
+                if dofs.kind[d] == DofKind::Free {
+                    eq[d] = Some(n_eq);
+                    n_eq += 1;
+                }
+            }
+        }
+        let mut ord = Ordering { eq, n_eq, band: 0, links: links.to_vec() };
+        let mut band = 0;
+        for (e, b) in model.beams.iter().enumerate() {
+            let mut nodes = vec![b.i, b.j];
+            nodes.extend(links.iter().filter(|l| l.beam == e).map(|l| l.node));
+            let eqs: Vec<usize> = nodes
+                .iter()
+                .flat_map(|&n| (0..model.node_dofs(n)).map(move |o| (n, o)))
+                .filter_map(|(n, o)| ord.eq[dofs.dof(n, o)])
+                .collect();
+            if let (Some(lo), Some(hi)) = (eqs.iter().min(), eqs.iter().max()) {
+                band = band.max(hi - lo);
+            }
+        }
+        ord.band = band;
+        ord
+    }
+}
+
+/// Element-level results of one assembly, for reports.
+#[derive(Clone, Debug, Default)]
+pub struct ElementResults {
+    /// (N, Mi, Mj) of every beam element.
+    pub beam_forces: Vec<[f64; 3]>,
+    /// For every contact link, in the order given: (Yc, li/l from the current chord).
+    pub contact_forces: Vec<(f64, f64)>,
+}
+
+/// The assembled global quantities at one state.
+#[derive(Clone, Debug)]
+pub struct Assembled {
+    /// Internal nodal forces sum J S over every global dof.
+    pub internal: Vec<f64>,
+    /// Tangent over the free equations (if requested).
+    pub tangent: Option<BandMatrix>,
+    /// K_fp dp over the free equations, for a prescribed increment dp (if given).
+    pub coupling: Vec<f64>,
+    /// Element results.
+    pub elements: ElementResults,
+    /// Sum over elements of |J S| per dof: the scale of the element contributions, used for the
+    /// round-off floor of the residual.
+    pub force_scale: Vec<f64>,
+}
+
+/// Everything an assembly needs besides the state.
+pub struct AssemblyContext<'a> {
+    /// The model.
+    pub model: &'a Model,
+    /// Its beam elements, ready to evaluate.
+    pub elements: &'a [BeamElement],
+    /// Dof numbering.
+    pub dofs: &'a DofMap,
+    /// Equation ordering (must match `links`).
+    pub ordering: &'a Ordering,
+    /// Contact element options.
+    pub contact: ContactOptions,
+}
+
+/// Current position of node `n` and its rotation (0 for 2-dof nodes).
+pub fn current(model: &Model, dofs: &DofMap, d: &[f64], n: usize) -> ([f64; 2], f64) {
+    let f = dofs.first[n];
+    let p = model.position(n);
+    let phi = if model.nodes[n].rotation { d[f + 2] } else { 0.0 };
+    ([p[0] + d[f], p[1] + d[f + 1]], phi)
+}
+
+/// Assemble internal forces (and the tangent) at displacements `d`.
+/// `dp`, if given, is a prescribed increment over all dofs whose K_fp product is returned.
+pub fn assemble(ctx: &AssemblyContext, d: &[f64], with_tangent: bool, dp: Option<&[f64]>) -> Assembled {
+    let model = ctx.model;
+    let dofs = ctx.dofs;
+    let ord = ctx.ordering;
+    let mut internal = vec![0.0; dofs.len()];
+    let mut force_scale = vec![0.0; dofs.len()];
+    let mut coupling = vec![0.0; ord.n_eq];
+    let mut tangent = with_tangent.then(|| BandMatrix::zeros(ord.n_eq, ord.band, ord.band));
+    let mut results = ElementResults {
+        beam_forces: vec![[0.0; 3]; model.beams.len()],
+        contact_forces: vec![(0.0, 0.0); ord.links.len()],
+    };
+    let mut gdofs: Vec<usize> = Vec::with_capacity(12);
+    for (e, beam) in model.beams.iter().enumerate() {
+        let (xi, phi_i) = current(model, dofs, d, beam.i);
+        let (xj, phi_j) = current(model, dofs, d, beam.j);
+        gdofs.clear();
+        gdofs.extend((0..3).map(|o| dofs.dof(beam.i, o)));
+        gdofs.extend((0..3).map(|o| dofs.dof(beam.j, o)));
+        let on_this: Vec<usize> =
+            ord.links.iter().enumerate().filter(|(_, l)| l.beam == e).map(|(k, _)| k).collect();
+        if on_this.is_empty() {
+            let r = ctx.elements[e].response(xi, xj, phi_i, phi_j, with_tangent);
+            results.beam_forces[e] = r.forces;
+            scatter(&gdofs, r.nodal.as_slice(), &mut internal, &mut force_scale);
+            if let Some(k) = r.tangent {
+                add_matrix(&gdofs, |a, b| k[(a, b)], ord, tangent.as_mut(), dp, &mut coupling);
+            }
+        } else {
+            let xc: Vec<[f64; 2]> =
+                on_this.iter().map(|&k| current(model, dofs, d, ord.links[k].node).0).collect();
+            for &k in &on_this {
+                let c = ord.links[k].node;
+                gdofs.push(dofs.dof(c, 0));
+                gdofs.push(dofs.dof(c, 1));
+            }
+            let r = contact_response(&ctx.elements[e], xi, xj, [phi_i, phi_j], &xc, ctx.contact, with_tangent);
+            results.beam_forces[e] = [r.forces[0], r.forces[1], r.forces[2]];
+            for (m, &k) in on_this.iter().enumerate() {
+                results.contact_forces[k] = (r.forces[3 + m], r.xi[m]);
+            }
+            scatter(&gdofs, r.nodal.as_slice(), &mut internal, &mut force_scale);
+            if let Some(k) = r.tangent.as_ref() {
+                add_matrix(&gdofs, |a, b| k[(a, b)], ord, tangent.as_mut(), dp, &mut coupling);
+            }
+        }
+    }
+    Assembled { internal, tangent, coupling, elements: results, force_scale }
+}
+
+fn scatter(gdofs: &[usize], f: &[f64], internal: &mut [f64], scale: &mut [f64]) {
+    for (a, &g) in gdofs.iter().enumerate() {
+        internal[g] += f[a];
+        scale[g] += f[a].abs();
+    }
+}
+
+fn add_matrix(
+    gdofs: &[usize],
+    k: impl Fn(usize, usize) -> f64,
+    ord: &Ordering,
+    band: Option<&mut BandMatrix>,
+    dp: Option<&[f64]>,
+    coupling: &mut [f64],
+) {
+    let Some(band) = band else { return };
+    for (a, &ga) in gdofs.iter().enumerate() {
+        let Some(ea) = ord.eq[ga] else { continue };
+        for (b, &gb) in gdofs.iter().enumerate() {
+            match ord.eq[gb] {
+                Some(eb) => band.add(ea, eb, k(a, b)),
+                None => {
+                    if let Some(dp) = dp {
+                        if dp[gb] != 0.0 {
+                            coupling[ea] += k(a, b) * dp[gb];
+                        }
+                    }
+                }
+            }
+        }
+    }
+}

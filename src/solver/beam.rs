@@ -1,0 +1,142 @@
+//! The 2-node TSM beam element (Bernoulli-Euler or Timoshenko): chord kinematics from total
+//! coordinates, the element force equation S = k e in the chord frame, nodal forces U = J S and
+//! the exact tangent J k J^T + K_G.
+
+use nalgebra::{SMatrix, SVector};
+
+use super::model::Section;
+
+/// 6x6 matrix over the dofs (u_i, v_i, phi_i, u_j, v_j, phi_j).
+pub type Mat6 = SMatrix<f64, 6, 6>;
+/// 6-vector over the dofs (u_i, v_i, phi_i, u_j, v_j, phi_j).
+pub type Vec6 = SVector<f64, 6>;
+
+/// Current chord of an element: length, direction, rotation and its first derivatives.
+#[derive(Clone, Copy, Debug)]
+pub struct Chord {
+    /// Current chord length l.
+    pub l: f64,
+    /// cos of the current chord angle.
+    pub c: f64,
+    /// sin of the current chord angle.
+    pub s: f64,
+    /// Chord rotation beta (current minus initial angle), unwrapped.
+    pub beta: f64,
+    /// dl/du = (-c, -s, 0, c, s, 0).
+    pub r: Vec6,
+    /// l dbeta/du = (s, -c, 0, -s, c, 0).
+    pub z: Vec6,
+}
+
+/// Unwrap a raw chord rotation so that it lies within pi of `reference`.
+///
+/// Using the mean rotation of the element's end nodes as the reference makes the unwrapping
+/// stateless and continuous for any number of turns, as long as the element itself deforms by
+/// less than half a turn (small strain).
+pub fn unwrap_angle(raw: f64, reference: f64) -> f64 {
+    let two_pi = std::f64::consts::TAU;
+    raw + two_pi * ((reference - raw) / two_pi).round()
+}
+
+impl Chord {
+    /// Chord from the current end positions, the initial chord angle `alpha0` and a reference
+    /// rotation for unwrapping (the mean end rotation).
+    pub fn new(xi: [f64; 2], xj: [f64; 2], alpha0: f64, reference: f64) -> Chord {
+        let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
+        let l = dx.hypot(dy);
+        let (c, s) = (dx / l, dy / l);
+        let beta = unwrap_angle(dy.atan2(dx) - alpha0, reference);
+        Chord {
+            l,
+            c,
+            s,
+            beta,
+            r: Vec6::new(-c, -s, 0.0, c, s, 0.0),
+            z: Vec6::new(s, -c, 0.0, -s, c, 0.0),
+        }
+    }
+
+    /// The part of the geometric stiffness that comes from N and the end moments:
+    /// `N/l z z^T + (Mi + Mj)/l^2 (r z^T + z r^T)`.
+    pub fn geometric_stiffness(&self, n: f64, m_sum: f64) -> Mat6 {
+        let zz = self.z * self.z.transpose();
+        let rz = self.r * self.z.transpose();
+        zz * (n / self.l) + (rz + rz.transpose()) * (m_sum / (self.l * self.l))
+    }
+}
+
+/// A 2-node beam element ready to evaluate: initial geometry and stiffnesses.
+#[derive(Clone, Copy, Debug)]
+pub struct BeamElement {
+    /// Initial length L.
+    pub length: f64,
+    /// Initial chord angle.
+    pub alpha0: f64,
+    /// Section stiffnesses.
+    pub section: Section,
+    /// Shear parameter Psi = EI/(G Ae); 0 for Bernoulli-Euler.
+    pub psi: f64,
+}
+
+/// What a beam element returns for one configuration.
+#[derive(Clone, Copy, Debug)]
+pub struct BeamResponse {
+    /// Element deformations (dl, theta_i, theta_j).
+    pub deformation: [f64; 3],
+    /// Element forces S = (N, Mi, Mj).
+    pub forces: [f64; 3],
+    /// Nodal forces U = J S over (u_i, v_i, phi_i, u_j, v_j, phi_j).
+    pub nodal: Vec6,
+    /// Tangent stiffness J k J^T + K_G (if requested).
+    pub tangent: Option<Mat6>,
+}
+
+impl BeamElement {
+    /// Element from its initial end positions.
+    pub fn new(xi: [f64; 2], xj: [f64; 2], section: Section, psi: f64) -> BeamElement {
+        let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
+        BeamElement { length: dx.hypot(dy), alpha0: dy.atan2(dx), section, psi }
+    }
+
+    /// The bending part of the element force equation: [[k11, k12], [k12, k11]] with
+    /// `EI/(L(1+p)) [[4+p, 2-p], [2-p, 4+p]]`, `p = 12 Psi / L^2`.
+    pub fn bending_stiffness(&self) -> (f64, f64) {
+        let l = self.length;
+        let p = 12.0 * self.psi / (l * l);
+        let f = self.section.ei / (l * (1.0 + p));
+        (f * (4.0 + p), f * (2.0 - p))
+    }
+
+    /// Element forces, nodal forces and (optionally) the tangent at the given total state.
+    /// `ui`, `uj` are the current positions; `phi_i`, `phi_j` the total node rotations.
+    pub fn response(
+        &self,
+        xi: [f64; 2],
+        xj: [f64; 2],
+        phi_i: f64,
+        phi_j: f64,
+        with_tangent: bool,
+    ) -> BeamResponse {
+        let ch = Chord::new(xi, xj, self.alpha0, 0.5 * (phi_i + phi_j));
+        let dl = ch.l - self.length;
+        let (ti, tj) = (phi_i - ch.beta, phi_j - ch.beta);
+        let ka = self.section.ea / self.length;
+        let (k11, k12) = self.bending_stiffness();
+        let n = ka * dl;
+        let mi = k11 * ti + k12 * tj;
+        let mj = k12 * ti + k11 * tj;
+        // Columns of J: r, e3 - z/l, e6 - z/l.
+        let mut bi = -ch.z / ch.l;
+        bi[2] += 1.0;
+        let mut bj = -ch.z / ch.l;
+        bj[5] += 1.0;
+        let nodal = ch.r * n + bi * mi + bj * mj;
+        let tangent = with_tangent.then(|| {
+            let mut k = ch.r * ch.r.transpose() * ka;
+            k += (bi * bi.transpose() + bj * bj.transpose()) * k11;
+            k += (bi * bj.transpose() + bj * bi.transpose()) * k12;
+            k + ch.geometric_stiffness(n, mi + mj)
+        });
+        BeamResponse { deformation: [dl, ti, tj], forces: [n, mi, mj], nodal, tangent }
+    }
+}

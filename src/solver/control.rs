@@ -1,0 +1,271 @@
+//! Increment control: the `Solver` that owns the converged state, advances the prescribed
+//! displacements and the load factor, halves the increment on failure (reported as events),
+//! and turns converged attempts into increment records.
+
+use std::time::Instant;
+
+use super::assembly::{assemble, current, AssemblyContext, DofKind, DofMap, Ordering};
+use super::beam::BeamElement;
+use super::contact::ContactSet;
+use super::linear::BandMatrix;
+use super::model::Model;
+use super::newton::{AttemptError, Converged};
+use super::params::SolverParams;
+use super::report::{Event, Flow, IncrementRecord, Observer, Reaction, SolveError};
+
+/// The TSM solver for one model: converged state plus everything needed to advance it.
+#[derive(Clone, Debug)]
+pub struct Solver {
+    /// The model being solved.
+    pub model: Model,
+    /// Parameters.
+    pub params: SolverParams,
+    pub(crate) elements: Vec<BeamElement>,
+    pub(crate) dofs: DofMap,
+    pub(crate) d: Vec<f64>,
+    pub(crate) prescribed: Vec<f64>,
+    pub(crate) load_factor: f64,
+    pub(crate) contacts: ContactSet,
+    pub(crate) force_floor: f64,
+    increment: usize,
+}
+
+impl Solver {
+    /// Set up a solver at the undeformed state; fails if the structure is a mechanism.
+    pub fn new(model: Model, params: SolverParams) -> Result<Solver, SolveError> {
+        let elements = model
+            .beams
+            .iter()
+            .map(|b| BeamElement::new(model.position(b.i), model.position(b.j), b.section, b.section.psi(model.formulation)))
+            .collect();
+        let dofs = DofMap::new(&model);
+        let max_ea = model.beams.iter().map(|b| b.section.ea).fold(0.0, f64::max);
+        let mut solver = Solver {
+            d: vec![0.0; dofs.len()],
+            prescribed: vec![0.0; model.prescribed.len()],
+            load_factor: 0.0,
+            contacts: ContactSet::default(),
+            force_floor: params.force_floor * max_ea.max(f64::MIN_POSITIVE),
+            increment: 0,
+            elements,
+            dofs,
+            params,
+            model,
+        };
+        let free = solver.mechanism_dofs();
+        if !free.is_empty() {
+            return Err(SolveError::Mechanism { dofs: free });
+        }
+        let mut contacts = std::mem::take(&mut solver.contacts);
+        contacts.remember_sides(&solver, &solver.d);
+        solver.contacts = contacts;
+        Ok(solver)
+    }
+
+    /// The free dofs that have no stiffness in the undeformed state (empty if the structure is
+    /// stable). Small models get every dof of the null space; large ones the first failing pivot.
+    pub fn mechanism_dofs(&self) -> Vec<String> {
+        let ord = self.ordering_for(&self.contacts);
+        if ord.n_eq == 0 {
+            return Vec::new();
+        }
+        let ctx = self.context(&ord);
+        let asm = assemble(&ctx, &self.d, true, None);
+        let k = asm.tangent.expect("tangent");
+        let scale = k.max_diagonal().max(f64::MIN_POSITIVE);
+        if ord.n_eq <= 400 {
+            let dense = nalgebra::DMatrix::from_fn(ord.n_eq, ord.n_eq, |i, j| k.get(i, j));
+            let eig = nalgebra::SymmetricEigen::new(&dense + dense.transpose());
+            let mut out = Vec::new();
+            for (m, lam) in eig.eigenvalues.iter().enumerate() {
+                if lam.abs() < 1e-9 * scale {
+                    let v = eig.eigenvectors.column(m);
+                    for (e, c) in v.iter().enumerate() {
+                        if c.abs() > 1e-3 {
+                            let label = self.equation_label(&ord, e);
+                            if !out.contains(&label) {
+                                out.push(label);
+                            }
+                        }
+                    }
+                }
+            }
+            out
+        } else {
+            let mut f: BandMatrix = k;
+            match f.factor(1e-12 * scale) {
+                Ok(()) => Vec::new(),
+                Err(sp) => vec![self.equation_label(&ord, sp.equation)],
+            }
+        }
+    }
+
+    pub(crate) fn context<'a>(&'a self, ord: &'a Ordering) -> AssemblyContext<'a> {
+        AssemblyContext {
+            model: &self.model,
+            elements: &self.elements,
+            dofs: &self.dofs,
+            ordering: ord,
+            contact: self.params.contact_options(usize::MAX),
+        }
+    }
+
+    pub(crate) fn ordering_for(&self, contacts: &ContactSet) -> Ordering {
+        Ordering::new(&self.model, &self.dofs, &contacts.links())
+    }
+
+    /// "node N u" for a global dof.
+    pub fn dof_label(&self, g: usize) -> String {
+        let (n, o) = self.dofs.owner(g);
+        format!("node {} {}", self.model.nodes[n].id, ["u", "v", "phi"][o])
+    }
+
+    /// Number of converged increments so far.
+    pub fn increment(&self) -> usize {
+        self.increment
+    }
+
+    /// Current values of the prescribed displacements.
+    pub fn prescribed_values(&self) -> &[f64] {
+        &self.prescribed
+    }
+
+    /// Current load factor.
+    pub fn load_factor(&self) -> f64 {
+        self.load_factor
+    }
+
+    /// Converged displacements over all dofs.
+    pub fn displacements(&self) -> &[f64] {
+        &self.d
+    }
+
+    /// The active contacts.
+    pub fn contacts(&self) -> &ContactSet {
+        &self.contacts
+    }
+
+    /// Current position and rotation of node `n`.
+    pub fn node_state(&self, n: usize) -> ([f64; 2], f64) {
+        current(&self.model, &self.dofs, &self.d, n)
+    }
+
+    /// The element evaluators (initial geometry, stiffness), one per beam.
+    pub fn elements(&self) -> &[BeamElement] {
+        &self.elements
+    }
+
+    /// The dof numbering.
+    pub fn dofs(&self) -> &DofMap {
+        &self.dofs
+    }
+
+    /// Advance by one scene step (prescribed values += per_step, load factor += load_per_step).
+    pub fn step(&mut self, obs: &mut dyn Observer) -> Result<Vec<IncrementRecord>, SolveError> {
+        let targets: Vec<f64> =
+            self.model.prescribed.iter().zip(&self.prescribed).map(|(p, v)| v + p.per_step).collect();
+        let lambda = self.load_factor + self.model.load_per_step;
+        self.advance_to(&targets, lambda, obs)
+    }
+
+    /// Advance from the converged state to the given prescribed values and load factor, halving
+    /// the increment on failure (at most `max_cutbacks` times in all). Returns the converged
+    /// increments (more than one if the step was cut back).
+    pub fn advance_to(
+        &mut self,
+        targets: &[f64],
+        lambda: f64,
+        obs: &mut dyn Observer,
+    ) -> Result<Vec<IncrementRecord>, SolveError> {
+        let start_p = self.prescribed.clone();
+        let start_l = self.load_factor;
+        let mut done = 0.0f64;
+        let mut h = 1.0f64;
+        let mut cutbacks = 0;
+        let mut out = Vec::new();
+        let mut clock = Instant::now();
+        while done < 1.0 {
+            let next = (done + h).min(1.0);
+            let tp: Vec<f64> = start_p.iter().zip(targets).map(|(a, b)| a + next * (b - a)).collect();
+            let tl = start_l + next * (lambda - start_l);
+            let number = self.increment + 1;
+            match self.attempt(&tp, tl, number, obs) {
+                Ok(conv) => {
+                    let rec = self.commit(conv, tp, tl, cutbacks, clock.elapsed().as_secs_f64());
+                    clock = Instant::now();
+                    done = next;
+                    for e in &rec.events {
+                        obs.event(e);
+                    }
+                    let flow = obs.increment(&rec);
+                    out.push(rec);
+                    if flow == Flow::Stop {
+                        return Ok(out);
+                    }
+                }
+                Err(AttemptError::Stopped) => return Err(SolveError::Stopped),
+                Err(AttemptError::Failed(reason)) => {
+                    cutbacks += 1;
+                    if cutbacks > self.params.max_cutbacks {
+                        return Err(SolveError::NoConvergence { increment: number, cutbacks: cutbacks - 1, reason });
+                    }
+                    h *= 0.5;
+                    obs.event(&Event::CutBack { increment: number, reason, fraction: h });
+                }
+            }
+        }
+        Ok(out)
+    }
+
+    fn commit(&mut self, c: Converged, tp: Vec<f64>, tl: f64, cutbacks: usize, seconds: f64) -> IncrementRecord {
+        self.increment += 1;
+        self.d = c.d;
+        self.contacts = c.contacts;
+        self.prescribed = tp;
+        self.load_factor = tl;
+        let mut contacts = std::mem::take(&mut self.contacts);
+        contacts.remember_sides(self, &self.d);
+        self.contacts = contacts;
+        let fext = self.external_force(tl);
+        let reactions = self
+            .dofs
+            .kind
+            .iter()
+            .enumerate()
+            .filter(|(_, k)| **k != DofKind::Free)
+            .map(|(g, _)| {
+                let (n, o) = self.dofs.owner(g);
+                Reaction {
+                    node: self.model.nodes[n].id,
+                    dof: ["u", "v", "phi"][o].to_string(),
+                    value: c.assembled.internal[g] - fext[g],
+                }
+            })
+            .collect();
+        let nodes = (0..self.model.nodes.len())
+            .map(|n| {
+                let (x, phi) = self.node_state(n);
+                [x[0], x[1], phi]
+            })
+            .collect();
+        let contacts = self.contacts.states(self, &c.assembled);
+        IncrementRecord {
+            increment: self.increment,
+            prescribed: self.prescribed.clone(),
+            load_factor: tl,
+            iterations: c.iterations,
+            iterations_8_orders: c.iterations_8_orders,
+            relative_residual: c.relative_residual,
+            reference: c.reference,
+            roundoff_floor: c.roundoff_floor,
+            cutbacks,
+            residuals: c.residuals,
+            nodes,
+            element_forces: c.assembled.elements.beam_forces,
+            reactions,
+            contacts,
+            events: c.events,
+            seconds,
+        }
+    }
+}

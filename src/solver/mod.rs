@@ -1,0 +1,19 @@
+//! The Tangent Stiffness Method solver for plane frames with node-to-beam contact.
+//! Knows nothing of scenes files or the GUI.
+
+pub mod assembly;
+pub mod beam;
+pub mod contact;
+pub mod contact_element;
+pub mod control;
+pub mod dual;
+pub mod linear;
+pub mod model;
+pub mod newton;
+pub mod params;
+pub mod report;
+
+pub use control::Solver;
+pub use model::{Beam, Body, ContactPair, Dof, Formulation, Load, Model, Node, Prescribed, Section, Support};
+pub use params::SolverParams;
+pub use report::{ContactChange, Event, Flow, IncrementRecord, IterationRecord, Observer, Silent, SolveError};

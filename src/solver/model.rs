@@ -1,0 +1,189 @@
+//! The structural model: nodes, sections, beam elements, supports, loads, prescribed
+//! displacements and contact candidates. Plain data, validated by `scene` before it gets here.
+
+use serde::{Deserialize, Serialize};
+
+/// Which beam theory an element's force equation follows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum Formulation {
+    /// Shear-rigid beam (Psi = 0).
+    BernoulliEuler,
+    /// Shear-flexible beam, Psi = EI / (G Ae).
+    #[default]
+    Timoshenko,
+}
+
+/// A degree of freedom of a node.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Hash)]
+pub enum Dof {
+    /// Displacement along global x.
+    U,
+    /// Displacement along global y.
+    V,
+    /// Rotation (counter-clockwise positive).
+    Phi,
+}
+
+impl Dof {
+    /// Offset of this dof within its node (u = 0, v = 1, phi = 2).
+    pub fn offset(self) -> usize {
+        match self {
+            Dof::U => 0,
+            Dof::V => 1,
+            Dof::Phi => 2,
+        }
+    }
+    /// Short lower-case name used in messages.
+    pub fn name(self) -> &'static str {
+        match self {
+            Dof::U => "u",
+            Dof::V => "v",
+            Dof::Phi => "phi",
+        }
+    }
+}
+
+/// A node in its initial position.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Node {
+    /// The user's id (as written in the scene).
+    pub id: u32,
+    /// Initial x coordinate (m).
+    pub x: f64,
+    /// Initial y coordinate (m).
+    pub y: f64,
+    /// Whether the node carries a rotation dof (false for 2-dof contact pins).
+    pub rotation: bool,
+}
+
+/// Section and material of a beam, reduced to the stiffnesses the element force equation needs.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Section {
+    /// Axial stiffness E A (N).
+    pub ea: f64,
+    /// Bending stiffness E I (N m^2).
+    pub ei: f64,
+    /// Shear stiffness G Ae (N).
+    pub gae: f64,
+}
+
+impl Section {
+    /// Shear flexibility parameter Psi = EI/(G Ae) (m^2) for the given formulation (0 for Bernoulli-Euler).
+    pub fn psi(&self, formulation: Formulation) -> f64 {
+        match formulation {
+            Formulation::BernoulliEuler => 0.0,
+            Formulation::Timoshenko => self.ei / self.gae,
+        }
+    }
+}
+
+/// A 2-node beam element between node indices `i` and `j` (indices into `Model::nodes`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Beam {
+    /// Index of the start node.
+    pub i: usize,
+    /// Index of the end node.
+    pub j: usize,
+    /// Section properties.
+    pub section: Section,
+    /// Index of the body this element belongs to.
+    pub body: usize,
+}
+
+/// A named chain of beam elements (a cantilever, a frame member).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Body {
+    /// Name used in messages and the GUI.
+    pub name: String,
+    /// Element indices along the body, in order.
+    pub elements: Vec<usize>,
+}
+
+/// A dof held at zero.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Support {
+    /// Node index.
+    pub node: usize,
+    /// Which dof.
+    pub dof: Dof,
+}
+
+/// A reference nodal load; the applied load is the load factor times this.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Load {
+    /// Node index.
+    pub node: usize,
+    /// Force along x (N), force along y (N), moment (N m).
+    pub force: [f64; 3],
+}
+
+/// A prescribed ("compulsory") displacement of one dof.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Prescribed {
+    /// Node index.
+    pub node: usize,
+    /// Which dof.
+    pub dof: Dof,
+    /// Change of the prescribed value per increment (m or rad).
+    pub per_step: f64,
+}
+
+/// Which nodes may touch which bodies.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ContactPair {
+    /// Candidate node indices.
+    pub nodes: Vec<usize>,
+    /// Body indices the nodes may touch.
+    pub bodies: Vec<usize>,
+}
+
+/// The whole model as the solver sees it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Model {
+    /// Nodes in index order.
+    pub nodes: Vec<Node>,
+    /// Beam elements.
+    pub beams: Vec<Beam>,
+    /// Bodies (chains of beams).
+    pub bodies: Vec<Body>,
+    /// Supported dofs.
+    pub supports: Vec<Support>,
+    /// Reference loads (multiplied by the load factor).
+    pub loads: Vec<Load>,
+    /// Prescribed displacements.
+    pub prescribed: Vec<Prescribed>,
+    /// Load factor increment per step.
+    pub load_per_step: f64,
+    /// Element formulation for every beam.
+    pub formulation: Formulation,
+    /// Contact candidate pairs.
+    pub contacts: Vec<ContactPair>,
+}
+
+impl Model {
+    /// Number of dofs of node `n` (2 or 3).
+    pub fn node_dofs(&self, n: usize) -> usize {
+        if self.nodes[n].rotation {
+            3
+        } else {
+            2
+        }
+    }
+
+    /// Initial position of node `n`.
+    pub fn position(&self, n: usize) -> [f64; 2] {
+        [self.nodes[n].x, self.nodes[n].y]
+    }
+
+    /// Initial length of beam `e`.
+    pub fn beam_length(&self, e: usize) -> f64 {
+        let b = &self.beams[e];
+        let (p, q) = (self.position(b.i), self.position(b.j));
+        (q[0] - p[0]).hypot(q[1] - p[1])
+    }
+
+    /// Describe node `n` by its user id, for messages.
+    pub fn node_label(&self, n: usize) -> String {
+        format!("node {}", self.nodes[n].id)
+    }
+}

@@ -1,0 +1,234 @@
+//! Newton-Raphson on the unbalanced force for one increment attempt: linear predictor for the
+//! prescribed increment, iterations with the exact tangent, the convergence and divergence tests,
+//! and the contact active-set passes (transfers during iterations, activation and release between
+//! converged passes).
+
+use super::assembly::{assemble, Assembled, AssemblyContext, DofKind, Ordering};
+use super::contact::ContactSet;
+use super::control::Solver;
+use super::report::{Event, Flow, IterationRecord, Observer};
+
+/// The converged outcome of one attempt, before it is committed.
+pub struct Converged {
+    /// Displacements.
+    pub d: Vec<f64>,
+    /// Contact state.
+    pub contacts: ContactSet,
+    /// Final assembly at the converged state.
+    pub assembled: Assembled,
+    /// Total iterations.
+    pub iterations: usize,
+    /// Iterations to an 8-order drop of the unbalanced force.
+    pub iterations_8_orders: Option<usize>,
+    /// Relative residual at convergence.
+    pub relative_residual: f64,
+    /// Reference force.
+    pub reference: f64,
+    /// Round-off floor estimate of the relative residual.
+    pub roundoff_floor: f64,
+    /// Iteration records.
+    pub residuals: Vec<IterationRecord>,
+    /// Contact events.
+    pub events: Vec<Event>,
+}
+
+/// Why an attempt failed.
+pub enum AttemptError {
+    /// Recoverable by a smaller increment.
+    Failed(String),
+    /// The observer asked to stop.
+    Stopped,
+}
+
+impl Solver {
+    /// External force vector over all dofs at load factor `lambda`.
+    pub(crate) fn external_force(&self, lambda: f64) -> Vec<f64> {
+        let mut f = vec![0.0; self.dofs.len()];
+        for l in &self.model.loads {
+            for o in 0..self.model.node_dofs(l.node) {
+                f[self.dofs.dof(l.node, o)] += lambda * l.force[o];
+            }
+        }
+        f
+    }
+
+    /// Reference force and residual norm for a given assembly.
+    fn residual(&self, asm: &Assembled, fext: &[f64], ord: &Ordering) -> (Vec<f64>, f64, f64) {
+        let mut r = vec![0.0; ord.n_eq];
+        let (mut ext2, mut reac2) = (0.0, 0.0);
+        for (g, kind) in self.dofs.kind.iter().enumerate() {
+            ext2 += fext[g] * fext[g];
+            match (kind, ord.eq[g]) {
+                (DofKind::Free, Some(e)) => r[e] = fext[g] - asm.internal[g],
+                _ => {
+                    let re = asm.internal[g] - fext[g];
+                    reac2 += re * re;
+                }
+            }
+        }
+        let norm = r.iter().map(|v| v * v).sum::<f64>().sqrt();
+        let reference = ext2.sqrt().max(reac2.sqrt()).max(self.force_floor);
+        (r, norm, reference)
+    }
+
+    /// One attempt to reach (`target_p`, `target_lambda`) from the last converged state.
+    pub(crate) fn attempt(
+        &self,
+        target_p: &[f64],
+        target_lambda: f64,
+        increment: usize,
+        obs: &mut dyn Observer,
+    ) -> Result<Converged, AttemptError> {
+        let p = &self.params;
+        let mut d = self.d.clone();
+        let mut contacts = self.contacts.clone();
+        let mut dp = vec![0.0; self.dofs.len()];
+        for (k, pr) in self.model.prescribed.iter().enumerate() {
+            dp[self.dofs.dof(pr.node, pr.dof.offset())] = target_p[k] - self.prescribed[k];
+        }
+        let fext = self.external_force(target_lambda);
+        let mut ordering = self.ordering_for(&contacts);
+        let mut predictor = true;
+        let mut iterations = 0;
+        let mut residuals = Vec::new();
+        let mut events = Vec::new();
+        let mut r0: Option<f64> = None;
+        let mut it8 = None;
+        let mut changes = 0;
+        let mut pass_iter = 0;
+        let mut last_step = 0.0;
+        loop {
+            let ctx = AssemblyContext {
+                model: &self.model,
+                elements: &self.elements,
+                dofs: &self.dofs,
+                ordering: &ordering,
+                contact: p.contact_options(pass_iter + 1),
+            };
+            let asm = assemble(&ctx, &d, true, predictor.then_some(dp.as_slice()));
+            let (mut rhs, norm, reference) = self.residual(&asm, &fext, &ordering);
+            let mut tangent = asm.tangent.clone().expect("tangent requested");
+            let floor = f64::EPSILON * tangent.max_diagonal() * self.coordinate_scale(&d) / reference;
+            if predictor {
+                for (e, c) in rhs.iter_mut().zip(&asm.coupling) {
+                    *e -= c;
+                }
+                r0 = Some(rhs.iter().map(|v| v * v).sum::<f64>().sqrt());
+            } else {
+                let rel = norm / reference;
+                let rec = IterationRecord {
+                    increment,
+                    iteration: iterations,
+                    residual: norm,
+                    relative_residual: rel,
+                    reference,
+                    step_norm: last_step,
+                    active_contacts: contacts.active.len(),
+                };
+                let flow = obs.iteration(&rec);
+                residuals.push(rec);
+                if flow == Flow::Stop {
+                    return Err(AttemptError::Stopped);
+                }
+                if !rel.is_finite() {
+                    return Err(AttemptError::Failed(format!("non-finite residual at iteration {iterations}")));
+                }
+                if it8.is_none() && r0.is_some_and(|r0| norm <= 1e-8 * r0) {
+                    it8 = Some(iterations);
+                }
+                if rel <= p.tolerance {
+                    let changed = contacts.after_convergence(self, &d, &asm, increment, iterations, &mut events);
+                    if changed == 0 {
+                        return Ok(Converged {
+                            d,
+                            contacts,
+                            assembled: asm,
+                            iterations,
+                            iterations_8_orders: it8,
+                            relative_residual: rel,
+                            reference,
+                            roundoff_floor: floor,
+                            residuals,
+                            events,
+                        });
+                    }
+                    changes += changed;
+                    if changes > p.max_active_set_changes {
+                        return Err(AttemptError::Failed(format!(
+                            "{changes} contact state changes in one increment (chattering)"
+                        )));
+                    }
+                    ordering = self.ordering_for(&contacts);
+                    pass_iter = 0;
+                    continue;
+                }
+                if rel > p.divergence {
+                    return Err(AttemptError::Failed(format!(
+                        "diverged at iteration {iterations}: relative residual {rel:.3e}"
+                    )));
+                }
+                if pass_iter >= p.max_iterations {
+                    return Err(AttemptError::Failed(format!(
+                        "no convergence in {} iterations: relative residual {rel:.3e} (round-off floor {floor:.1e})",
+                        p.max_iterations
+                    )));
+                }
+            }
+            if let Err(sp) = tangent.factor(0.0) {
+                return Err(AttemptError::Failed(format!(
+                    "singular tangent at {}",
+                    self.equation_label(&ordering, sp.equation)
+                )));
+            }
+            tangent.solve(&mut rhs);
+            let mut step2: f64 = rhs.iter().map(|v| v * v).sum();
+            if predictor {
+                step2 += dp.iter().map(|v| v * v).sum::<f64>();
+            }
+            let step = step2.sqrt();
+            let scale = if step > p.max_step { p.max_step / step } else { 1.0 };
+            for (g, e) in ordering.eq.iter().enumerate() {
+                if let Some(e) = e {
+                    d[g] += scale * rhs[*e];
+                }
+            }
+            if predictor {
+                for (g, v) in dp.iter().enumerate() {
+                    d[g] += v;
+                }
+                predictor = false;
+            }
+            iterations += 1;
+            pass_iter += 1;
+            let moved = contacts.during_iteration(self, &d, increment, iterations, &mut events);
+            if moved > 0 {
+                changes += moved;
+                if changes > p.max_active_set_changes {
+                    return Err(AttemptError::Failed(format!(
+                        "{changes} contact state changes in one increment (chattering)"
+                    )));
+                }
+                ordering = self.ordering_for(&contacts);
+            }
+            last_step = scale * step;
+        }
+    }
+
+    fn coordinate_scale(&self, d: &[f64]) -> f64 {
+        let mut s: f64 = 0.0;
+        for n in 0..self.model.nodes.len() {
+            let p = self.model.position(n);
+            let f = self.dofs.first[n];
+            s = s.max((p[0] + d[f]).abs()).max((p[1] + d[f + 1]).abs());
+        }
+        s.max(1e-300)
+    }
+
+    /// "node N u" for an equation number.
+    pub(crate) fn equation_label(&self, ord: &Ordering, eq: usize) -> String {
+        match ord.eq.iter().position(|e| *e == Some(eq)) {
+            Some(g) => self.dof_label(g),
+            None => format!("equation {eq}"),
+        }
+    }
+}

@@ -1,0 +1,61 @@
+//! The solver's parameters in one documented struct with defaults.
+
+use serde::{Deserialize, Serialize};
+
+use super::contact_element::ContactOptions;
+
+/// How the Newton-Raphson iteration and the increment control behave.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct SolverParams {
+    /// Convergence: `|R| <= tolerance * reference`, where R is the unbalanced force over the free
+    /// dofs and the reference is `max(|lambda F|, |reactions|, force_floor)` (2-norms).
+    pub tolerance: f64,
+    /// Smallest reference force, as a multiple of the largest section EA (keeps the test
+    /// meaningful when the structure is unloaded, e.g. after every contact released).
+    pub force_floor: f64,
+    /// Newton iterations allowed per attempt (each active-set pass starts a new count).
+    pub max_iterations: usize,
+    /// Halvings of the increment allowed before the run stops with an error.
+    pub max_cutbacks: usize,
+    /// An attempt fails when the relative residual exceeds this (divergence).
+    pub divergence: f64,
+    /// Largest displacement correction per iteration (m); larger ones are scaled down.
+    /// Guards spring-back after a release. `f64::INFINITY` disables it.
+    pub max_step: f64,
+    /// Contact state changes allowed within one increment before it is cut back (chattering).
+    pub max_active_set_changes: usize,
+    /// The contact element's unsymmetric tangent term is used from this iteration on (1 = always).
+    pub unsymmetric_from: usize,
+    /// Contact fractions are kept within [xi_min, 1 - xi_min] inside the stiffness.
+    pub xi_min: f64,
+    /// Tolerance for "li/l left (0, 1)" when deciding a transfer, as a fraction of the element.
+    pub transfer_tolerance: f64,
+}
+
+impl Default for SolverParams {
+    fn default() -> Self {
+        SolverParams {
+            tolerance: 1e-8,
+            force_floor: 1e-6,
+            max_iterations: 40,
+            max_cutbacks: 12,
+            divergence: 1e6,
+            max_step: f64::INFINITY,
+            max_active_set_changes: 24,
+            unsymmetric_from: 1,
+            xi_min: 1e-6,
+            transfer_tolerance: 1e-9,
+        }
+    }
+}
+
+impl SolverParams {
+    /// Contact element options for a given iteration.
+    pub fn contact_options(&self, iteration: usize) -> ContactOptions {
+        ContactOptions {
+            xi_min: self.xi_min,
+            unsymmetric: if iteration >= self.unsymmetric_from { 1.0 } else { 0.0 },
+        }
+    }
+}

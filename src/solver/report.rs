@@ -1,0 +1,191 @@
+//! What the solver reports: a record per Newton iteration, a record per converged increment,
+//! contact and control events, typed errors, and the observer trait through which a caller
+//! (CLI, worker thread, test) receives them and can ask the run to stop.
+
+use serde::{Deserialize, Serialize};
+
+/// One Newton iteration.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct IterationRecord {
+    /// Increment number this iteration belongs to (1-based, counting converged increments).
+    pub increment: usize,
+    /// Iteration number within the increment attempt (1-based).
+    pub iteration: usize,
+    /// Euclidean norm of the unbalanced force over the free dofs after this iteration (N).
+    pub residual: f64,
+    /// `residual / reference` (the convergence measure).
+    pub relative_residual: f64,
+    /// Reference force the residual is measured against (N).
+    pub reference: f64,
+    /// Norm of the displacement correction of this iteration.
+    pub step_norm: f64,
+    /// Number of active contacts during this iteration.
+    pub active_contacts: usize,
+}
+
+/// Something that happened during a run.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Event {
+    /// The increment was halved after a failed attempt.
+    CutBack {
+        /// Increment number being attempted.
+        increment: usize,
+        /// Why the attempt failed.
+        reason: String,
+        /// Fraction of the requested step now attempted.
+        fraction: f64,
+    },
+    /// A contact changed state.
+    Contact(ContactEvent),
+}
+
+/// Kinds of contact state change.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum ContactChange {
+    /// A node crossed a beam and the contact element was switched on.
+    Activated,
+    /// The contact point left its element and moved to the neighbouring element.
+    Transferred,
+    /// The contact force turned tensile.
+    Released,
+    /// The node slid off a free end of the beam.
+    SlidOff,
+}
+
+/// A contact event with where and when it happened.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ContactEvent {
+    /// What happened.
+    pub change: ContactChange,
+    /// Increment number.
+    pub increment: usize,
+    /// Iteration within the increment (0 = between converged passes).
+    pub iteration: usize,
+    /// User id of the contact node.
+    pub node: u32,
+    /// Element index (0-based) the contact is on after the change (before, for releases).
+    pub element: usize,
+    /// Name of the body the element belongs to.
+    pub body: String,
+    /// li/l at the change.
+    pub xi: f64,
+    /// Contact force Yc at the change (N).
+    pub force: f64,
+}
+
+/// An active contact in a converged state.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ContactState {
+    /// User id of the contact node.
+    pub node: u32,
+    /// Element index (0-based).
+    pub element: usize,
+    /// Body name.
+    pub body: String,
+    /// li/l.
+    pub xi: f64,
+    /// Contact force Yc in the element's chord frame (N).
+    pub force: f64,
+    /// Compressive contact pressure (N): positive when the bodies push on each other.
+    pub pressure: f64,
+}
+
+/// A reaction at a supported or prescribed dof.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Reaction {
+    /// User node id.
+    pub node: u32,
+    /// "u", "v" or "phi".
+    pub dof: String,
+    /// Reaction force or moment (N or N m).
+    pub value: f64,
+}
+
+/// One converged increment.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct IncrementRecord {
+    /// Increment number (1-based).
+    pub increment: usize,
+    /// Values of the prescribed displacements after this increment.
+    pub prescribed: Vec<f64>,
+    /// Load factor after this increment.
+    pub load_factor: f64,
+    /// Newton iterations used (all passes of the active set together).
+    pub iterations: usize,
+    /// Iterations needed to reduce the unbalanced force by 8 orders of magnitude from its value
+    /// at the start of the increment (None if never reached).
+    pub iterations_8_orders: Option<usize>,
+    /// Relative residual at convergence.
+    pub relative_residual: f64,
+    /// Reference force of the convergence test (N).
+    pub reference: f64,
+    /// Estimated round-off floor of the relative residual.
+    pub roundoff_floor: f64,
+    /// Cut-backs taken before this increment converged.
+    pub cutbacks: usize,
+    /// Residual history of every iteration.
+    pub residuals: Vec<IterationRecord>,
+    /// Node positions (x, y) and rotations, in node order.
+    pub nodes: Vec<[f64; 3]>,
+    /// (N, Mi, Mj) for every beam element.
+    pub element_forces: Vec<[f64; 3]>,
+    /// Reactions at supported and prescribed dofs.
+    pub reactions: Vec<Reaction>,
+    /// Active contacts.
+    pub contacts: Vec<ContactState>,
+    /// Contact events of this increment.
+    pub events: Vec<Event>,
+    /// Wall time of this increment, cut-back attempts included (s).
+    pub seconds: f64,
+}
+
+/// An observer's answer: go on or stop the run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Flow {
+    /// Keep going.
+    Continue,
+    /// Stop as soon as possible (the last converged state is kept).
+    Stop,
+}
+
+/// Receives the solver's records as they happen.
+pub trait Observer {
+    /// After each Newton iteration.
+    fn iteration(&mut self, _record: &IterationRecord) -> Flow {
+        Flow::Continue
+    }
+    /// After each converged increment.
+    fn increment(&mut self, _record: &IncrementRecord) -> Flow {
+        Flow::Continue
+    }
+    /// On every event.
+    fn event(&mut self, _event: &Event) {}
+}
+
+/// An observer that ignores everything.
+pub struct Silent;
+impl Observer for Silent {}
+
+/// Why a run could not continue.
+#[derive(Clone, Debug, PartialEq, thiserror::Error, Serialize, Deserialize)]
+pub enum SolveError {
+    /// Newton failed even after the allowed cut-backs.
+    #[error("increment {increment}: no convergence after {cutbacks} cut-backs (last attempt: {reason})")]
+    NoConvergence {
+        /// Increment number.
+        increment: usize,
+        /// Cut-backs tried.
+        cutbacks: usize,
+        /// Why the last attempt failed.
+        reason: String,
+    },
+    /// The tangent is singular: the structure is a mechanism at these dofs.
+    #[error("the structure is a mechanism: free dofs {dofs:?} have no stiffness")]
+    Mechanism {
+        /// Free dofs as "node N u/v/phi".
+        dofs: Vec<String>,
+    },
+    /// The observer asked the run to stop.
+    #[error("stopped by the caller")]
+    Stopped,
+}

@@ -1,0 +1,235 @@
+//! Element-level identities: the contact element against the primer's closed form (K23
+//! corrected), symmetry, condensation to the 2-node element, the Psi -> 0 limit, exact tangents
+//! against central finite differences, and rigid-body invariance of any size.
+
+use nalgebra::DMatrix;
+use tsm_contact::solver::beam::BeamElement;
+use tsm_contact::solver::contact_element::{bending_stiffness, contact_response, ContactOptions};
+use tsm_contact::solver::model::Section;
+
+/// The paper's material (Example 3.1/3.2): E = 2e7, A = 3e-4, I = 2.2e-8, G = 7.142e6, Ae = A.
+fn strip() -> Section {
+    Section { ea: 2.0e7 * 3.0e-4, ei: 2.0e7 * 2.2e-8, gae: 7.142e6 * 3.0e-4 }
+}
+
+fn element(length: f64, psi: f64) -> BeamElement {
+    BeamElement::new([0.0, 0.0], [length, 0.0], strip(), psi)
+}
+
+/// The primer's closed-form Timoshenko contact matrix (bending part, over theta_i, theta_j, dyc).
+fn primer_matrix(ei: f64, psi: f64, li: f64, lj: f64) -> DMatrix<f64> {
+    let l0 = li + lj;
+    let omega = (li * lj).powi(2) + 3.0 * psi * (l0 * l0 + li * lj) + 36.0 * psi * psi;
+    let kc = ei / (l0 * omega);
+    let k22 = (4.0 * omega + 3.0 * li * lj.powi(3) - 108.0 * psi * psi) * kc;
+    let k33 = (4.0 * omega + 3.0 * li.powi(3) * lj - 108.0 * psi * psi) * kc;
+    let k23 = (9.0 * psi * (l0 * l0 - li * lj) - omega) * kc;
+    let k24 = -3.0 * l0 * (lj * l0 + 6.0 * psi) * kc;
+    let k34 = 3.0 * l0 * (li * l0 + 6.0 * psi) * kc;
+    let k44 = 3.0 * l0 * (l0.powi(3) + 12.0 * l0 * psi) / (li * lj) * kc;
+    DMatrix::from_row_slice(3, 3, &[k22, k23, k24, k23, k33, k34, k24, k34, k44])
+}
+
+fn rel_diff(a: &DMatrix<f64>, b: &DMatrix<f64>) -> f64 {
+    (a - b).abs().max() / b.abs().max()
+}
+
+#[test]
+fn contact_matrix_matches_primer_closed_form() {
+    let s = strip();
+    for &psi in &[s.ei / s.gae, 1e-3, 0.0] {
+        for &xi in &[0.01, 0.25, 0.5, 0.9739] {
+            let l = 0.1;
+            let el = element(l, psi);
+            let k = bending_stiffness(&el, &[xi]);
+            let reference = if psi == 0.0 {
+                // Primer's Psi -> 0 limits.
+                let (li, lj) = (xi * l, (1.0 - xi) * l);
+                let ei = s.ei;
+                DMatrix::from_row_slice(
+                    3,
+                    3,
+                    &[
+                        ei * (4.0 * li + 3.0 * lj) / (li * l),
+                        -ei / l,
+                        -3.0 * ei * l / (li * li * lj),
+                        -ei / l,
+                        ei * (4.0 * lj + 3.0 * li) / (lj * l),
+                        3.0 * ei * l / (li * lj * lj),
+                        -3.0 * ei * l / (li * li * lj),
+                        3.0 * ei * l / (li * lj * lj),
+                        3.0 * ei * l.powi(3) / (li.powi(3) * lj.powi(3)),
+                    ],
+                )
+            } else {
+                primer_matrix(s.ei, psi, xi * l, (1.0 - xi) * l)
+            };
+            let e = rel_diff(&k, &reference);
+            assert!(e < 1e-12, "psi {psi} xi {xi}: relative difference {e:e}");
+            let asym = (&k - k.transpose()).abs().max() / k.abs().max();
+            assert!(asym < 1e-14, "not symmetric: {asym:e}");
+        }
+    }
+}
+
+#[test]
+fn primer_k23_differs_from_the_papers_misprint() {
+    // The paper prints K23 = {9 (l0^2 - lj Psi) - Omega} k_c; the corrected entry is
+    // {9 Psi (l0^2 - li lj) - Omega} k_c. Our matrix must agree with the corrected one only.
+    let s = strip();
+    let (psi, l, xi) = (s.ei / s.gae, 0.1, 0.3);
+    let k = bending_stiffness(&element(l, psi), &[xi]);
+    let (li, lj) = (xi * l, (1.0 - xi) * l);
+    let omega = (li * lj).powi(2) + 3.0 * psi * (l * l + li * lj) + 36.0 * psi * psi;
+    let kc = s.ei / (l * omega);
+    let misprint = (9.0 * (l * l - lj * psi) - omega) * kc;
+    let corrected = -(li * li - 6.0 * psi) * (lj * lj - 6.0 * psi) * kc;
+    assert!(((k[(0, 1)] - corrected) / corrected).abs() < 1e-12);
+    assert!(((k[(0, 1)] - misprint) / misprint).abs() > 1e-2);
+}
+
+#[test]
+fn condensing_out_the_contact_gives_the_two_node_element() {
+    let s = strip();
+    for &psi in &[s.ei / s.gae, 0.0] {
+        for &xi in &[0.05, 0.5, 0.8] {
+            let el = element(0.1, psi);
+            let k = bending_stiffness(&el, &[xi]);
+            // Yc = 0: Schur complement on (theta_i, theta_j).
+            let kaa = k.view((0, 0), (2, 2)).into_owned();
+            let kab = k.view((0, 2), (2, 1)).into_owned();
+            let kbb = k[(2, 2)];
+            let cond = kaa - &kab * kab.transpose() / kbb;
+            let (k11, k12) = el.bending_stiffness();
+            let reference = DMatrix::from_row_slice(2, 2, &[k11, k12, k12, k11]);
+            let e = rel_diff(&cond, &reference);
+            assert!(e < 1e-12, "psi {psi} xi {xi}: {e:e}");
+        }
+    }
+}
+
+#[test]
+fn several_contacts_reduce_to_one_and_to_none() {
+    // k point loads: with one point the general flexibility element is the paper's matrix (checked
+    // above); with two points, condensing one out must give the one-point matrix.
+    let s = strip();
+    let el = element(0.1, s.ei / s.gae);
+    let k2 = bending_stiffness(&el, &[0.3, 0.7]);
+    let keep = [0usize, 1, 2];
+    let kaa = DMatrix::from_fn(3, 3, |i, j| k2[(keep[i], keep[j])]);
+    let kab = DMatrix::from_fn(3, 1, |i, _| k2[(keep[i], 3)]);
+    let cond = kaa - &kab * kab.transpose() / k2[(3, 3)];
+    let k1 = bending_stiffness(&el, &[0.3]);
+    assert!(rel_diff(&cond, &k1) < 1e-11, "{:e}", rel_diff(&cond, &k1));
+}
+
+/// Central finite-difference Jacobian of `f` at `x`.
+fn fd_jacobian(x: &[f64], h: f64, f: impl Fn(&[f64]) -> Vec<f64>) -> DMatrix<f64> {
+    let n = x.len();
+    let m = f(x).len();
+    let mut jac = DMatrix::zeros(m, n);
+    for j in 0..n {
+        let mut xp = x.to_vec();
+        let mut xm = x.to_vec();
+        xp[j] += h;
+        xm[j] -= h;
+        let (fp, fm) = (f(&xp), f(&xm));
+        for i in 0..m {
+            jac[(i, j)] = (fp[i] - fm[i]) / (2.0 * h);
+        }
+    }
+    jac
+}
+
+/// A small deterministic pseudo-random sequence (xorshift), so failures are reproducible.
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    }
+}
+
+#[test]
+fn beam_tangent_equals_finite_differences() {
+    let s = strip();
+    let mut rng = Rng(0x9e3779b97f4a7c15);
+    for &psi in &[s.ei / s.gae, 0.0] {
+        for _ in 0..20 {
+            let el = BeamElement::new([0.1 * rng.next(), 0.1 * rng.next()], [1.0 + 0.1 * rng.next(), 0.3 * rng.next()], s, psi);
+            // A random large rigid rotation plus a deformation.
+            let rot = 7.0 * rng.next();
+            let (c, sn) = (rot.cos(), rot.sin());
+            let x0 = [0.2 * rng.next(), 0.2 * rng.next()];
+            let dx = [el.length * c * (1.0 + 1e-3 * rng.next()), el.length * sn];
+            let state = vec![x0[0], x0[1], rot + 0.2 * rng.next(), x0[0] + dx[0], x0[1] + dx[1], rot + 0.2 * rng.next()];
+            let eval = |x: &[f64]| el.response([x[0], x[1]], [x[3], x[4]], x[2], x[5], true);
+            let k = eval(&state).tangent.unwrap();
+            let k = DMatrix::from_fn(6, 6, |i, j| k[(i, j)]);
+            let fd = fd_jacobian(&state, 1e-6, |x| eval(x).nodal.iter().copied().collect());
+            let e = rel_diff(&fd, &k);
+            assert!(e < 1e-6, "psi {psi}: tangent vs finite differences {e:e}");
+        }
+    }
+}
+
+#[test]
+fn contact_tangent_equals_finite_differences() {
+    let s = strip();
+    let mut rng = Rng(0x2545f4914f6cdd1d);
+    for &psi in &[s.ei / s.gae, 0.0] {
+        for k in 1..=3 {
+            for _ in 0..10 {
+                let l = 0.1;
+                let el = BeamElement::new([0.0, 0.0], [l, 0.0], s, psi);
+                let rot = 9.0 * rng.next();
+                let (c, sn) = (rot.cos(), rot.sin());
+                let lcur = l * (1.0 + 1e-3 * rng.next());
+                let mut state = vec![0.3, -0.2, rot + 0.05 * rng.next(), 0.3 + lcur * c, -0.2 + lcur * sn, rot + 0.05 * rng.next()];
+                for m in 0..k {
+                    let t = (m as f64 + 0.5 + 0.4 * rng.next()) / k as f64;
+                    let w = 2e-3 * rng.next();
+                    state.push(0.3 + t * lcur * c - w * sn);
+                    state.push(-0.2 + t * lcur * sn + w * c);
+                }
+                let eval = |x: &[f64]| {
+                    let xc: Vec<[f64; 2]> = (0..k).map(|m| [x[6 + 2 * m], x[7 + 2 * m]]).collect();
+                    contact_response(&el, [x[0], x[1]], [x[3], x[4]], [x[2], x[5]], &xc, ContactOptions::default(), true)
+                };
+                let kt = eval(&state).tangent.unwrap();
+                let fd = fd_jacobian(&state, 1e-7, |x| eval(x).nodal.iter().copied().collect());
+                let e = rel_diff(&fd, &kt);
+                assert!(e < 1e-6, "psi {psi} k {k}: tangent vs finite differences {e:e}");
+            }
+        }
+    }
+}
+
+#[test]
+fn rigid_body_motion_of_any_size_gives_zero_forces() {
+    let s = strip();
+    for &psi in &[s.ei / s.gae, 0.0] {
+        let el = BeamElement::new([0.2, 0.1], [1.1, 0.5], s, psi);
+        let (xi, xj) = ([0.2, 0.1], [1.1, 0.5]);
+        for &rot in &[0.3, 3.0, -3.5, 2.0 * std::f64::consts::TAU + 0.7, 5.0 * std::f64::consts::TAU - 0.1, -40.0] {
+            let (c, sn) = (f64::cos(rot), f64::sin(rot));
+            let t = [123.4, -56.7];
+            let map = |p: [f64; 2]| [t[0] + c * p[0] - sn * p[1], t[1] + sn * p[0] + c * p[1]];
+            let r = el.response(map(xi), map(xj), rot, rot, false);
+            // Scale: forces of a unit deformation.
+            let scale = s.ea / el.length;
+            for f in r.forces {
+                assert!(f.abs() < 1e-12 * scale, "rotation {rot}: force {f:e}");
+            }
+            // Contact element with a node on the chord: also force-free.
+            let pc = [xi[0] + 0.3 * (xj[0] - xi[0]), xi[1] + 0.3 * (xj[1] - xi[1])];
+            let cr = contact_response(&el, map(xi), map(xj), [rot, rot], &[map(pc)], ContactOptions::default(), false);
+            let kscale = bending_stiffness(&el, &[0.3]).abs().max() * el.length;
+            for f in &cr.forces {
+                assert!(f.abs() < 1e-12 * kscale.max(scale), "contact, rotation {rot}: force {f:e}");
+            }
+        }
+    }
+}
