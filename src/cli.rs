@@ -110,8 +110,8 @@ impl Observer for Printer {
     fn iteration(&mut self, r: &tsm_contact::solver::IterationRecord) -> Flow {
         if self.verbose {
             println!(
-                "      iter {:>3}  |R| = {:.3e}  |R|/ref = {:.3e}  |du| = {:.3e}",
-                r.iteration, r.residual, r.relative_residual, r.step_norm
+                "      iter {:>3}  |R| = {:.3e}  |R|/ref = {:.3e}  |du| = {:.3e}  contacts {}",
+                r.iteration, r.residual, r.relative_residual, r.step_norm, r.active_contacts
             );
         }
         Flow::Continue

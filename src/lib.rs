@@ -5,3 +5,6 @@
 pub mod history;
 pub mod scene;
 pub mod solver;
+pub mod worker;
+#[cfg(feature = "gui")]
+pub mod app;

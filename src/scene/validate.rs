@@ -69,7 +69,8 @@ pub fn load_file(path: &Path) -> Result<Scene, SceneError> {
 
 /// Parse and validate scene text; `file` is used in messages.
 pub fn parse(text: &str, file: &str) -> Result<Scene, SceneError> {
-    let sf: SceneFile = ron::from_str(text).map_err(|e| SceneError {
+    let options = ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
+    let sf: SceneFile = options.from_str(text).map_err(|e| SceneError {
         file: file.into(),
         line: Some(e.span.start.line),
         field: "(syntax)".into(),

@@ -55,6 +55,11 @@ struct Shape {
 }
 
 impl ContactSet {
+    /// The remembered side of node `node` relative to body `body` (+1 along the chord normal).
+    pub fn side(&self, node: usize, body: usize) -> Option<f64> {
+        self.sides.get(&(node, body)).copied()
+    }
+
     /// The assembly's view of the active contacts.
     pub fn links(&self) -> Vec<ContactLink> {
         self.active.iter().map(|a| ContactLink { node: a.node, beam: a.beam }).collect()
@@ -115,9 +120,6 @@ impl ContactSet {
                 continue;
             }
             let off = (-a[0] * dy + a[1] * dx) / l;
-            if off.abs() > l {
-                continue;
-            }
             let sh = self.shape(solver, d, e);
             let w = deflection(&solver.elements[e], &sh.bending, &sh.xis, t);
             let gap = off - w;
@@ -171,18 +173,22 @@ impl ContactSet {
         })
     }
 
-    /// Move contacts whose li/l left [0, 1] to the neighbouring element, or release them at a
-    /// free end. Returns the number of changes.
-    pub fn during_iteration(
+    /// Move contacts whose li/l left [0, 1] to the neighbouring element. Between iterations a
+    /// contact moves by at most one element and never leaves the body (intermediate iterates can
+    /// be far off); at a converged state (`converged`) it walks to the element it now lies on, or
+    /// slides off a free end. Returns the number of changes.
+    pub fn transfer(
         &mut self,
         solver: &Solver,
         d: &[f64],
         increment: usize,
         iteration: usize,
+        converged: bool,
         events: &mut Vec<Event>,
     ) -> usize {
         let m = &solver.model;
         let tol = solver.params.transfer_tolerance;
+        let margin = if converged { solver.params.free_end_margin } else { -tol };
         let mut changes = 0;
         let mut k = 0;
         while k < self.active.len() {
@@ -190,7 +196,8 @@ impl ContactSet {
             let mut moved = false;
             let mut off_end = false;
             let mut xi_now = 0.0;
-            for _ in 0..m.bodies[a.body].elements.len() {
+            let walk = if converged { m.bodies[a.body].elements.len() } else { 1 };
+            for _ in 0..walk {
                 let beam = &m.beams[a.beam];
                 let (xi, _) = current(m, &solver.dofs, d, beam.i);
                 let (xj, _) = current(m, &solver.dofs, d, beam.j);
@@ -198,10 +205,12 @@ impl ContactSet {
                 let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
                 let t = ((p[0] - xi[0]) * dx + (p[1] - xi[1]) * dy) / (dx * dx + dy * dy);
                 xi_now = t;
-                let next = if t < -tol {
-                    m.bodies[a.body].elements.iter().copied().find(|&e| m.beams[e].j == beam.i)
-                } else if t > 1.0 + tol {
-                    m.bodies[a.body].elements.iter().copied().find(|&e| m.beams[e].i == beam.j)
+                let before = m.bodies[a.body].elements.iter().copied().find(|&e| m.beams[e].j == beam.i);
+                let after = m.bodies[a.body].elements.iter().copied().find(|&e| m.beams[e].i == beam.j);
+                let next = if t < -tol || (before.is_none() && t < margin) {
+                    before
+                } else if t > 1.0 + tol || (after.is_none() && t > 1.0 - margin) {
+                    after
                 } else {
                     break;
                 };
@@ -211,13 +220,15 @@ impl ContactSet {
                         moved = true;
                     }
                     None => {
-                        off_end = true;
+                        off_end = converged;
                         break;
                     }
                 }
             }
             if off_end {
                 events.push(Self::event(solver, &a, ContactChange::SlidOff, increment, iteration, xi_now, 0.0));
+                // The node went round the end: its side is unknown until it projects again.
+                self.sides.remove(&(a.node, a.body));
                 self.active.remove(k);
                 changes += 1;
                 continue;
@@ -243,21 +254,11 @@ impl ContactSet {
         iteration: usize,
         events: &mut Vec<Event>,
     ) -> usize {
-        let mut changes = self.during_iteration(solver, d, increment, iteration, events);
+        let mut changes = self.transfer(solver, d, increment, iteration, true, events);
         if changes > 0 {
             return changes;
         }
-        let forces = &asm.elements.contact_forces;
-        let mut keep = Vec::with_capacity(self.active.len());
-        for (a, &(yc, xi)) in self.active.iter().zip(forces) {
-            if -a.side * yc < 0.0 {
-                events.push(Self::event(solver, a, ContactChange::Released, increment, iteration, xi, yc));
-                changes += 1;
-            } else {
-                keep.push(*a);
-            }
-        }
-        self.active = keep;
+        changes += self.release_tensile(solver, asm, increment, iteration, events);
         for (n, b) in Self::candidates(solver) {
             if self.is_active(n, b) {
                 continue;
@@ -273,6 +274,30 @@ impl ContactSet {
             }
         }
         changes
+    }
+
+    /// Release every contact whose force (from `asm`, assembled with the current contacts) is
+    /// tensile. Returns the number released.
+    pub fn release_tensile(
+        &mut self,
+        solver: &Solver,
+        asm: &Assembled,
+        increment: usize,
+        iteration: usize,
+        events: &mut Vec<Event>,
+    ) -> usize {
+        let forces = &asm.elements.contact_forces;
+        let before = self.active.len();
+        let mut keep = Vec::with_capacity(before);
+        for (a, &(yc, xi)) in self.active.iter().zip(forces) {
+            if -a.side * yc < 0.0 {
+                events.push(Self::event(solver, a, ContactChange::Released, increment, iteration, xi, yc));
+            } else {
+                keep.push(*a);
+            }
+        }
+        self.active = keep;
+        before - self.active.len()
     }
 
     /// Report states of the active contacts from a converged assembly.

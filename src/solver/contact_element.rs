@@ -85,10 +85,13 @@ fn inverse_stiffness(beam: &BeamElement) -> (f64, f64) {
     (inv_ei, beam.psi * inv_ei)
 }
 
+/// Inverse of a flexibility matrix; all-NaN (same size) if singular, e.g. two contact points at
+/// the same place, so the caller's residual turns non-finite and the increment is cut back.
 fn invert_spd(f: DMatrix<f64>) -> DMatrix<f64> {
+    let n = f.nrows();
     match f.clone().cholesky() {
         Some(ch) => ch.inverse(),
-        None => f.try_inverse().unwrap_or_else(|| DMatrix::from_element(1, 1, f64::NAN)),
+        None => f.try_inverse().unwrap_or_else(|| DMatrix::from_element(n, n, f64::NAN)),
     }
 }
 

@@ -12,6 +12,7 @@ pub mod model;
 pub mod newton;
 pub mod params;
 pub mod report;
+pub mod shape;
 
 pub use control::Solver;
 pub use model::{Beam, Body, ContactPair, Dof, Formulation, Load, Model, Node, Prescribed, Section, Support};

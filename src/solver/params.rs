@@ -31,6 +31,13 @@ pub struct SolverParams {
     pub xi_min: f64,
     /// Tolerance for "li/l left (0, 1)" when deciding a transfer, as a fraction of the element.
     pub transfer_tolerance: f64,
+    /// A contact within this fraction of an element end that has no neighbouring element (a
+    /// free tip) slides off at a converged state: closer than this, K44 ~ G Ae / lj makes the
+    /// round-off floor of the residual exceed the tolerance.
+    pub free_end_margin: f64,
+    /// Also accept a relative residual below `roundoff_factor` times the estimated round-off
+    /// floor (eps max|K_ii| max|x| / reference); 0 disables it. Reported per increment.
+    pub roundoff_factor: f64,
 }
 
 impl Default for SolverParams {
@@ -46,6 +53,8 @@ impl Default for SolverParams {
             unsymmetric_from: 1,
             xi_min: 1e-6,
             transfer_tolerance: 1e-9,
+            free_end_margin: 1e-3,
+            roundoff_factor: 0.0,
         }
     }
 }

@@ -1,0 +1,123 @@
+//! The toolbar (scene picker, "Open..." path, formulation toggle, fit, exports, screenshot,
+//! status) and the sliders that drive each prescribed dof through `Command::SetTarget`.
+
+use crate::solver::Formulation;
+use crate::worker::Command;
+
+use super::export;
+use super::screenshot::Shot;
+use super::state::TsmApp;
+
+/// The top bar.
+pub fn toolbar(app: &mut TsmApp, ui: &mut egui::Ui) {
+    ui.horizontal_wrapped(|ui| {
+        let current = app.scene_name.clone();
+        egui::ComboBox::from_label("Scene").selected_text(short(&current)).show_ui(ui, |ui| {
+            for (file, _) in crate::scene::builtin::BUILTIN {
+                let name = file.trim_end_matches(".ron");
+                if ui.selectable_label(current == name, name).clicked() {
+                    app.open(name);
+                }
+            }
+        });
+        ui.add(egui::TextEdit::singleline(&mut app.open_path).hint_text("scene.ron path").desired_width(150.0));
+        if ui.button("Open...").clicked() && !app.open_path.trim().is_empty() {
+            let p = app.open_path.trim().to_string();
+            app.open(&p);
+        }
+        ui.separator();
+        if let Some(l) = &app.loaded {
+            let f = l.scene.model.formulation;
+            for (label, value) in [("Timoshenko", Formulation::Timoshenko), ("Bernoulli-Euler", Formulation::BernoulliEuler)] {
+                if ui.selectable_label(f == value, label).clicked() && f != value {
+                    app.send(Command::SetFormulation(value));
+                }
+            }
+        }
+        ui.separator();
+        if ui.button("Fit").clicked() {
+            app.fit_pending = true;
+        }
+        ui.separator();
+        ui.add(egui::TextEdit::singleline(&mut app.export_stem).hint_text("export file stem").desired_width(110.0));
+        exports(app, ui);
+        ui.separator();
+        if app.busy {
+            ui.spinner();
+        }
+        match &app.error {
+            Some(e) => ui.colored_label(ui.visuals().error_fg_color, e),
+            None => ui.label(&app.status),
+        };
+    });
+}
+
+/// Export buttons.
+fn exports(app: &mut TsmApp, ui: &mut egui::Ui) {
+    let stem = app.export_stem.trim().to_string();
+    let Some(loaded) = &app.loaded else { return };
+    let mut note = None;
+    if ui.button("Export JSON").clicked() {
+        let path = std::path::PathBuf::from(format!("{stem}.json"));
+        let h = export::history(loaded, &app.history, &app.events, app.error.as_deref());
+        note = Some(h.write_json(&path).map(|_| path));
+    }
+    if ui.button("Export CSV").clicked() {
+        let path = std::path::PathBuf::from(format!("{stem}.csv"));
+        note = Some(export::write_csv(&path, loaded, &app.history).map(|_| path));
+    }
+    if ui.button("Save PNG").clicked() && app.shot.is_none() {
+        app.shot = Some(Shot::new(format!("{stem}.png").into(), None, false));
+        app.status = format!("saving {stem}.png");
+    }
+    match note {
+        Some(Ok(p)) => app.status = format!("wrote {}", p.display()),
+        Some(Err(e)) => app.error = Some(format!("export failed: {e}")),
+        None => {}
+    }
+}
+
+/// Last path component without `.ron`.
+fn short(name: &str) -> String {
+    let base = std::path::Path::new(name).file_name().map_or(name.into(), |f| f.to_string_lossy().to_string());
+    base.trim_end_matches(".ron").to_string()
+}
+
+/// One slider per prescribed dof ("node 34 v"), driving its target.
+pub fn sliders(app: &mut TsmApp, ui: &mut egui::Ui) {
+    let Some(l) = &app.loaded else { return };
+    ui.heading("Drive");
+    let model = &l.scene.model;
+    if model.prescribed.is_empty() {
+        let lambda = app.record().map_or(0.0, |r| r.load_factor);
+        ui.label(format!("load factor {lambda:.4} (load control; use Step / Run)"));
+        return;
+    }
+    let mut sends = Vec::new();
+    let first_step = model.prescribed[0].per_step;
+    for (k, p) in model.prescribed.iter().enumerate() {
+        let total = p.per_step * l.scene.steps as f64;
+        let span = if total != 0.0 { total * 1.25 } else { 1.0 };
+        let (lo, hi) = (span.min(0.0).min(-span.abs() * 0.1), span.max(0.0).max(span.abs() * 0.1));
+        let label = l.prescribed_labels.get(k).cloned().unwrap_or_default();
+        let Some(t) = app.targets.get_mut(k) else { continue };
+        let mut v = *t;
+        let r = ui.add(egui::Slider::new(&mut v, lo..=hi).text(label).custom_formatter(|x, _| format!("{x:.4}")));
+        // Only a real move counts (the slider may round or clamp a value it is merely shown).
+        if r.changed() && (v - *t).abs() > 1e-9 * (hi - lo) {
+            *t = v;
+            sends.push((k, v));
+        }
+    }
+    for (index, value) in sends {
+        app.targeting = true;
+        app.send(Command::SetTarget { index, value });
+    }
+    if app.busy {
+        if ui.button("Stop").clicked() {
+            app.send(Command::Cancel);
+        }
+    } else {
+        ui.label(format!("increments of at most {:.4} m", first_step.abs()));
+    }
+}

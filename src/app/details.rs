@@ -1,0 +1,89 @@
+//! The details panel for the selected increment: "Increment k / n", prescribed values,
+//! iterations, "residual 3.2e-11", the active contacts (li/l, Yc) and the reactions.
+
+use egui::RichText;
+
+use super::state::TsmApp;
+
+/// Show the details of the selected increment.
+pub fn show(app: &TsmApp, ui: &mut egui::Ui) {
+    let Some(l) = &app.loaded else {
+        ui.label("no scene loaded");
+        return;
+    };
+    let Some(r) = app.record() else { return };
+    ui.heading(RichText::new(&l.scene.file.name).strong());
+    if !l.scene.file.description.is_empty() {
+        ui.label(RichText::new(&l.scene.file.description).small());
+    }
+    ui.separator();
+    ui.label(RichText::new(format!("Increment {} / {}", r.increment, app.last())).strong());
+    for (label, v) in l.prescribed_labels.iter().zip(&r.prescribed) {
+        ui.label(format!("{label} = {v:+.5}"));
+    }
+    if l.scene.model.load_per_step != 0.0 {
+        ui.label(format!("load factor {:.4}", r.load_factor));
+    }
+    if r.increment > 0 {
+        let it8 = r.iterations_8_orders.map_or("-".into(), |v| v.to_string());
+        ui.label(format!("iterations {} (8 orders: {it8})", r.iterations));
+        ui.label(format!("residual {:.1e}", r.relative_residual));
+        if r.cutbacks > 0 {
+            ui.label(format!("cut-backs {}", r.cutbacks));
+        }
+        ui.label(format!("time {:.2} ms", r.seconds * 1e3));
+    }
+    ui.separator();
+    ui.label(RichText::new(format!("Active contacts: {}", r.contacts.len())).strong());
+    egui::Grid::new("contacts").striped(true).num_columns(4).show(ui, |ui| {
+        if !r.contacts.is_empty() {
+            for h in ["node", "on", "li/l", "Yc (N)"] {
+                ui.label(RichText::new(h).small());
+            }
+            ui.end_row();
+        }
+        for c in &r.contacts {
+            ui.label(c.node.to_string());
+            ui.label(format!("{} el {}", c.body, c.element + 1));
+            ui.label(format!("{:.4}", c.xi));
+            ui.label(format!("{:+.3e}", c.force));
+            ui.end_row();
+        }
+    });
+    let events: Vec<_> = r.events.iter().filter_map(event_text).collect();
+    if !events.is_empty() {
+        ui.separator();
+        ui.label(RichText::new("Events").strong());
+        for e in events {
+            ui.label(RichText::new(e).small());
+        }
+    }
+    if !r.reactions.is_empty() {
+        ui.separator();
+        ui.label(RichText::new("Reactions").strong());
+        egui::Grid::new("reactions").striped(true).num_columns(2).show(ui, |ui| {
+            for x in &r.reactions {
+                ui.label(format!("node {} {}", x.node, x.dof));
+                ui.label(format!("{:+.4e}", x.value));
+                ui.end_row();
+            }
+        });
+    }
+}
+
+/// One line for a contact event.
+fn event_text(e: &crate::solver::Event) -> Option<String> {
+    use crate::solver::ContactChange as C;
+    match e {
+        crate::solver::Event::Contact(c) => {
+            let what = match c.change {
+                C::Activated => "touches",
+                C::Transferred => "moves onto",
+                C::Released => "releases from",
+                C::SlidOff => "slides off",
+            };
+            Some(format!("node {} {what} {} el {} (it {})", c.node, c.body, c.element + 1, c.iteration))
+        }
+        crate::solver::Event::CutBack { fraction, .. } => Some(format!("cut-back to {fraction}")),
+    }
+}

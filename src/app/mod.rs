@@ -1,0 +1,50 @@
+//! The interactive visualiser (feature `gui`): `run` opens the eframe window on a scene, or
+//! renders a screenshot and exits. The app state lives in `state`, each panel in its own module,
+//! the beam strips in `beams_gpu` (wgpu) with `strips` / `shapes` for the geometry.
+
+pub mod beams_gpu;
+pub mod controls;
+pub mod details;
+pub mod export;
+pub mod frame_log;
+pub mod plots;
+pub mod screenshot;
+pub mod shapes;
+pub mod state;
+pub mod strips;
+pub mod timeline;
+pub mod units;
+pub mod view;
+pub mod viewport;
+
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicI32, Ordering};
+use std::sync::Arc;
+
+pub use state::{load_scene, Startup, TsmApp};
+
+/// Open the visualiser on `scene` (a path or built-in name; default: the last one used, else
+/// the first built-in), solve `steps` steps first, and with `screenshot` save a PNG after the
+/// steps and exit. Returns the process exit code.
+pub fn run(scene: Option<String>, steps: Option<usize>, screenshot: Option<PathBuf>) -> i32 {
+    let exit = Arc::new(AtomicI32::new(0));
+    let shot = screenshot.is_some();
+    let startup = Startup { scene, steps, screenshot, exit: Some(exit.clone()) };
+    let options = eframe::NativeOptions {
+        viewport: egui::ViewportBuilder::default()
+            .with_title("tsm-contact")
+            .with_inner_size([1500.0, 940.0])
+            .with_min_inner_size([800.0, 600.0]),
+        multisampling: 0,
+        depth_buffer: 0,
+        persist_window: !shot,
+        ..Default::default()
+    };
+    match eframe::run_native("tsm-contact", options, Box::new(move |cc| Ok(Box::new(TsmApp::new(cc, startup))))) {
+        Ok(()) => exit.load(Ordering::SeqCst),
+        Err(e) => {
+            eprintln!("error: cannot open the window: {e}");
+            1
+        }
+    }
+}

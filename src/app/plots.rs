@@ -1,0 +1,183 @@
+//! The plots under the timeline: convergence (log10 of the relative residual against the
+//! cumulative iteration number, streaming live, with the tolerance line and markers at cut-backs
+//! and contact events; all increments or the selected one) and the reaction against the
+//! displacement of the driven dof (load factor against displacement under load control).
+
+use egui::Color32;
+use egui_plot::{GridInput, GridMark, HLine, HoverPosition, Line, MarkerShape, Plot, Points};
+
+use crate::solver::{Dof, Event, IncrementRecord, IterationRecord};
+
+use super::state::TsmApp;
+
+const RESIDUAL: Color32 = Color32::from_rgb(40, 90, 170);
+const SELECTED: Color32 = Color32::from_rgb(230, 120, 0);
+const CUT: Color32 = Color32::from_rgb(200, 30, 30);
+const CONTACT: Color32 = Color32::from_rgb(20, 150, 70);
+
+/// Show both plots side by side.
+pub fn show(app: &mut TsmApp, ui: &mut egui::Ui) {
+    ui.columns(2, |cols| {
+        convergence(app, &mut cols[0]);
+        reaction(app, &mut cols[1]);
+    });
+}
+
+/// Floor of the plotted residual (an exactly zero residual is drawn here).
+const FLOOR: f64 = 1e-18;
+
+fn lg(v: f64) -> f64 {
+    v.max(FLOOR).log10()
+}
+
+/// Decade grid marks (integers of log10).
+fn decades(input: GridInput) -> Vec<GridMark> {
+    let (lo, hi) = input.bounds;
+    let step = ((hi - lo) / 8.0).ceil().max(1.0);
+    let mut v = (lo / step).floor() * step;
+    let mut out = Vec::new();
+    while v <= hi && out.len() < 200 {
+        out.push(GridMark { value: v, step_size: step });
+        v += step;
+    }
+    out
+}
+
+/// "1e-8" for an integer log10 value.
+fn power_label(mark: GridMark, _range: &std::ops::RangeInclusive<f64>) -> String {
+    if (mark.value - mark.value.round()).abs() < 1e-9 {
+        format!("1e{}", mark.value.round() as i64)
+    } else {
+        String::new()
+    }
+}
+
+/// Points of the residual history, markers and the selected increment's span.
+struct Series {
+    all: Vec<[f64; 2]>,
+    selected: Vec<[f64; 2]>,
+    cuts: Vec<[f64; 2]>,
+    contacts: Vec<[f64; 2]>,
+}
+
+fn series(history: &[IncrementRecord], live: &[IterationRecord], selected: usize) -> Series {
+    let mut s = Series { all: Vec::new(), selected: Vec::new(), cuts: Vec::new(), contacts: Vec::new() };
+    let mut x = 0.0;
+    for (k, r) in history.iter().enumerate().skip(1) {
+        let start = x;
+        for it in &r.residuals {
+            x += 1.0;
+            s.all.push([x, lg(it.relative_residual)]);
+            if k == selected {
+                s.selected.push([x, lg(it.relative_residual)]);
+            }
+        }
+        let y_at = |i: usize| r.residuals.get(i.saturating_sub(1)).map_or(0.0, |it| lg(it.relative_residual));
+        if r.cutbacks > 0 {
+            s.cuts.push([start + 1.0, y_at(1)]);
+        }
+        for e in &r.events {
+            if let Event::Contact(c) = e {
+                let i = c.iteration.max(1);
+                s.contacts.push([start + i as f64, y_at(i)]);
+            }
+        }
+    }
+    for it in live {
+        x += 1.0;
+        s.all.push([x, lg(it.relative_residual)]);
+    }
+    s
+}
+
+/// A coloured key entry.
+fn key(ui: &mut egui::Ui, color: Color32, text: &str) {
+    ui.label(egui::RichText::new(text).color(color).small());
+}
+
+fn convergence(app: &mut TsmApp, ui: &mut egui::Ui) {
+    ui.horizontal(|ui| {
+        ui.label("Convergence:");
+        ui.selectable_value(&mut app.plot_all, true, "all increments");
+        ui.selectable_value(&mut app.plot_all, false, "selected increment");
+        ui.separator();
+        key(ui, RESIDUAL, "— residual");
+        if app.plot_all {
+            key(ui, SELECTED, "— selected");
+            key(ui, CONTACT, "◆ contact event");
+            key(ui, CUT, "▼ cut-back");
+        }
+        key(ui, CUT, "- - tolerance");
+    });
+    let tol = app.loaded.as_ref().map_or(1e-8, |l| l.scene.params.tolerance);
+    let s = if app.plot_all {
+        series(&app.history, &app.live, app.selected)
+    } else {
+        let r = app.record().filter(|r| r.increment > 0);
+        let pts: Vec<[f64; 2]> = r
+            .map(|r| r.residuals.iter().enumerate().map(|(i, it)| [(i + 1) as f64, lg(it.relative_residual)]).collect())
+            .unwrap_or_default();
+        Series { all: pts, selected: Vec::new(), cuts: Vec::new(), contacts: Vec::new() }
+    };
+    let x_label = if app.plot_all { "cumulative iteration" } else { "iteration" };
+    Plot::new("convergence")
+        .x_axis_label(x_label)
+        .y_axis_label("relative residual")
+        .y_grid_spacer(decades)
+        .y_axis_formatter(power_label)
+        .include_y(lg(tol) - 2.0)
+        .include_y(0.0)
+        .include_x(0.0)
+        .label_formatter(|h| {
+            let (HoverPosition::NearDataPoint { position: p, .. } | HoverPosition::Elsewhere { position: p }) = h;
+            Some(format!("iteration {:.0}\n{:.2e}", p.x, 10f64.powf(p.y)))
+        })
+        .show(ui, move |p| {
+            p.hline(HLine::new(format!("tolerance {tol:.0e}"), lg(tol)).color(CUT).style(egui_plot::LineStyle::dashed_loose()));
+            p.line(Line::new("relative residual", s.all).color(RESIDUAL).width(1.5));
+            if !s.selected.is_empty() {
+                p.line(Line::new("selected increment", s.selected).color(SELECTED).width(2.5));
+            }
+            if !s.cuts.is_empty() {
+                p.points(Points::new("cut-back", s.cuts).shape(MarkerShape::Down).color(CUT).radius(5.0).filled(true));
+            }
+            if !s.contacts.is_empty() {
+                p.points(Points::new("contact event", s.contacts).shape(MarkerShape::Diamond).color(CONTACT).radius(4.0));
+            }
+        });
+}
+
+fn reaction(app: &TsmApp, ui: &mut egui::Ui) {
+    let Some(l) = &app.loaded else { return };
+    let model = &l.scene.model;
+    let (x_label, y_label, pts): (String, String, Vec<[f64; 2]>) = if let Some(p) = model.prescribed.first() {
+        let id = model.nodes[p.node].id;
+        let dof = p.dof.name();
+        let pts = app
+            .history
+            .iter()
+            .map(|r| {
+                let y = r.reactions.iter().find(|x| x.node == id && x.dof == dof).map_or(0.0, |x| x.value);
+                [r.prescribed[0], y]
+            })
+            .collect();
+        let unit = if p.dof == Dof::Phi { "N m" } else { "N" };
+        (format!("{} (prescribed)", l.prescribed_labels[0]), format!("reaction ({unit})"), pts)
+    } else if let Some(load) = model.loads.first() {
+        let o = (0..3).max_by(|&a, &b| load.force[a].abs().total_cmp(&load.force[b].abs())).unwrap_or(1);
+        let n = load.node;
+        let x0 = [model.nodes[n].x, model.nodes[n].y, 0.0][o];
+        let pts = app.history.iter().map(|r| [r.nodes[n][o] - x0, r.load_factor]).collect();
+        (format!("node {} {}", model.nodes[n].id, ["u", "v", "phi"][o]), "load factor".into(), pts)
+    } else {
+        return;
+    };
+    ui.label("Reaction against displacement of the driven dof:");
+    let sel = pts.get(app.selected).copied();
+    Plot::new("reaction").x_axis_label(x_label).y_axis_label(y_label).show(ui, move |p| {
+        p.line(Line::new("equilibrium path", pts).color(RESIDUAL).width(1.5));
+        if let Some(s) = sel {
+            p.points(Points::new("selected", vec![s]).color(SELECTED).radius(5.0).filled(true));
+        }
+    });
+}

@@ -1,0 +1,103 @@
+//! What the viewport draws, in world coordinates: each body's smooth deformed curve (through
+//! `solver::shape::element_curve`) with the bending moment at every sample, the undeformed
+//! chords, and the moment colour map shared by the strips and the legend.
+
+use egui::Color32;
+
+use crate::solver::beam::BeamElement;
+use crate::solver::{IncrementRecord, Model};
+
+/// Samples per element along the deformed curve.
+pub const SAMPLES: usize = 8;
+
+/// A body's deformed centre line with the bending moment at each point.
+#[derive(Clone, Debug, Default)]
+pub struct BodyCurve {
+    /// Points (m).
+    pub points: Vec<[f64; 2]>,
+    /// Bending moment at each point (N m).
+    pub moments: Vec<f64>,
+}
+
+/// Bending moment at fraction `x` along element `e` of a simply supported beam carrying the end
+/// moments (Mi, Mj) and the element's contact forces (sign convention of the element force
+/// equation: `Mi` at end i, `-Mj` at end j).
+pub fn moment_at(model: &Model, record: &IncrementRecord, e: usize, x: f64) -> f64 {
+    let f = record.element_forces.get(e).copied().unwrap_or([0.0; 3]);
+    let l = model.beam_length(e);
+    let mut m = f[1] * (1.0 - x) - f[2] * x;
+    for c in record.contacts.iter().filter(|c| c.element == e) {
+        let a = c.xi.clamp(0.0, 1.0);
+        m += c.force * l * if x <= a { (1.0 - a) * x } else { a * (1.0 - x) };
+    }
+    m
+}
+
+/// Deformed curves of every body (elements chained in body order; a gap starts a new curve).
+pub fn deformed_bodies(model: &Model, elements: &[BeamElement], record: &IncrementRecord) -> Vec<BodyCurve> {
+    let mut out = Vec::new();
+    for body in &model.bodies {
+        let mut cur = BodyCurve::default();
+        let mut last_node = None;
+        for &e in &body.elements {
+            if e >= model.beams.len() || e >= elements.len() {
+                continue;
+            }
+            let beam = &model.beams[e];
+            if last_node.is_some() && last_node != Some(beam.i) && !cur.points.is_empty() {
+                out.push(std::mem::take(&mut cur));
+            }
+            let pts = crate::solver::shape::element_curve(model, elements, record, e, SAMPLES);
+            let skip = usize::from(!cur.points.is_empty());
+            for (k, p) in pts.iter().enumerate().skip(skip) {
+                cur.points.push(*p);
+                cur.moments.push(moment_at(model, record, e, k as f64 / SAMPLES as f64));
+            }
+            last_node = Some(beam.j);
+        }
+        if !cur.points.is_empty() {
+            out.push(cur);
+        }
+    }
+    out
+}
+
+/// Undeformed chords of every body, as polylines through the initial node positions.
+pub fn undeformed_bodies(model: &Model) -> Vec<Vec<[f64; 2]>> {
+    let mut out = Vec::new();
+    for body in &model.bodies {
+        let mut line: Vec<[f64; 2]> = Vec::new();
+        let mut last_node = None;
+        for &e in &body.elements {
+            let Some(beam) = model.beams.get(e) else { continue };
+            if last_node != Some(beam.i) {
+                if line.len() > 1 {
+                    out.push(std::mem::take(&mut line));
+                }
+                line.clear();
+                line.push(model.position(beam.i));
+            }
+            line.push(model.position(beam.j));
+            last_node = Some(beam.j);
+        }
+        if line.len() > 1 {
+            out.push(line);
+        }
+    }
+    out
+}
+
+/// Largest |M| over the curves (at least a tiny positive number).
+pub fn max_moment(curves: &[BodyCurve]) -> f64 {
+    curves.iter().flat_map(|c| c.moments.iter()).fold(1e-30, |a, m| a.max(m.abs()))
+}
+
+/// Colour of moment `m` on a diverging scale: blue (negative), slate (zero), red (positive).
+pub fn moment_color(m: f64, mmax: f64) -> Color32 {
+    let t = (m / mmax.max(1e-30)).clamp(-1.0, 1.0) as f32;
+    let zero = [70.0, 78.0, 92.0];
+    let end = if t >= 0.0 { [214.0, 39.0, 40.0] } else { [31.0, 119.0, 220.0] };
+    let a = t.abs().sqrt();
+    let c: Vec<u8> = (0..3).map(|i| (zero[i] + (end[i] - zero[i]) * a).round() as u8).collect();
+    Color32::from_rgb(c[0], c[1], c[2])
+}

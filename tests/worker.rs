@@ -1,0 +1,145 @@
+//! The solver worker thread, headless: increments arrive in order from `Run`, the prescribed
+//! value after N steps is N * per_step, `SetTarget` marches in increments no larger than
+//! `|per_step|` and stops exactly at the target, and `Cancel` stops promptly.
+
+use std::time::{Duration, Instant};
+
+use tsm_contact::scene::builtin::builtin;
+use tsm_contact::solver::IncrementRecord;
+use tsm_contact::worker::{Command, Message, Worker};
+
+fn scene(name: &str) -> tsm_contact::scene::Scene {
+    builtin(name).expect("built-in scene").expect("valid scene")
+}
+
+/// Collect messages until `Idle` arrives after the work started (`Busy`), or time runs out.
+fn until_idle(w: &Worker, limit: Duration) -> (Vec<IncrementRecord>, Vec<String>) {
+    let t0 = Instant::now();
+    let (mut incs, mut errors, mut busy) = (Vec::new(), Vec::new(), false);
+    while t0.elapsed() < limit {
+        match w.recv_timeout(Duration::from_millis(50)) {
+            Some(Message::Increment(r)) => incs.push(*r),
+            Some(Message::Error(e)) => errors.push(e),
+            Some(Message::Busy) => busy = true,
+            Some(Message::Idle) if busy => return (incs, errors),
+            _ => {}
+        }
+    }
+    panic!("worker did not become idle within {limit:?} ({} increments so far)", incs.len());
+}
+
+/// Load a scene and wait for its `Loaded` and `Idle`.
+fn load(w: &Worker, name: &str) -> usize {
+    w.send(Command::LoadScene(Box::new(scene(name))));
+    let t0 = Instant::now();
+    let mut loaded = None;
+    while t0.elapsed() < Duration::from_secs(20) {
+        match w.recv_timeout(Duration::from_millis(50)) {
+            Some(Message::Loaded(l)) => loaded = Some(l.scene.model.prescribed.len()),
+            Some(Message::Error(e)) => panic!("load failed: {e}"),
+            Some(Message::Idle) if loaded.is_some() => return loaded.unwrap(),
+            _ => {}
+        }
+    }
+    panic!("scene did not load");
+}
+
+#[test]
+fn run_streams_increments_in_order() {
+    let w = Worker::spawn(None);
+    load(&w, "example_3_2");
+    let s = scene("example_3_2");
+    let steps = 12;
+    w.send(Command::RunSteps(steps));
+    let (incs, errors) = until_idle(&w, Duration::from_secs(120));
+    assert!(errors.is_empty(), "{errors:?}");
+    assert!(incs.len() >= steps, "{} increments for {steps} steps", incs.len());
+    for (k, r) in incs.iter().enumerate() {
+        assert_eq!(r.increment, k + 1, "increments out of order");
+        assert!(r.relative_residual <= s.params.tolerance);
+    }
+    let per_step = s.model.prescribed[0].per_step;
+    let last = incs.last().unwrap().prescribed[0];
+    assert!((last - steps as f64 * per_step).abs() < 1e-12, "after {steps} steps: {last}");
+}
+
+#[test]
+fn set_target_marches_in_small_increments_and_stops_exactly() {
+    let w = Worker::spawn(None);
+    load(&w, "example_3_2");
+    let per_step = scene("example_3_2").model.prescribed[0].per_step;
+    let target = 4.37 * per_step;
+    w.send(Command::SetTarget { index: 0, value: target });
+    let (incs, errors) = until_idle(&w, Duration::from_secs(120));
+    assert!(errors.is_empty(), "{errors:?}");
+    assert!(incs.len() >= 5, "4.37 steps need at least 5 increments, got {}", incs.len());
+    let mut prev = 0.0;
+    for r in &incs {
+        let step = (r.prescribed[0] - prev).abs();
+        assert!(step <= per_step.abs() * (1.0 + 1e-12), "increment {} moved {step}", r.increment);
+        prev = r.prescribed[0];
+    }
+    assert!((prev - target).abs() < 1e-12, "stopped at {prev}, target {target}");
+
+    // A newer target replaces the old one: go back up part of the way.
+    let back = 2.0 * per_step;
+    w.send(Command::SetTarget { index: 0, value: 10.0 * per_step });
+    w.send(Command::SetTarget { index: 0, value: back });
+    let (incs, errors) = until_idle(&w, Duration::from_secs(120));
+    assert!(errors.is_empty(), "{errors:?}");
+    let last = incs.last().map_or(prev, |r| r.prescribed[0]);
+    assert!((last - back).abs() < 1e-12, "stopped at {last}, target {back}");
+}
+
+#[test]
+fn cancel_stops_promptly() {
+    let w = Worker::spawn(None);
+    load(&w, "example_3_2");
+    // Far more steps than could finish during the test.
+    w.send(Command::RunSteps(1_000_000));
+    let t0 = Instant::now();
+    let mut seen = 0;
+    while seen < 20 && t0.elapsed() < Duration::from_secs(60) {
+        if let Some(Message::Increment(_)) = w.recv_timeout(Duration::from_millis(20)) {
+            seen += 1;
+        }
+    }
+    assert!(seen >= 20);
+    let sent = Instant::now();
+    w.send(Command::Cancel);
+    let mut last = 0;
+    loop {
+        match w.recv_timeout(Duration::from_secs(10)) {
+            Some(Message::Idle) => break,
+            Some(Message::Increment(r)) => last = r.increment,
+            Some(_) => {}
+            None => panic!("no Idle after Cancel"),
+        }
+    }
+    let took = sent.elapsed();
+    assert!(took < Duration::from_secs(2), "cancel took {took:?}");
+    assert!(last < 100_000, "ran on to increment {last}");
+    // Nothing more arrives once idle.
+    std::thread::sleep(Duration::from_millis(200));
+    assert!(w.drain().iter().all(|m| !matches!(m, Message::Increment(_))));
+}
+
+#[test]
+fn errors_do_not_kill_the_worker() {
+    let w = Worker::spawn(None);
+    // Commands before any scene are answered with Idle.
+    w.send(Command::Step);
+    assert!(matches!(w.recv_timeout(Duration::from_secs(5)), Some(Message::Idle)));
+    load(&w, "mattiasson");
+    w.send(Command::Step);
+    let (incs, errors) = until_idle(&w, Duration::from_secs(60));
+    assert!(errors.is_empty(), "{errors:?}");
+    assert_eq!(incs.first().map(|r| r.increment), Some(1));
+    w.send(Command::Reset);
+    let t0 = Instant::now();
+    let mut reloaded = false;
+    while !reloaded && t0.elapsed() < Duration::from_secs(10) {
+        reloaded = matches!(w.recv_timeout(Duration::from_millis(50)), Some(Message::Loaded(_)));
+    }
+    assert!(reloaded);
+}
