@@ -4,6 +4,7 @@
 use egui::RichText;
 
 use super::state::TsmApp;
+use super::units::num;
 
 /// Show the details of the selected increment.
 pub fn show(app: &TsmApp, ui: &mut egui::Ui) {
@@ -46,7 +47,7 @@ pub fn show(app: &TsmApp, ui: &mut egui::Ui) {
             ui.label(c.node.to_string());
             ui.label(format!("{} el {}", c.body, c.element + 1));
             ui.label(format!("{:.4}", c.xi));
-            ui.label(format!("{:+.3e}", c.force));
+            ui.label(num(c.force));
             ui.end_row();
         }
     });
@@ -64,7 +65,7 @@ pub fn show(app: &TsmApp, ui: &mut egui::Ui) {
         egui::Grid::new("reactions").striped(true).num_columns(2).show(ui, |ui| {
             for x in &r.reactions {
                 ui.label(format!("node {} {}", x.node, x.dof));
-                ui.label(format!("{:+.4e}", x.value));
+                ui.label(num(x.value));
                 ui.end_row();
             }
         });

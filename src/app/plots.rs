@@ -33,7 +33,9 @@ fn lg(v: f64) -> f64 {
 /// Decade grid marks (integers of log10).
 fn decades(input: GridInput) -> Vec<GridMark> {
     let (lo, hi) = input.bounds;
-    let step = ((hi - lo) / 8.0).ceil().max(1.0);
+    // Powers of two keep 1e-8 (the usual tolerance) on a labelled line.
+    let raw = (hi - lo) / 8.0;
+    let step = [1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 64.0].into_iter().find(|s| *s >= raw).unwrap_or(128.0);
     let mut v = (lo / step).floor() * step;
     let mut out = Vec::new();
     while v <= hi && out.len() < 200 {
@@ -67,12 +69,21 @@ fn series(history: &[IncrementRecord], live: &[IterationRecord], selected: usize
         let start = x;
         for it in &r.residuals {
             x += 1.0;
-            s.all.push([x, lg(it.relative_residual)]);
-            if k == selected {
-                s.selected.push([x, lg(it.relative_residual)]);
+            if it.relative_residual > 0.0 {
+                s.all.push([x, lg(it.relative_residual)]);
+                if k == selected {
+                    s.selected.push([x, lg(it.relative_residual)]);
+                }
             }
         }
-        let y_at = |i: usize| r.residuals.get(i.saturating_sub(1)).map_or(0.0, |it| lg(it.relative_residual));
+        let y_at = |i: usize| {
+            let v = r.residuals.get(i.saturating_sub(1)).map_or(0.0, |it| it.relative_residual);
+            if v > 0.0 {
+                lg(v)
+            } else {
+                0.0
+            }
+        };
         if r.cutbacks > 0 {
             s.cuts.push([start + 1.0, y_at(1)]);
         }
@@ -85,14 +96,45 @@ fn series(history: &[IncrementRecord], live: &[IterationRecord], selected: usize
     }
     for it in live {
         x += 1.0;
-        s.all.push([x, lg(it.relative_residual)]);
+        if it.relative_residual > 0.0 {
+            s.all.push([x, lg(it.relative_residual)]);
+        }
     }
     s
 }
 
-/// A coloured key entry.
-fn key(ui: &mut egui::Ui, color: Color32, text: &str) {
-    ui.label(egui::RichText::new(text).color(color).small());
+/// Marker of a key entry.
+#[derive(Clone, Copy)]
+enum Mark {
+    Line,
+    Dashed,
+    Diamond,
+    Down,
+}
+
+/// A coloured key entry: a drawn marker and a label.
+fn key(ui: &mut egui::Ui, color: Color32, mark: Mark, text: &str) {
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(16.0, 10.0), egui::Sense::hover());
+    let p = ui.painter();
+    let c = rect.center();
+    let stroke = egui::Stroke::new(2.0, color);
+    match mark {
+        Mark::Line => {
+            p.line_segment([rect.left_center(), rect.right_center()], stroke);
+        }
+        Mark::Dashed => {
+            p.add(egui::Shape::dashed_line(&[rect.left_center(), rect.right_center()], stroke, 4.0, 2.0));
+        }
+        Mark::Diamond => {
+            let pts = vec![c + egui::vec2(0.0, -5.0), c + egui::vec2(5.0, 0.0), c + egui::vec2(0.0, 5.0), c + egui::vec2(-5.0, 0.0)];
+            p.add(egui::Shape::convex_polygon(pts, color, egui::Stroke::NONE));
+        }
+        Mark::Down => {
+            let pts = vec![c + egui::vec2(-5.0, -4.0), c + egui::vec2(5.0, -4.0), c + egui::vec2(0.0, 5.0)];
+            p.add(egui::Shape::convex_polygon(pts, color, egui::Stroke::NONE));
+        }
+    }
+    ui.label(egui::RichText::new(text).small());
 }
 
 fn convergence(app: &mut TsmApp, ui: &mut egui::Ui) {
@@ -101,13 +143,13 @@ fn convergence(app: &mut TsmApp, ui: &mut egui::Ui) {
         ui.selectable_value(&mut app.plot_all, true, "all increments");
         ui.selectable_value(&mut app.plot_all, false, "selected increment");
         ui.separator();
-        key(ui, RESIDUAL, "— residual");
+        key(ui, RESIDUAL, Mark::Line, "residual");
         if app.plot_all {
-            key(ui, SELECTED, "— selected");
-            key(ui, CONTACT, "◆ contact event");
-            key(ui, CUT, "▼ cut-back");
+            key(ui, SELECTED, Mark::Line, "selected");
+            key(ui, CONTACT, Mark::Diamond, "contact event");
+            key(ui, CUT, Mark::Down, "cut-back");
         }
-        key(ui, CUT, "- - tolerance");
+        key(ui, CUT, Mark::Dashed, "tolerance");
     });
     let tol = app.loaded.as_ref().map_or(1e-8, |l| l.scene.params.tolerance);
     let s = if app.plot_all {
@@ -115,7 +157,14 @@ fn convergence(app: &mut TsmApp, ui: &mut egui::Ui) {
     } else {
         let r = app.record().filter(|r| r.increment > 0);
         let pts: Vec<[f64; 2]> = r
-            .map(|r| r.residuals.iter().enumerate().map(|(i, it)| [(i + 1) as f64, lg(it.relative_residual)]).collect())
+            .map(|r| {
+                r.residuals
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, it)| it.relative_residual > 0.0)
+                    .map(|(i, it)| [(i + 1) as f64, lg(it.relative_residual)])
+                    .collect()
+            })
             .unwrap_or_default();
         Series { all: pts, selected: Vec::new(), cuts: Vec::new(), contacts: Vec::new() }
     };

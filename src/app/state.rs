@@ -67,6 +67,7 @@ pub struct TsmApp {
     pub(crate) shot: Option<Shot>,
     pub(crate) run_steps: Option<usize>,
     pub(crate) drag: Option<viewport::Drag>,
+    pub(crate) hover_handle: Option<usize>,
     frame_log: Option<FrameLog>,
     persist: bool,
 }
@@ -122,6 +123,7 @@ impl TsmApp {
             shot: startup.screenshot.map(|p| Shot::new(p, startup.exit.clone(), true)),
             run_steps: startup.steps.filter(|&k| k > 0),
             drag: None,
+            hover_handle: None,
             frame_log: FrameLog::from_env(),
             persist,
         };

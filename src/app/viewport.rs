@@ -103,13 +103,19 @@ fn handles(app: &mut TsmApp, ui: &mut egui::Ui, rect: Rect) {
         })
         .collect();
     let mut send = None;
+    app.hover_handle = None;
     for (k, dof, t, pos) in spots {
         let id = ui.scope_id().with(("handle", k));
         let resp = ui.interact(Rect::from_center_size(pos, Vec2::splat(24.0)), id, Sense::drag());
-        let resp = resp.on_hover_cursor(match dof {
-            Dof::U => egui::CursorIcon::ResizeHorizontal,
-            _ => egui::CursorIcon::ResizeVertical,
-        });
+        let resp = resp
+            .on_hover_cursor(match dof {
+                Dof::U => egui::CursorIcon::ResizeHorizontal,
+                _ => egui::CursorIcon::ResizeVertical,
+            })
+            .on_hover_text("drag to set the target of this prescribed dof");
+        if resp.hovered() {
+            app.hover_handle = Some(k);
+        }
         if resp.drag_started() {
             app.drag = Some(Drag { index: k, start: t, moved: Vec2::ZERO });
         }
@@ -161,7 +167,8 @@ fn fit(app: &mut TsmApp, rect: Rect) {
 fn supports(p: &egui::Painter, model: &Model, r: &IncrementRecord, s: &dyn Fn([f64; 2]) -> Pos2) {
     for n in 0..model.nodes.len() {
         let held: Vec<Dof> = model.supports.iter().filter(|x| x.node == n).map(|x| x.dof).collect();
-        if held.is_empty() {
+        // A driven node shows its handle instead.
+        if held.is_empty() || model.prescribed.iter().any(|p| p.node == n) {
             continue;
         }
         let at = s([r.nodes[n][0], r.nodes[n][1]]);
@@ -250,6 +257,9 @@ fn prescribed(p: &egui::Painter, app: &TsmApp, model: &Model, r: &IncrementRecor
         let Some(w) = handle_world(model, r, k, *t) else { continue };
         let at = s(w);
         let active = app.drag.is_some_and(|d| d.index == k);
+        if active {
+            p.line_segment([now, at], Stroke::new(1.0, HANDLE));
+        }
         p.circle_stroke(at, 10.0, Stroke::new(if active { 3.0 } else { 2.0 }, HANDLE));
         let (a, b) = if pr.dof == Dof::U { (Vec2::X, Vec2::Y) } else { (Vec2::Y, Vec2::X) };
         for sign in [-1.0f32, 1.0] {
@@ -257,7 +267,9 @@ fn prescribed(p: &egui::Painter, app: &TsmApp, model: &Model, r: &IncrementRecor
             let base = at + a * sign * 13.0;
             p.add(Shape::convex_polygon(vec![tip, base + b * 4.5, base - b * 4.5], HANDLE, Stroke::NONE));
         }
-        p.text(at + Vec2::new(16.0, 0.0), Align2::LEFT_CENTER, "drag", FontId::proportional(11.0), HANDLE);
+        if active || app.hover_handle == Some(k) {
+            p.text(at + Vec2::new(24.0, 0.0), Align2::LEFT_CENTER, num(*t), FontId::proportional(12.0), HANDLE);
+        }
     }
 }
 

@@ -120,6 +120,32 @@ impl Solver {
         format!("node {} {}", self.model.nodes[n].id, ["u", "v", "phi"][o])
     }
 
+    /// Unbalanced force `lambda F - sum J S` over the free dofs and the dense tangent over the
+    /// same dofs, at displacements `d` with the current contacts and load factor. Returns the
+    /// free global dofs too, in the order of the vector and matrix. For checks and tests.
+    pub fn unbalanced_force_and_tangent(&self, d: &[f64]) -> (Vec<f64>, nalgebra::DMatrix<f64>, Vec<usize>) {
+        let ord = self.ordering_for(&self.contacts);
+        let ctx = self.context(&ord);
+        let asm = assemble(&ctx, d, true, None);
+        let fext = self.external_force(self.load_factor);
+        let mut free = vec![0; ord.n_eq];
+        for (g, e) in ord.eq.iter().enumerate() {
+            if let Some(e) = e {
+                free[*e] = g;
+            }
+        }
+        let r = free.iter().map(|&g| fext[g] - asm.internal[g]).collect();
+        let k = asm.tangent.expect("tangent");
+        let dense = nalgebra::DMatrix::from_fn(ord.n_eq, ord.n_eq, |i, j| k.get(i, j));
+        (r, dense, free)
+    }
+
+    /// Largest penetration of an inactive contact candidate through a body's deformed shape,
+    /// relative to the element length, at the converged state (0 if none).
+    pub fn max_penetration(&self) -> f64 {
+        self.contacts.max_penetration(self, &self.d)
+    }
+
     /// Number of converged increments so far.
     pub fn increment(&self) -> usize {
         self.increment
