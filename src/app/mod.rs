@@ -29,7 +29,7 @@ pub use state::{load_scene, Startup, TsmApp};
 pub fn run(scene: Option<String>, steps: Option<usize>, screenshot: Option<PathBuf>) -> i32 {
     let exit = Arc::new(AtomicI32::new(0));
     let shot = screenshot.is_some();
-    let startup = Startup { scene, steps, screenshot, exit: Some(exit.clone()) };
+    let startup = Startup { scene, steps, screenshot, exit: Some(exit.clone()), no_gpu: false };
     let options = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
             .with_title("tsm-contact")

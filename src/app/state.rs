@@ -29,6 +29,8 @@ pub struct Startup {
     pub screenshot: Option<PathBuf>,
     /// Exit code written by the screenshot run (0 = saved).
     pub exit: Option<Arc<AtomicI32>>,
+    /// Draw the beams with the egui painter even when wgpu is available (also `TSM_NO_GPU`).
+    pub no_gpu: bool,
 }
 
 impl Startup {
@@ -90,7 +92,8 @@ impl TsmApp {
         cc.egui_ctx.set_theme(egui::Theme::Light);
         let ctx = cc.egui_ctx.clone();
         let worker = Worker::spawn(Some(Box::new(move || ctx.request_repaint())));
-        let gpu = std::env::var_os("TSM_NO_GPU").is_none()
+        let gpu = !startup.no_gpu
+            && std::env::var_os("TSM_NO_GPU").is_none()
             && cc.wgpu_render_state.as_ref().is_some_and(super::beams_gpu::init);
         let persist = startup.screenshot.is_none();
         let stored_scene: Option<String> =
@@ -174,6 +177,16 @@ impl TsmApp {
     /// Number of converged increments so far.
     pub fn increments(&self) -> usize {
         self.last()
+    }
+
+    /// Send a command to the worker as the ui would (for scripted runs and tests).
+    pub fn worker_command(&mut self, c: Command) {
+        self.send(c);
+    }
+
+    /// Whether the beams go through the wgpu callback (else the egui-painter fallback).
+    pub fn uses_gpu(&self) -> bool {
+        self.gpu
     }
 
     /// Apply every waiting worker message. Never blocks.

@@ -1,0 +1,149 @@
+//! The visualiser driven through its accessibility tree (egui_kittest, the real `TsmApp` on the
+//! built-in Example 3.2, wgpu on whatever adapter exists, Mesa's lavapipe in CI): Step clicks
+//! advance the shown increment one by one, the shown residual is below the tolerance, the shown
+//! number of active contacts matches a direct headless `Solver` run, the "Increment" slider
+//! selects earlier states, and the rendered viewport shows the moment-coloured beams on both
+//! the wgpu path and the egui-painter fallback.
+
+use std::time::{Duration, Instant};
+
+use egui_kittest::kittest::Queryable;
+use egui_kittest::Harness;
+use tsm_contact::app::{Startup, TsmApp};
+use tsm_contact::scene::builtin::builtin;
+use tsm_contact::solver::{IncrementRecord, Silent};
+
+const SCENE: &str = "example_3_2";
+
+fn harness(no_gpu: bool) -> Harness<'static, TsmApp> {
+    let startup = Startup { no_gpu, ..Startup::scene(SCENE) };
+    Harness::builder().with_size([1400.0, 900.0]).wgpu().build_eframe(move |cc| TsmApp::new(cc, startup))
+}
+
+/// Step frames until `done` holds (panics after `limit`).
+fn wait(h: &mut Harness<'static, TsmApp>, what: &str, limit: Duration, done: impl Fn(&Harness<'static, TsmApp>) -> bool) {
+    let t0 = Instant::now();
+    loop {
+        h.step();
+        if done(h) {
+            return;
+        }
+        assert!(t0.elapsed() < limit, "timed out waiting for {what}");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+}
+
+/// Text of the first label that starts with `prefix`.
+fn label(h: &Harness<'static, TsmApp>, prefix: &str) -> Option<String> {
+    h.query_all_by_label_contains(prefix)
+        .filter_map(|n| n.accesskit_node().label())
+        .find(|l| l.starts_with(prefix))
+}
+
+/// The shown "Increment k / n" as (k, n).
+fn shown_increment(h: &Harness<'static, TsmApp>) -> Option<(usize, usize)> {
+    let text = label(h, "Increment ")?;
+    let mut it = text.trim_start_matches("Increment ").split(" / ").map(|s| s.trim().parse::<usize>());
+    Some((it.next()?.ok()?, it.next()?.ok()?))
+}
+
+/// The number after a label prefix, e.g. "residual 3.2e-11" -> 3.2e-11.
+fn shown_number(h: &Harness<'static, TsmApp>, prefix: &str) -> f64 {
+    let text = label(h, prefix).unwrap_or_else(|| panic!("no label starting with {prefix:?}"));
+    text[prefix.len()..].trim().parse().unwrap_or_else(|e| panic!("{text:?}: {e}"))
+}
+
+/// A direct headless run of the same scene: the records of the first `steps` steps.
+fn reference(steps: usize) -> Vec<IncrementRecord> {
+    let scene = builtin(SCENE).unwrap().unwrap();
+    let mut solver = scene.solver().unwrap();
+    let mut out = Vec::new();
+    for _ in 0..steps {
+        out.extend(solver.step(&mut Silent).unwrap());
+    }
+    out
+}
+
+fn loaded(h: &mut Harness<'static, TsmApp>) {
+    wait(h, "the scene to load", Duration::from_secs(30), |h| shown_increment(h) == Some((0, 0)));
+}
+
+#[test]
+fn step_clicks_advance_the_increment_counter() {
+    let mut h = harness(false);
+    loaded(&mut h);
+    let tolerance = builtin(SCENE).unwrap().unwrap().params.tolerance;
+    let clicks = 8;
+    for k in 1..=clicks {
+        h.get_by_label("Step").click();
+        wait(&mut h, "the next increment", Duration::from_secs(60), |h| shown_increment(h) == Some((k, k)));
+        let residual = shown_number(&h, "residual ");
+        assert!(residual <= tolerance, "increment {k}: shown residual {residual}");
+    }
+    let reference = reference(clicks);
+    assert_eq!(reference.len(), clicks, "the reference run cut back; the test assumes one increment per step");
+    let last = reference.last().unwrap();
+    assert_eq!(shown_number(&h, "Active contacts: ") as usize, last.contacts.len());
+    assert!(!last.contacts.is_empty(), "Example 3.2 touches within {clicks} steps");
+    assert_eq!(label(&h, "residual ").unwrap(), format!("residual {:.1e}", last.relative_residual));
+}
+
+#[test]
+fn increment_slider_and_step_back_select_earlier_states() {
+    let mut h = harness(false);
+    loaded(&mut h);
+    let steps = 14;
+    h.state_mut().worker_command(tsm_contact::worker::Command::RunSteps(steps));
+    wait(&mut h, "the run", Duration::from_secs(120), |h| shown_increment(h).is_some_and(|(_, n)| n >= steps));
+    let reference = reference(steps);
+    let n = reference.len();
+    assert_eq!(shown_increment(&h), Some((n, n)));
+    for pick in [3, 9, 12] {
+        h.get_by_role_and_label(egui::accesskit::Role::Slider, "Increment").set_value_accesskit(pick as f64);
+        wait(&mut h, "the selection", Duration::from_secs(10), |h| shown_increment(h) == Some((pick, n)));
+        let r = &reference[pick - 1];
+        assert_eq!(shown_number(&h, "Active contacts: ") as usize, r.contacts.len(), "increment {pick}");
+        assert_eq!(label(&h, "residual ").unwrap(), format!("residual {:.1e}", r.relative_residual));
+    }
+    h.get_by_label("Step back").click();
+    wait(&mut h, "step back", Duration::from_secs(10), |h| shown_increment(h) == Some((11, n)));
+}
+
+/// Pixels in the viewport that are clearly moment-coloured (red or blue dominant).
+fn coloured_pixels(h: &mut Harness<'static, TsmApp>) -> usize {
+    let img = h.render().expect("render");
+    let (w, ht) = img.dimensions();
+    // The viewport is the upper left part (right panel ~330 px, bottom panel ~300 px).
+    let mut count = 0;
+    for y in 60..(ht - 340) {
+        for x in 220..(w - 360) {
+            let p = img.get_pixel(x, y).0;
+            let (r, g, b) = (i32::from(p[0]), i32::from(p[1]), i32::from(p[2]));
+            if (r - g > 60 && r - b > 60) || (b - r > 60 && b - g > 20) {
+                count += 1;
+            }
+        }
+    }
+    count
+}
+
+#[test]
+fn beams_are_drawn_on_the_gpu_and_by_the_fallback() {
+    let mut counts = Vec::new();
+    for no_gpu in [false, true] {
+        let mut h = harness(no_gpu);
+        assert_eq!(h.state().uses_gpu(), !no_gpu);
+        loaded(&mut h);
+        h.state_mut().worker_command(tsm_contact::worker::Command::RunSteps(20));
+        wait(&mut h, "the run", Duration::from_secs(120), |h| shown_increment(h).is_some_and(|(_, n)| n >= 20));
+        for _ in 0..3 {
+            h.step();
+        }
+        counts.push(coloured_pixels(&mut h));
+    }
+    // Three bent cantilevers, 6 px wide: thousands of coloured pixels either way, and the two
+    // paths draw the same strips.
+    assert!(counts[0] > 3000, "wgpu path drew {} coloured pixels", counts[0]);
+    let ratio = counts[0] as f64 / counts[1] as f64;
+    assert!((0.8..1.25).contains(&ratio), "wgpu {} vs fallback {}", counts[0], counts[1]);
+}

@@ -1,0 +1,81 @@
+//! Scene validation: every built-in scene parses; bad input is rejected with an error that
+//! names the file, the line and the field or node, and never panics.
+
+use tsm_contact::scene::{builtin::BUILTIN, parse};
+
+const GOOD: &str = r#"(
+    name: "t",
+    sections: [(name: "s", E: 1.0, A: 1.0, I: 1.0)],
+    bodies: [(name: "b", section: "s", path: [(0.0, 0.0), (1.0, 0.0)], elements: 2, first_node: 1)],
+    supports: [(node: 1, u: true, v: true, phi: true)],
+    loads: [(node: 3, fy: 1.0)],
+)"#;
+
+fn err(text: &str) -> String {
+    parse(text, "bad.ron").expect_err("must be rejected").to_string()
+}
+
+#[test]
+fn every_builtin_scene_is_valid() {
+    for (f, text) in BUILTIN {
+        let sc = parse(text, f).unwrap_or_else(|e| panic!("{e}"));
+        assert!(!sc.model.beams.is_empty());
+    }
+    assert!(parse(GOOD, "good.ron").is_ok());
+}
+
+#[test]
+fn malformed_ron_names_the_line() {
+    let text = GOOD.replace("elements: 2,", "elements: 2,,");
+    let e = err(&text);
+    assert!(e.starts_with("bad.ron:4:"), "{e}");
+}
+
+#[test]
+fn unknown_node_id_is_named() {
+    let e = err(&GOOD.replace("(node: 3, fy", "(node: 99, fy"));
+    assert!(e.contains("loads[0].node") && e.contains("unknown node id 99") && e.starts_with("bad.ron:6:"), "{e}");
+}
+
+#[test]
+fn zero_length_element_is_named() {
+    let e = err(&GOOD.replace("[(0.0, 0.0), (1.0, 0.0)]", "[(0.0, 0.0), (0.0, 0.0)]"));
+    assert!(e.contains("zero length") && e.contains("body \"b\""), "{e}");
+}
+
+#[test]
+fn non_positive_stiffness_is_named() {
+    let e = err(&GOOD.replace("E: 1.0", "E: -3.0"));
+    assert!(e.contains("sections[0].E") && e.contains("-3"), "{e}");
+    let e = err(&GOOD.replace("I: 1.0", "I: 0.0"));
+    assert!(e.contains("sections[0].I"), "{e}");
+}
+
+#[test]
+fn mechanism_names_the_free_dofs() {
+    // Only u and v held: the cantilever can spin about node 1.
+    let e = err(&GOOD.replace("phi: true", "phi: false"));
+    assert!(e.contains("mechanism"), "{e}");
+    for dof in ["node 1 phi", "node 2 v", "node 3 v"] {
+        assert!(e.contains(dof), "{dof} missing in: {e}");
+    }
+    // A pin that nothing holds.
+    let text = GOOD.replace("bodies:", "nodes: [(id: 50, x: 0.5, y: 1.0, rotation: false)],\n    bodies:");
+    let e = err(&text);
+    assert!(e.contains("node 50 u") && e.contains("node 50 v"), "{e}");
+}
+
+#[test]
+fn unknown_fields_and_sections_are_rejected() {
+    let e = err(&GOOD.replace("elements: 2,", "elements: 2, colour: 3,"));
+    assert!(e.contains("colour"), "{e}");
+    let e = err(&GOOD.replace("section: \"s\"", "section: \"steel\""));
+    assert!(e.contains("unknown section \"steel\""), "{e}");
+}
+
+#[test]
+fn garbage_never_panics() {
+    for text in ["", "(", "()", "[1,2", "(name: 3)", "\u{0}\u{1}", "(name: \"x\", sections: [], bodies: [])"] {
+        assert!(parse(text, "garbage.ron").is_err(), "{text:?} accepted");
+    }
+}
