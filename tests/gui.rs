@@ -7,7 +7,7 @@
 
 use std::time::{Duration, Instant};
 
-use egui_kittest::kittest::Queryable;
+use egui_kittest::kittest::{NodeT, Queryable};
 use egui_kittest::Harness;
 use tsm_contact::app::{Startup, TsmApp};
 use tsm_contact::scene::builtin::builtin;

@@ -78,7 +78,7 @@ impl Solver {
             let eig = nalgebra::SymmetricEigen::new(&dense + dense.transpose());
             let mut out = Vec::new();
             for (m, lam) in eig.eigenvalues.iter().enumerate() {
-                if lam.abs() < 1e-9 * scale {
+                if lam.abs() < 1e-13 * scale {
                     let v = eig.eigenvectors.column(m);
                     for (e, c) in v.iter().enumerate() {
                         if c.abs() > 1e-3 {
