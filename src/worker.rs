@@ -13,7 +13,9 @@ use std::time::Duration;
 use crate::scene::Scene;
 use crate::solver::beam::BeamElement;
 use crate::solver::report::Flow;
-use crate::solver::{Event, Formulation, IncrementRecord, IterationRecord, Observer, SolveError, Solver};
+use crate::solver::{
+    Event, Formulation, IncrementRecord, IterationRecord, Observer, SolveError, Solver,
+};
 
 /// Capacity of the worker's outgoing message channel.
 pub const CHANNEL_CAPACITY: usize = 1024;
@@ -102,7 +104,11 @@ impl Worker {
             .name("tsm-solver".into())
             .spawn(move || Thread::new(cmd_rx, msg_tx, repaint).run())
             .expect("cannot spawn the solver thread");
-        Worker { tx, rx: Some(rx), handle: Some(handle) }
+        Worker {
+            tx,
+            rx: Some(rx),
+            handle: Some(handle),
+        }
     }
 
     /// Send a command (ignored if the thread has ended).
@@ -162,7 +168,10 @@ struct Thread {
 
 /// Whether a command waiting behind the current work makes the current attempt stale.
 fn interrupts(c: &Command) -> bool {
-    !matches!(c, Command::Run | Command::RunSteps(_) | Command::Step | Command::Pause)
+    !matches!(
+        c,
+        Command::Run | Command::RunSteps(_) | Command::Step | Command::Pause
+    )
 }
 
 impl Thread {
@@ -254,7 +263,9 @@ impl Thread {
                 _ => self.start(Mode::Running(1)),
             },
             Command::SetTarget { index, value } => {
-                let Some(solver) = &self.solver else { return self.go_idle() };
+                let Some(solver) = &self.solver else {
+                    return self.go_idle();
+                };
                 let mut targets = match &self.mode {
                     Mode::Targeting(t) => t.clone(),
                     _ => solver.prescribed_values().to_vec(),
@@ -285,7 +296,9 @@ impl Thread {
         self.mode = Mode::Idle;
         self.steps_done = 0;
         self.solver = None;
-        let Some(scene) = self.scene.clone() else { return self.go_idle() };
+        let Some(scene) = self.scene.clone() else {
+            return self.go_idle();
+        };
         match catch_unwind(AssertUnwindSafe(|| scene.solver())) {
             Ok(Ok(solver)) => {
                 let loaded = Loaded {
@@ -303,17 +316,28 @@ impl Thread {
                 self.send(Message::Loaded(Box::new(loaded)));
             }
             Ok(Err(e)) => self.send(Message::Error(format!("{}: {e}", scene.file.name))),
-            Err(p) => self.send(Message::Error(format!("solver panicked while loading: {}", panic_text(&p)))),
+            Err(p) => self.send(Message::Error(format!(
+                "solver panicked while loading: {}",
+                panic_text(&p)
+            ))),
         }
         self.go_idle();
     }
 
     /// One unit of work: one scene step, or one increment towards the targets.
     fn work(&mut self) {
-        let Some(mut solver) = self.solver.take() else { return self.go_idle() };
+        let Some(mut solver) = self.solver.take() else {
+            return self.go_idle();
+        };
         let (goal, lambda) = match &self.mode {
             Mode::Running(_) => (
-                solver.model.prescribed.iter().zip(solver.prescribed_values()).map(|(p, v)| v + p.per_step).collect(),
+                solver
+                    .model
+                    .prescribed
+                    .iter()
+                    .zip(solver.prescribed_values())
+                    .map(|(p, v)| v + p.per_step)
+                    .collect(),
                 solver.load_factor() + solver.model.load_per_step,
             ),
             Mode::Targeting(t) => (t.clone(), solver.load_factor()),
@@ -323,8 +347,16 @@ impl Thread {
             }
         };
         let next = next_target(&solver, &goal);
-        let mut obs = Relay { rx: &self.rx, tx: &self.tx, pending: &mut self.pending, repaint: &self.repaint, closed: false };
-        let result = catch_unwind(AssertUnwindSafe(|| solver.advance_to(&next, lambda, &mut obs)));
+        let mut obs = Relay {
+            rx: &self.rx,
+            tx: &self.tx,
+            pending: &mut self.pending,
+            repaint: &self.repaint,
+            closed: false,
+        };
+        let result = catch_unwind(AssertUnwindSafe(|| {
+            solver.advance_to(&next, lambda, &mut obs)
+        }));
         if obs.closed {
             self.alive = false;
         }
@@ -337,7 +369,10 @@ impl Thread {
                 return self.go_idle();
             }
             Err(p) => {
-                self.send(Message::Error(format!("solver panicked: {}", panic_text(&p))));
+                self.send(Message::Error(format!(
+                    "solver panicked: {}",
+                    panic_text(&p)
+                )));
                 return self.go_idle();
             }
         }
@@ -422,7 +457,10 @@ pub fn next_target(solver: &Solver, targets: &[f64]) -> Vec<f64> {
     if f >= 1.0 {
         return targets.to_vec();
     }
-    cur.iter().zip(targets).map(|(c, t)| c + f * (t - c)).collect()
+    cur.iter()
+        .zip(targets)
+        .map(|(c, t)| c + f * (t - c))
+        .collect()
 }
 
 /// Whether the prescribed values are at the targets (to a negligible fraction of a step).
@@ -459,6 +497,7 @@ pub fn initial_record(solver: &Solver) -> IncrementRecord {
         element_forces: vec![[0.0; 3]; model.beams.len()],
         reactions: Vec::new(),
         contacts: Vec::new(),
+        max_penetration: 0.0,
         events: Vec::new(),
         seconds: 0.0,
     }

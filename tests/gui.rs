@@ -16,12 +16,27 @@ use tsm_contact::solver::{IncrementRecord, Silent};
 const SCENE: &str = "example_3_2";
 
 fn harness(no_gpu: bool) -> Harness<'static, TsmApp> {
-    let startup = Startup { no_gpu, ..Startup::scene(SCENE) };
-    Harness::builder().with_size([1400.0, 900.0]).wgpu().build_eframe(move |cc| TsmApp::new(cc, startup))
+    harness_on(SCENE, no_gpu)
+}
+
+fn harness_on(scene: &str, no_gpu: bool) -> Harness<'static, TsmApp> {
+    let startup = Startup {
+        no_gpu,
+        ..Startup::scene(scene)
+    };
+    Harness::builder()
+        .with_size([1400.0, 900.0])
+        .wgpu()
+        .build_eframe(move |cc| TsmApp::new(cc, startup))
 }
 
 /// Step frames until `done` holds (panics after `limit`).
-fn wait(h: &mut Harness<'static, TsmApp>, what: &str, limit: Duration, done: impl Fn(&Harness<'static, TsmApp>) -> bool) {
+fn wait(
+    h: &mut Harness<'static, TsmApp>,
+    what: &str,
+    limit: Duration,
+    done: impl Fn(&Harness<'static, TsmApp>) -> bool,
+) {
     let t0 = Instant::now();
     loop {
         h.step();
@@ -36,21 +51,31 @@ fn wait(h: &mut Harness<'static, TsmApp>, what: &str, limit: Duration, done: imp
 /// Text of the first label that starts with `prefix`.
 fn label(h: &Harness<'static, TsmApp>, prefix: &str) -> Option<String> {
     h.query_all_by_label_contains(prefix)
-        .filter_map(|n| n.accesskit_node().label())
+        .filter_map(|n| {
+            n.accesskit_node()
+                .label()
+                .or_else(|| n.accesskit_node().value())
+        })
         .find(|l| l.starts_with(prefix))
 }
 
 /// The shown "Increment k / n" as (k, n).
 fn shown_increment(h: &Harness<'static, TsmApp>) -> Option<(usize, usize)> {
     let text = label(h, "Increment ")?;
-    let mut it = text.trim_start_matches("Increment ").split(" / ").map(|s| s.trim().parse::<usize>());
+    let mut it = text
+        .trim_start_matches("Increment ")
+        .split(" / ")
+        .map(|s| s.trim().parse::<usize>());
     Some((it.next()?.ok()?, it.next()?.ok()?))
 }
 
 /// The number after a label prefix, e.g. "residual 3.2e-11" -> 3.2e-11.
 fn shown_number(h: &Harness<'static, TsmApp>, prefix: &str) -> f64 {
     let text = label(h, prefix).unwrap_or_else(|| panic!("no label starting with {prefix:?}"));
-    text[prefix.len()..].trim().parse().unwrap_or_else(|e| panic!("{text:?}: {e}"))
+    text[prefix.len()..]
+        .trim()
+        .parse()
+        .unwrap_or_else(|e| panic!("{text:?}: {e}"))
 }
 
 /// A direct headless run of the same scene: the records of the first `steps` steps.
@@ -65,7 +90,9 @@ fn reference(steps: usize) -> Vec<IncrementRecord> {
 }
 
 fn loaded(h: &mut Harness<'static, TsmApp>) {
-    wait(h, "the scene to load", Duration::from_secs(30), |h| shown_increment(h) == Some((0, 0)));
+    wait(h, "the scene to load", Duration::from_secs(30), |h| {
+        shown_increment(h) == Some((0, 0))
+    });
 }
 
 #[test]
@@ -76,16 +103,34 @@ fn step_clicks_advance_the_increment_counter() {
     let clicks = 8;
     for k in 1..=clicks {
         h.get_by_label("Step").click();
-        wait(&mut h, "the next increment", Duration::from_secs(60), |h| shown_increment(h) == Some((k, k)));
+        wait(&mut h, "the next increment", Duration::from_secs(60), |h| {
+            shown_increment(h) == Some((k, k))
+        });
         let residual = shown_number(&h, "residual ");
-        assert!(residual <= tolerance, "increment {k}: shown residual {residual}");
+        assert!(
+            residual <= tolerance,
+            "increment {k}: shown residual {residual}"
+        );
     }
     let reference = reference(clicks);
-    assert_eq!(reference.len(), clicks, "the reference run cut back; the test assumes one increment per step");
+    assert_eq!(
+        reference.len(),
+        clicks,
+        "the reference run cut back; the test assumes one increment per step"
+    );
     let last = reference.last().unwrap();
-    assert_eq!(shown_number(&h, "Active contacts: ") as usize, last.contacts.len());
-    assert!(!last.contacts.is_empty(), "Example 3.2 touches within {clicks} steps");
-    assert_eq!(label(&h, "residual ").unwrap(), format!("residual {:.1e}", last.relative_residual));
+    assert_eq!(
+        shown_number(&h, "Active contacts: ") as usize,
+        last.contacts.len()
+    );
+    assert!(
+        !last.contacts.is_empty(),
+        "Example 3.2 touches within {clicks} steps"
+    );
+    assert_eq!(
+        label(&h, "residual ").unwrap(),
+        format!("residual {:.1e}", last.relative_residual)
+    );
 }
 
 #[test]
@@ -93,20 +138,35 @@ fn increment_slider_and_step_back_select_earlier_states() {
     let mut h = harness(false);
     loaded(&mut h);
     let steps = 14;
-    h.state_mut().worker_command(tsm_contact::worker::Command::RunSteps(steps));
-    wait(&mut h, "the run", Duration::from_secs(120), |h| shown_increment(h).is_some_and(|(_, n)| n >= steps));
+    h.state_mut()
+        .worker_command(tsm_contact::worker::Command::RunSteps(steps));
+    wait(&mut h, "the run", Duration::from_secs(120), |h| {
+        shown_increment(h).is_some_and(|(_, n)| n >= steps)
+    });
     let reference = reference(steps);
     let n = reference.len();
     assert_eq!(shown_increment(&h), Some((n, n)));
     for pick in [3, 9, 12] {
-        h.get_by_role_and_label(egui::accesskit::Role::Slider, "Increment").set_value_accesskit(pick as f64);
-        wait(&mut h, "the selection", Duration::from_secs(10), |h| shown_increment(h) == Some((pick, n)));
+        h.get_by_role_and_label(egui::accesskit::Role::Slider, "Increment")
+            .set_value_accesskit(pick as f64);
+        wait(&mut h, "the selection", Duration::from_secs(10), |h| {
+            shown_increment(h) == Some((pick, n))
+        });
         let r = &reference[pick - 1];
-        assert_eq!(shown_number(&h, "Active contacts: ") as usize, r.contacts.len(), "increment {pick}");
-        assert_eq!(label(&h, "residual ").unwrap(), format!("residual {:.1e}", r.relative_residual));
+        assert_eq!(
+            shown_number(&h, "Active contacts: ") as usize,
+            r.contacts.len(),
+            "increment {pick}"
+        );
+        assert_eq!(
+            label(&h, "residual ").unwrap(),
+            format!("residual {:.1e}", r.relative_residual)
+        );
     }
     h.get_by_label("Step back").click();
-    wait(&mut h, "step back", Duration::from_secs(10), |h| shown_increment(h) == Some((11, n)));
+    wait(&mut h, "step back", Duration::from_secs(10), |h| {
+        shown_increment(h) == Some((11, n))
+    });
 }
 
 /// Pixels in the viewport that are clearly moment-coloured (red or blue dominant).
@@ -134,8 +194,11 @@ fn beams_are_drawn_on_the_gpu_and_by_the_fallback() {
         let mut h = harness(no_gpu);
         assert_eq!(h.state().uses_gpu(), !no_gpu);
         loaded(&mut h);
-        h.state_mut().worker_command(tsm_contact::worker::Command::RunSteps(20));
-        wait(&mut h, "the run", Duration::from_secs(120), |h| shown_increment(h).is_some_and(|(_, n)| n >= 20));
+        h.state_mut()
+            .worker_command(tsm_contact::worker::Command::RunSteps(20));
+        wait(&mut h, "the run", Duration::from_secs(120), |h| {
+            shown_increment(h).is_some_and(|(_, n)| n >= 20)
+        });
         for _ in 0..3 {
             h.step();
         }
@@ -143,7 +206,154 @@ fn beams_are_drawn_on_the_gpu_and_by_the_fallback() {
     }
     // Three bent cantilevers, 6 px wide: thousands of coloured pixels either way, and the two
     // paths draw the same strips.
-    assert!(counts[0] > 3000, "wgpu path drew {} coloured pixels", counts[0]);
+    assert!(
+        counts[0] > 3000,
+        "wgpu path drew {} coloured pixels",
+        counts[0]
+    );
     let ratio = counts[0] as f64 / counts[1] as f64;
-    assert!((0.8..1.25).contains(&ratio), "wgpu {} vs fallback {}", counts[0], counts[1]);
+    assert!(
+        (0.8..1.25).contains(&ratio),
+        "wgpu {} vs fallback {}",
+        counts[0],
+        counts[1]
+    );
+}
+
+#[test]
+fn formulation_toggle_reloads_and_exports_write_the_shown_run() {
+    // Mattiasson's cantilever (load control) starts Bernoulli-Euler; switch it to Timoshenko.
+    let mut h = harness_on("mattiasson", false);
+    loaded(&mut h);
+    h.get_by_label("Step").click();
+    wait(&mut h, "increment 1", Duration::from_secs(60), |h| {
+        shown_increment(h) == Some((1, 1))
+    });
+    h.get_by_label("Timoshenko").click();
+    wait(&mut h, "the reload", Duration::from_secs(30), |h| {
+        h.query_by_label_contains("(Timoshenko)").is_some() && shown_increment(h) == Some((0, 0))
+    });
+    h.get_by_label("Run").click();
+    let mut scene = builtin("mattiasson").unwrap().unwrap();
+    wait(&mut h, "the run", Duration::from_secs(120), |h| {
+        shown_increment(h).is_some_and(|(k, n)| k == n && n >= scene.steps)
+    });
+    // Independent reference: the same scene solved directly with the Timoshenko element.
+    scene.model.formulation = tsm_contact::solver::Formulation::Timoshenko;
+    let mut solver = scene.solver().unwrap();
+    let mut reference = Vec::new();
+    for _ in 0..scene.steps {
+        reference.extend(solver.step(&mut Silent).unwrap());
+    }
+    let n = reference.len();
+    assert_eq!(shown_increment(&h), Some((n, n)));
+    let last = reference.last().unwrap();
+    assert_eq!(
+        label(&h, "residual ").unwrap(),
+        format!("residual {:.1e}", last.relative_residual)
+    );
+
+    let dir = std::env::temp_dir().join(format!("tsm-gui-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let stem = dir.join("run");
+    h.get_by_role_and_label(egui::accesskit::Role::TextInput, "Export as")
+        .set_text_value_accesskit(&stem.display().to_string());
+    h.step();
+    h.get_by_label("Export CSV").click();
+    h.step();
+    h.get_by_label("Export JSON").click();
+    h.step();
+    let csv = std::fs::read_to_string(stem.with_extension("csv")).expect("CSV written");
+    let rows: Vec<&str> = csv.lines().collect();
+    assert!(rows[0].starts_with("increment,load_factor,"), "{}", rows[0]);
+    assert_eq!(rows.len(), 1 + n);
+    for (row, r) in rows[1..].iter().zip(&reference) {
+        let cells: Vec<&str> = row.split(',').collect();
+        assert_eq!(cells[0].parse::<usize>().unwrap(), r.increment);
+        assert!((cells[1].parse::<f64>().unwrap() - r.load_factor).abs() < 1e-12);
+    }
+    let json = std::fs::read_to_string(stem.with_extension("json")).expect("JSON written");
+    // Read as plain JSON: the params hold f64::INFINITY (max_step), written as null.
+    let history: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(history["formulation"], "Timoshenko");
+    let incs = history["increments"].as_array().unwrap();
+    assert_eq!(incs.len(), n);
+    let nodes: Vec<[f64; 3]> = serde_json::from_value(incs[n - 1]["nodes"].clone()).unwrap();
+    for (a, b) in nodes.iter().zip(&last.nodes) {
+        assert!(
+            (0..3).all(|i| (a[i] - b[i]).abs() < 1e-12),
+            "{a:?} vs {b:?}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The shown value of the prescribed dof ("node 34 v = -0.04300").
+fn shown_prescribed(h: &Harness<'static, TsmApp>) -> f64 {
+    shown_number(h, "node 34 v = ")
+}
+
+#[test]
+fn slider_and_handle_drive_the_prescribed_dof() {
+    let mut h = harness(false);
+    loaded(&mut h);
+    let per_step = builtin(SCENE).unwrap().unwrap().model.prescribed[0]
+        .per_step
+        .abs();
+
+    // The slider: -0.043 needs ceil(4.3) = 5 increments of at most |per_step|.
+    let target = -0.043;
+    h.get_by_role_and_label(egui::accesskit::Role::Slider, "node 34 v")
+        .set_value_accesskit(target);
+    wait(
+        &mut h,
+        "the march to the slider target",
+        Duration::from_secs(60),
+        |h| {
+            shown_increment(h).is_some_and(|(k, n)| k == n && n > 0)
+                && (shown_prescribed(h) - target).abs() < 1e-9
+        },
+    );
+    let (_, n) = shown_increment(&h).unwrap();
+    assert_eq!(n, (target.abs() / per_step).ceil() as usize);
+
+    // The handle: drag it 60 points down; the node follows until it sits under the pointer.
+    let handle = "drag to set the target of this prescribed dof";
+    let start = h.get_by_label(handle).rect().center();
+    let end = start + egui::vec2(0.0, 60.0);
+    h.hover_at(start);
+    h.step();
+    h.drag_at(start);
+    h.step();
+    for k in 1..=6 {
+        h.hover_at(start + egui::vec2(0.0, 10.0 * k as f32));
+        h.step();
+    }
+    h.drop_at(end);
+    h.step();
+    wait(
+        &mut h,
+        "the march to the handle",
+        Duration::from_secs(60),
+        |h| {
+            h.query_by_label_contains("(Timoshenko)").is_some()
+                && shown_increment(h).is_some_and(|(k, m)| k == m && m > n)
+                && (h.get_by_label(handle).rect().center().y - end.y).abs() < 1.0
+                && h.state().increments() == shown_increment(h).unwrap().1
+                && h.query_by_label("solving...").is_none()
+        },
+    );
+    let reached = shown_prescribed(&h);
+    assert!(
+        reached < target - 2.0 * per_step,
+        "the drag moved the target to {reached}"
+    );
+    let (_, m) = shown_increment(&h).unwrap();
+    let needed = ((reached - target).abs() / per_step - 1e-9).ceil() as usize;
+    assert!(
+        m - n >= needed,
+        "{} increments for {}",
+        m - n,
+        reached - target
+    );
 }

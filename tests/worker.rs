@@ -25,7 +25,10 @@ fn until_idle(w: &Worker, limit: Duration) -> (Vec<IncrementRecord>, Vec<String>
             _ => {}
         }
     }
-    panic!("worker did not become idle within {limit:?} ({} increments so far)", incs.len());
+    panic!(
+        "worker did not become idle within {limit:?} ({} increments so far)",
+        incs.len()
+    );
 }
 
 /// Load a scene and wait for its `Loaded` and `Idle`.
@@ -53,14 +56,21 @@ fn run_streams_increments_in_order() {
     w.send(Command::RunSteps(steps));
     let (incs, errors) = until_idle(&w, Duration::from_secs(120));
     assert!(errors.is_empty(), "{errors:?}");
-    assert!(incs.len() >= steps, "{} increments for {steps} steps", incs.len());
+    assert!(
+        incs.len() >= steps,
+        "{} increments for {steps} steps",
+        incs.len()
+    );
     for (k, r) in incs.iter().enumerate() {
         assert_eq!(r.increment, k + 1, "increments out of order");
         assert!(r.relative_residual <= s.params.tolerance);
     }
     let per_step = s.model.prescribed[0].per_step;
     let last = incs.last().unwrap().prescribed[0];
-    assert!((last - steps as f64 * per_step).abs() < 1e-12, "after {steps} steps: {last}");
+    assert!(
+        (last - steps as f64 * per_step).abs() < 1e-12,
+        "after {steps} steps: {last}"
+    );
 }
 
 #[test]
@@ -69,26 +79,49 @@ fn set_target_marches_in_small_increments_and_stops_exactly() {
     load(&w, "example_3_2");
     let per_step = scene("example_3_2").model.prescribed[0].per_step;
     let target = 4.37 * per_step;
-    w.send(Command::SetTarget { index: 0, value: target });
+    w.send(Command::SetTarget {
+        index: 0,
+        value: target,
+    });
     let (incs, errors) = until_idle(&w, Duration::from_secs(120));
     assert!(errors.is_empty(), "{errors:?}");
-    assert!(incs.len() >= 5, "4.37 steps need at least 5 increments, got {}", incs.len());
+    assert!(
+        incs.len() >= 5,
+        "4.37 steps need at least 5 increments, got {}",
+        incs.len()
+    );
     let mut prev = 0.0;
     for r in &incs {
         let step = (r.prescribed[0] - prev).abs();
-        assert!(step <= per_step.abs() * (1.0 + 1e-12), "increment {} moved {step}", r.increment);
+        assert!(
+            step <= per_step.abs() * (1.0 + 1e-12),
+            "increment {} moved {step}",
+            r.increment
+        );
         prev = r.prescribed[0];
     }
-    assert!((prev - target).abs() < 1e-12, "stopped at {prev}, target {target}");
+    assert!(
+        (prev - target).abs() < 1e-12,
+        "stopped at {prev}, target {target}"
+    );
 
     // A newer target replaces the old one: go back up part of the way.
     let back = 2.0 * per_step;
-    w.send(Command::SetTarget { index: 0, value: 10.0 * per_step });
-    w.send(Command::SetTarget { index: 0, value: back });
+    w.send(Command::SetTarget {
+        index: 0,
+        value: 10.0 * per_step,
+    });
+    w.send(Command::SetTarget {
+        index: 0,
+        value: back,
+    });
     let (incs, errors) = until_idle(&w, Duration::from_secs(120));
     assert!(errors.is_empty(), "{errors:?}");
     let last = incs.last().map_or(prev, |r| r.prescribed[0]);
-    assert!((last - back).abs() < 1e-12, "stopped at {last}, target {back}");
+    assert!(
+        (last - back).abs() < 1e-12,
+        "stopped at {last}, target {back}"
+    );
 }
 
 #[test]
@@ -121,7 +154,10 @@ fn cancel_stops_promptly() {
     assert!(last < 100_000, "ran on to increment {last}");
     // Nothing more arrives once idle.
     std::thread::sleep(Duration::from_millis(200));
-    assert!(w.drain().iter().all(|m| !matches!(m, Message::Increment(_))));
+    assert!(w
+        .drain()
+        .iter()
+        .all(|m| !matches!(m, Message::Increment(_))));
 }
 
 #[test]
@@ -129,7 +165,10 @@ fn errors_do_not_kill_the_worker() {
     let w = Worker::spawn(None);
     // Commands before any scene are answered with Idle.
     w.send(Command::Step);
-    assert!(matches!(w.recv_timeout(Duration::from_secs(5)), Some(Message::Idle)));
+    assert!(matches!(
+        w.recv_timeout(Duration::from_secs(5)),
+        Some(Message::Idle)
+    ));
     load(&w, "mattiasson");
     w.send(Command::Step);
     let (incs, errors) = until_idle(&w, Duration::from_secs(60));
@@ -139,7 +178,10 @@ fn errors_do_not_kill_the_worker() {
     let t0 = Instant::now();
     let mut reloaded = false;
     while !reloaded && t0.elapsed() < Duration::from_secs(10) {
-        reloaded = matches!(w.recv_timeout(Duration::from_millis(50)), Some(Message::Loaded(_)));
+        reloaded = matches!(
+            w.recv_timeout(Duration::from_millis(50)),
+            Some(Message::Loaded(_))
+        );
     }
     assert!(reloaded);
 }

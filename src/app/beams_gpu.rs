@@ -107,18 +107,24 @@ pub fn init(rs: &RenderState) -> bool {
     let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("tsm_beams_bg"),
         layout: &bgl,
-        entries: &[wgpu::BindGroupEntry { binding: 0, resource: uniforms.as_entire_binding() }],
+        entries: &[wgpu::BindGroupEntry {
+            binding: 0,
+            resource: uniforms.as_entire_binding(),
+        }],
     });
     let capacity = 4096 * std::mem::size_of::<StripVertex>() as u64;
     let vertices = vertex_buffer(device, capacity);
-    rs.renderer.write().callback_resources.insert(BeamResources {
-        pipeline,
-        uniforms,
-        bind_group,
-        vertices,
-        capacity,
-        count: 0,
-    });
+    rs.renderer
+        .write()
+        .callback_resources
+        .insert(BeamResources {
+            pipeline,
+            uniforms,
+            bind_group,
+            vertices,
+            capacity,
+            count: 0,
+        });
     true
 }
 
@@ -146,7 +152,9 @@ impl CallbackTrait for BeamsCallback {
         _encoder: &mut wgpu::CommandEncoder,
         resources: &mut CallbackResources,
     ) -> Vec<wgpu::CommandBuffer> {
-        let Some(res) = resources.get_mut::<BeamResources>() else { return Vec::new() };
+        let Some(res) = resources.get_mut::<BeamResources>() else {
+            return Vec::new();
+        };
         let bytes: &[u8] = bytemuck::cast_slice(self.vertices.as_slice());
         if bytes.len() as u64 > res.capacity {
             res.capacity = (bytes.len() as u64).next_power_of_two();
@@ -168,8 +176,15 @@ impl CallbackTrait for BeamsCallback {
         Vec::new()
     }
 
-    fn paint(&self, info: egui::PaintCallbackInfo, pass: &mut wgpu::RenderPass<'static>, resources: &CallbackResources) {
-        let Some(res) = resources.get::<BeamResources>() else { return };
+    fn paint(
+        &self,
+        info: egui::PaintCallbackInfo,
+        pass: &mut wgpu::RenderPass<'static>,
+        resources: &CallbackResources,
+    ) {
+        let Some(res) = resources.get::<BeamResources>() else {
+            return;
+        };
         if res.count == 0 {
             return;
         }
@@ -193,7 +208,13 @@ pub fn paint(painter: &Painter, rect: Rect, strips: &[Strip], gpu: Option<&Rende
                 push_gpu_strip(&s.line, s.half_px, ppp, &mut v);
             }
             let srgb = rs.target_format.is_srgb();
-            painter.add(egui_wgpu::Callback::new_paint_callback(rect, BeamsCallback { vertices: Arc::new(v), srgb }));
+            painter.add(egui_wgpu::Callback::new_paint_callback(
+                rect,
+                BeamsCallback {
+                    vertices: Arc::new(v),
+                    srgb,
+                },
+            ));
         }
         None => {
             let mut mesh = egui::Mesh::default();

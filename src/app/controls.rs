@@ -12,23 +12,35 @@ use super::state::TsmApp;
 pub fn toolbar(app: &mut TsmApp, ui: &mut egui::Ui) {
     ui.horizontal_wrapped(|ui| {
         let current = app.scene_name.clone();
-        egui::ComboBox::from_label("Scene").selected_text(short(&current)).show_ui(ui, |ui| {
-            for (file, _) in crate::scene::builtin::BUILTIN {
-                let name = file.trim_end_matches(".ron");
-                if ui.selectable_label(current == name, name).clicked() {
-                    app.open(name);
+        egui::ComboBox::from_label("Scene")
+            .selected_text(short(&current))
+            .show_ui(ui, |ui| {
+                for (file, _) in crate::scene::builtin::BUILTIN {
+                    let name = file.trim_end_matches(".ron");
+                    if ui.selectable_label(current == name, name).clicked() {
+                        app.open(name);
+                    }
                 }
-            }
-        });
-        ui.add(egui::TextEdit::singleline(&mut app.open_path).hint_text("scene.ron path").desired_width(150.0));
+            });
+        let name = ui.label("file");
+        ui.add(
+            egui::TextEdit::singleline(&mut app.open_path)
+                .hint_text("scene.ron path")
+                .desired_width(150.0),
+        )
+        .labelled_by(name.id);
         if ui.button("Open...").clicked() && !app.open_path.trim().is_empty() {
             let p = app.open_path.trim().to_string();
             app.open(&p);
         }
         ui.separator();
         if let Some(l) = &app.loaded {
+            ui.label("Element:");
             let f = l.scene.model.formulation;
-            for (label, value) in [("Timoshenko", Formulation::Timoshenko), ("Bernoulli-Euler", Formulation::BernoulliEuler)] {
+            for (label, value) in [
+                ("Timoshenko", Formulation::Timoshenko),
+                ("Bernoulli-Euler", Formulation::BernoulliEuler),
+            ] {
                 if ui.selectable_label(f == value, label).clicked() && f != value {
                     app.send(Command::SetFormulation(value));
                 }
@@ -39,11 +51,18 @@ pub fn toolbar(app: &mut TsmApp, ui: &mut egui::Ui) {
             app.fit_pending = true;
         }
         ui.separator();
-        ui.add(egui::TextEdit::singleline(&mut app.export_stem).hint_text("export file stem").desired_width(110.0));
+        let name = ui.label("Export as");
+        ui.add(
+            egui::TextEdit::singleline(&mut app.export_stem)
+                .hint_text("export file stem")
+                .desired_width(110.0),
+        )
+        .labelled_by(name.id);
         exports(app, ui);
         ui.separator();
         if app.busy {
             ui.spinner();
+            ui.label("solving...");
         }
         match &app.error {
             Some(e) => ui.colored_label(ui.visuals().error_fg_color, e),
@@ -79,7 +98,9 @@ fn exports(app: &mut TsmApp, ui: &mut egui::Ui) {
 
 /// Last path component without `.ron`.
 fn short(name: &str) -> String {
-    let base = std::path::Path::new(name).file_name().map_or(name.into(), |f| f.to_string_lossy().to_string());
+    let base = std::path::Path::new(name)
+        .file_name()
+        .map_or(name.into(), |f| f.to_string_lossy().to_string());
     base.trim_end_matches(".ron").to_string()
 }
 
@@ -90,7 +111,9 @@ pub fn sliders(app: &mut TsmApp, ui: &mut egui::Ui) {
     let model = &l.scene.model;
     if model.prescribed.is_empty() {
         let lambda = app.record().map_or(0.0, |r| r.load_factor);
-        ui.label(format!("load factor {lambda:.4} (load control; use Step / Run)"));
+        ui.label(format!(
+            "load factor {lambda:.4} (load control; use Step / Run)"
+        ));
         return;
     }
     let mut sends = Vec::new();
@@ -98,11 +121,20 @@ pub fn sliders(app: &mut TsmApp, ui: &mut egui::Ui) {
     for (k, p) in model.prescribed.iter().enumerate() {
         let total = p.per_step * l.scene.steps as f64;
         let span = if total != 0.0 { total * 1.25 } else { 1.0 };
-        let (lo, hi) = (span.min(0.0).min(-span.abs() * 0.1), span.max(0.0).max(span.abs() * 0.1));
+        let (lo, hi) = (
+            span.min(0.0).min(-span.abs() * 0.1),
+            span.max(0.0).max(span.abs() * 0.1),
+        );
         let label = l.prescribed_labels.get(k).cloned().unwrap_or_default();
-        let Some(t) = app.targets.get_mut(k) else { continue };
+        let Some(t) = app.targets.get_mut(k) else {
+            continue;
+        };
         let mut v = *t;
-        let r = ui.add(egui::Slider::new(&mut v, lo..=hi).text(label).custom_formatter(|x, _| format!("{x:.4}")));
+        let r = ui.add(
+            egui::Slider::new(&mut v, lo..=hi)
+                .text(label)
+                .custom_formatter(|x, _| format!("{x:.4}")),
+        );
         // Only a real move counts (the slider may round or clamp a value it is merely shown).
         if r.changed() && (v - *t).abs() > 1e-9 * (hi - lo) {
             *t = v;

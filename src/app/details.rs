@@ -36,21 +36,24 @@ pub fn show(app: &TsmApp, ui: &mut egui::Ui) {
     }
     ui.separator();
     ui.label(RichText::new(format!("Active contacts: {}", r.contacts.len())).strong());
-    egui::Grid::new("contacts").striped(true).num_columns(4).show(ui, |ui| {
-        if !r.contacts.is_empty() {
-            for h in ["node", "on", "li/l", "Yc (N)"] {
-                ui.label(RichText::new(h).small());
+    egui::Grid::new("contacts")
+        .striped(true)
+        .num_columns(4)
+        .show(ui, |ui| {
+            if !r.contacts.is_empty() {
+                for h in ["node", "on", "li/l", "Yc (N)"] {
+                    ui.label(RichText::new(h).small());
+                }
+                ui.end_row();
             }
-            ui.end_row();
-        }
-        for c in &r.contacts {
-            ui.label(c.node.to_string());
-            ui.label(format!("{} el {}", c.body, c.element + 1));
-            ui.label(format!("{:.4}", c.xi));
-            ui.label(num(c.force));
-            ui.end_row();
-        }
-    });
+            for c in &r.contacts {
+                ui.label(c.node.to_string());
+                ui.label(format!("{} el {}", c.body, c.element + 1));
+                ui.label(format!("{:.4}", c.xi));
+                ui.label(num(c.force));
+                ui.end_row();
+            }
+        });
     let events: Vec<_> = r.events.iter().filter_map(event_text).collect();
     if !events.is_empty() {
         ui.separator();
@@ -62,13 +65,16 @@ pub fn show(app: &TsmApp, ui: &mut egui::Ui) {
     if !r.reactions.is_empty() {
         ui.separator();
         ui.label(RichText::new("Reactions").strong());
-        egui::Grid::new("reactions").striped(true).num_columns(2).show(ui, |ui| {
-            for x in &r.reactions {
-                ui.label(format!("node {} {}", x.node, x.dof));
-                ui.label(num(x.value));
-                ui.end_row();
-            }
-        });
+        egui::Grid::new("reactions")
+            .striped(true)
+            .num_columns(2)
+            .show(ui, |ui| {
+                for x in &r.reactions {
+                    ui.label(format!("node {} {}", x.node, x.dof));
+                    ui.label(num(x.value));
+                    ui.end_row();
+                }
+            });
     }
 }
 
@@ -83,7 +89,13 @@ fn event_text(e: &crate::solver::Event) -> Option<String> {
                 C::Released => "releases from",
                 C::SlidOff => "slides off",
             };
-            Some(format!("node {} {what} {} el {} (it {})", c.node, c.body, c.element + 1, c.iteration))
+            Some(format!(
+                "node {} {what} {} el {} (it {})",
+                c.node,
+                c.body,
+                c.element + 1,
+                c.iteration
+            ))
         }
         crate::solver::Event::CutBack { fraction, .. } => Some(format!("cut-back to {fraction}")),
     }

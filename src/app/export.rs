@@ -11,13 +11,22 @@ use crate::solver::{Event, IncrementRecord};
 use crate::worker::Loaded;
 
 /// The history of the current run in the `History` schema (increment 0 left out).
-pub fn history(loaded: &Loaded, records: &[IncrementRecord], events: &[Event], error: Option<&str>) -> History {
+pub fn history(
+    loaded: &Loaded,
+    records: &[IncrementRecord],
+    events: &[Event],
+    error: Option<&str>,
+) -> History {
     History {
         scene: loaded.scene.file.name.clone(),
         formulation: Some(loaded.scene.model.formulation),
         params: Some(loaded.scene.params),
         node_ids: loaded.scene.model.nodes.iter().map(|n| n.id).collect(),
-        increments: records.iter().filter(|r| r.increment > 0).cloned().collect(),
+        increments: records
+            .iter()
+            .filter(|r| r.increment > 0)
+            .cloned()
+            .collect(),
         events: events.to_vec(),
         error: error.map(str::to_string),
     }
@@ -35,7 +44,12 @@ pub fn csv(loaded: &Loaded, records: &[IncrementRecord]) -> String {
         .iter()
         .rev()
         .find(|r| !r.reactions.is_empty())
-        .map(|r| r.reactions.iter().map(|x| (x.node, x.dof.clone())).collect())
+        .map(|r| {
+            r.reactions
+                .iter()
+                .map(|x| (x.node, x.dof.clone()))
+                .collect()
+        })
         .unwrap_or_default();
     for (n, d) in &reactions {
         let _ = write!(out, ",R_node_{n}_{d}");
@@ -56,7 +70,11 @@ pub fn csv(loaded: &Loaded, records: &[IncrementRecord]) -> String {
             r.contacts.len()
         );
         for (n, d) in &reactions {
-            let v = r.reactions.iter().find(|x| x.node == *n && &x.dof == d).map_or(f64::NAN, |x| x.value);
+            let v = r
+                .reactions
+                .iter()
+                .find(|x| x.node == *n && &x.dof == d)
+                .map_or(f64::NAN, |x| x.value);
             let _ = write!(out, ",{v:.12e}");
         }
         out.push('\n');
@@ -72,9 +90,14 @@ pub fn write_csv(path: &Path, loaded: &Loaded, records: &[IncrementRecord]) -> s
 /// Save a screenshot as PNG.
 pub fn save_png(path: &Path, img: &ColorImage) -> Result<(), String> {
     let [w, h] = img.size;
-    let bytes: Vec<u8> = img.pixels.iter().flat_map(|c| c.to_srgba_unmultiplied()).collect();
+    let bytes: Vec<u8> = img
+        .pixels
+        .iter()
+        .flat_map(|c| c.to_srgba_unmultiplied())
+        .collect();
     let buf = image::RgbaImage::from_raw(w as u32, h as u32, bytes).ok_or("bad image size")?;
     let mut png = Vec::new();
-    buf.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png).map_err(|e| e.to_string())?;
+    buf.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+        .map_err(|e| e.to_string())?;
     write_atomic(path, &png).map_err(|e| e.to_string())
 }

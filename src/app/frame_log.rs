@@ -10,6 +10,7 @@ pub struct FrameLog {
     window: Instant,
     frames: u32,
     busy_frames: u32,
+    intervals: u32,
     interval_sum: Duration,
     interval_max: Duration,
     build_sum: Duration,
@@ -28,6 +29,7 @@ impl FrameLog {
             window: Instant::now(),
             frames: 0,
             busy_frames: 0,
+            intervals: 0,
             interval_sum: Duration::ZERO,
             interval_max: Duration::ZERO,
             build_sum: Duration::ZERO,
@@ -40,6 +42,7 @@ impl FrameLog {
         let now = Instant::now();
         if let Some(last) = self.last {
             let dt = now - last;
+            self.intervals += 1;
             self.interval_sum += dt;
             self.interval_max = self.interval_max.max(dt);
         }
@@ -54,7 +57,7 @@ impl FrameLog {
                 "frames {:>4} ({} while solving): interval mean {:.2} ms max {:.2} ms; ui build mean {:.2} ms max {:.2} ms",
                 self.frames,
                 self.busy_frames,
-                self.interval_sum.as_secs_f64() * 1e3 / f64::from(n.saturating_sub(1).max(1)),
+                self.interval_sum.as_secs_f64() * 1e3 / f64::from(self.intervals.max(1)),
                 self.interval_max.as_secs_f64() * 1e3,
                 self.build_sum.as_secs_f64() * 1e3 / f64::from(n),
                 self.build_max.as_secs_f64() * 1e3,

@@ -7,6 +7,7 @@ pub mod controls;
 pub mod details;
 pub mod export;
 pub mod frame_log;
+pub mod overlays;
 pub mod plots;
 pub mod screenshot;
 pub mod shapes;
@@ -29,7 +30,13 @@ pub use state::{load_scene, Startup, TsmApp};
 pub fn run(scene: Option<String>, steps: Option<usize>, screenshot: Option<PathBuf>) -> i32 {
     let exit = Arc::new(AtomicI32::new(0));
     let shot = screenshot.is_some();
-    let startup = Startup { scene, steps, screenshot, exit: Some(exit.clone()), no_gpu: false };
+    let startup = Startup {
+        scene,
+        steps,
+        screenshot,
+        exit: Some(exit.clone()),
+        no_gpu: false,
+    };
     let options = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
             .with_title("tsm-contact")
@@ -40,7 +47,11 @@ pub fn run(scene: Option<String>, steps: Option<usize>, screenshot: Option<PathB
         persist_window: !shot,
         ..Default::default()
     };
-    match eframe::run_native("tsm-contact", options, Box::new(move |cc| Ok(Box::new(TsmApp::new(cc, startup))))) {
+    match eframe::run_native(
+        "tsm-contact",
+        options,
+        Box::new(move |cc| Ok(Box::new(TsmApp::new(cc, startup)))),
+    ) {
         Ok(()) => exit.load(Ordering::SeqCst),
         Err(e) => {
             eprintln!("error: cannot open the window: {e}");

@@ -35,11 +35,17 @@ fn decades(input: GridInput) -> Vec<GridMark> {
     let (lo, hi) = input.bounds;
     // Powers of two keep 1e-8 (the usual tolerance) on a labelled line.
     let raw = (hi - lo) / 8.0;
-    let step = [1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 64.0].into_iter().find(|s| *s >= raw).unwrap_or(128.0);
+    let step = [1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 64.0]
+        .into_iter()
+        .find(|s| *s >= raw)
+        .unwrap_or(128.0);
     let mut v = (lo / step).floor() * step;
     let mut out = Vec::new();
     while v <= hi && out.len() < 200 {
-        out.push(GridMark { value: v, step_size: step });
+        out.push(GridMark {
+            value: v,
+            step_size: step,
+        });
         v += step;
     }
     out
@@ -62,8 +68,52 @@ struct Series {
     contacts: Vec<[f64; 2]>,
 }
 
+/// Most points a plotted line gets (long runs are reduced to keep frames fast).
+const MAX_POINTS: usize = 4000;
+
+/// Reduce a long series to the lowest and highest point of each of `max / 2` buckets, in x
+/// order, so the sawtooth's envelope survives.
+fn envelope(points: Vec<[f64; 2]>, max: usize) -> Vec<[f64; 2]> {
+    if points.len() <= max {
+        return points;
+    }
+    let bucket = points.len().div_ceil(max / 2);
+    let mut out = Vec::with_capacity(max + 2);
+    for chunk in points.chunks(bucket) {
+        let lo = chunk.iter().min_by(|a, b| a[1].total_cmp(&b[1])).copied();
+        let hi = chunk.iter().max_by(|a, b| a[1].total_cmp(&b[1])).copied();
+        if let (Some(lo), Some(hi)) = (lo, hi) {
+            if lo[0] <= hi[0] {
+                out.extend([lo, hi]);
+            } else {
+                out.extend([hi, lo]);
+            }
+        }
+    }
+    out
+}
+
+/// Keep every n-th point so that at most about `max` remain (the last one always).
+fn thin(points: Vec<[f64; 2]>, max: usize) -> Vec<[f64; 2]> {
+    if points.len() <= max {
+        return points;
+    }
+    let step = points.len().div_ceil(max);
+    let last = *points.last().expect("non-empty");
+    let mut out: Vec<[f64; 2]> = points.into_iter().step_by(step).collect();
+    if out.last() != Some(&last) {
+        out.push(last);
+    }
+    out
+}
+
 fn series(history: &[IncrementRecord], live: &[IterationRecord], selected: usize) -> Series {
-    let mut s = Series { all: Vec::new(), selected: Vec::new(), cuts: Vec::new(), contacts: Vec::new() };
+    let mut s = Series {
+        all: Vec::new(),
+        selected: Vec::new(),
+        cuts: Vec::new(),
+        contacts: Vec::new(),
+    };
     let mut x = 0.0;
     for (k, r) in history.iter().enumerate().skip(1) {
         let start = x;
@@ -77,7 +127,10 @@ fn series(history: &[IncrementRecord], live: &[IterationRecord], selected: usize
             }
         }
         let y_at = |i: usize| {
-            let v = r.residuals.get(i.saturating_sub(1)).map_or(0.0, |it| it.relative_residual);
+            let v = r
+                .residuals
+                .get(i.saturating_sub(1))
+                .map_or(0.0, |it| it.relative_residual);
             if v > 0.0 {
                 lg(v)
             } else {
@@ -100,6 +153,9 @@ fn series(history: &[IncrementRecord], live: &[IterationRecord], selected: usize
             s.all.push([x, lg(it.relative_residual)]);
         }
     }
+    s.all = envelope(s.all, MAX_POINTS);
+    s.cuts = thin(s.cuts, MAX_POINTS / 4);
+    s.contacts = thin(s.contacts, MAX_POINTS / 4);
     s
 }
 
@@ -123,14 +179,28 @@ fn key(ui: &mut egui::Ui, color: Color32, mark: Mark, text: &str) {
             p.line_segment([rect.left_center(), rect.right_center()], stroke);
         }
         Mark::Dashed => {
-            p.add(egui::Shape::dashed_line(&[rect.left_center(), rect.right_center()], stroke, 4.0, 2.0));
+            p.add(egui::Shape::dashed_line(
+                &[rect.left_center(), rect.right_center()],
+                stroke,
+                4.0,
+                2.0,
+            ));
         }
         Mark::Diamond => {
-            let pts = vec![c + egui::vec2(0.0, -5.0), c + egui::vec2(5.0, 0.0), c + egui::vec2(0.0, 5.0), c + egui::vec2(-5.0, 0.0)];
+            let pts = vec![
+                c + egui::vec2(0.0, -5.0),
+                c + egui::vec2(5.0, 0.0),
+                c + egui::vec2(0.0, 5.0),
+                c + egui::vec2(-5.0, 0.0),
+            ];
             p.add(egui::Shape::convex_polygon(pts, color, egui::Stroke::NONE));
         }
         Mark::Down => {
-            let pts = vec![c + egui::vec2(-5.0, -4.0), c + egui::vec2(5.0, -4.0), c + egui::vec2(0.0, 5.0)];
+            let pts = vec![
+                c + egui::vec2(-5.0, -4.0),
+                c + egui::vec2(5.0, -4.0),
+                c + egui::vec2(0.0, 5.0),
+            ];
             p.add(egui::Shape::convex_polygon(pts, color, egui::Stroke::NONE));
         }
     }
@@ -151,7 +221,10 @@ fn convergence(app: &mut TsmApp, ui: &mut egui::Ui) {
         }
         key(ui, CUT, Mark::Dashed, "tolerance");
     });
-    let tol = app.loaded.as_ref().map_or(1e-8, |l| l.scene.params.tolerance);
+    let tol = app
+        .loaded
+        .as_ref()
+        .map_or(1e-8, |l| l.scene.params.tolerance);
     let s = if app.plot_all {
         series(&app.history, &app.live, app.selected)
     } else {
@@ -166,9 +239,18 @@ fn convergence(app: &mut TsmApp, ui: &mut egui::Ui) {
                     .collect()
             })
             .unwrap_or_default();
-        Series { all: pts, selected: Vec::new(), cuts: Vec::new(), contacts: Vec::new() }
+        Series {
+            all: pts,
+            selected: Vec::new(),
+            cuts: Vec::new(),
+            contacts: Vec::new(),
+        }
     };
-    let x_label = if app.plot_all { "cumulative iteration" } else { "iteration" };
+    let x_label = if app.plot_all {
+        "cumulative iteration"
+    } else {
+        "iteration"
+    };
     Plot::new("convergence")
         .x_axis_label(x_label)
         .y_axis_label("relative residual")
@@ -178,20 +260,44 @@ fn convergence(app: &mut TsmApp, ui: &mut egui::Ui) {
         .include_y(0.0)
         .include_x(0.0)
         .label_formatter(|h| {
-            let (HoverPosition::NearDataPoint { position: p, .. } | HoverPosition::Elsewhere { position: p }) = h;
+            let (HoverPosition::NearDataPoint { position: p, .. }
+            | HoverPosition::Elsewhere { position: p }) = h;
             Some(format!("iteration {:.0}\n{:.2e}", p.x, 10f64.powf(p.y)))
         })
         .show(ui, move |p| {
-            p.hline(HLine::new(format!("tolerance {tol:.0e}"), lg(tol)).color(CUT).style(egui_plot::LineStyle::dashed_loose()));
-            p.line(Line::new("relative residual", s.all).color(RESIDUAL).width(1.5));
+            p.hline(
+                HLine::new(format!("tolerance {tol:.0e}"), lg(tol))
+                    .color(CUT)
+                    .style(egui_plot::LineStyle::dashed_loose()),
+            );
+            p.line(
+                Line::new("relative residual", s.all)
+                    .color(RESIDUAL)
+                    .width(1.5),
+            );
             if !s.selected.is_empty() {
-                p.line(Line::new("selected increment", s.selected).color(SELECTED).width(2.5));
+                p.line(
+                    Line::new("selected increment", s.selected)
+                        .color(SELECTED)
+                        .width(2.5),
+                );
             }
             if !s.cuts.is_empty() {
-                p.points(Points::new("cut-back", s.cuts).shape(MarkerShape::Down).color(CUT).radius(5.0).filled(true));
+                p.points(
+                    Points::new("cut-back", s.cuts)
+                        .shape(MarkerShape::Down)
+                        .color(CUT)
+                        .radius(5.0)
+                        .filled(true),
+                );
             }
             if !s.contacts.is_empty() {
-                p.points(Points::new("contact event", s.contacts).shape(MarkerShape::Diamond).color(CONTACT).radius(4.0));
+                p.points(
+                    Points::new("contact event", s.contacts)
+                        .shape(MarkerShape::Diamond)
+                        .color(CONTACT)
+                        .radius(4.0),
+                );
             }
         });
 }
@@ -199,34 +305,66 @@ fn convergence(app: &mut TsmApp, ui: &mut egui::Ui) {
 fn reaction(app: &TsmApp, ui: &mut egui::Ui) {
     let Some(l) = &app.loaded else { return };
     let model = &l.scene.model;
-    let (x_label, y_label, pts): (String, String, Vec<[f64; 2]>) = if let Some(p) = model.prescribed.first() {
-        let id = model.nodes[p.node].id;
-        let dof = p.dof.name();
-        let pts = app
-            .history
-            .iter()
-            .map(|r| {
-                let y = r.reactions.iter().find(|x| x.node == id && x.dof == dof).map_or(0.0, |x| x.value);
-                [r.prescribed[0], y]
-            })
-            .collect();
-        let unit = if p.dof == Dof::Phi { "N m" } else { "N" };
-        (format!("{} (prescribed)", l.prescribed_labels[0]), format!("reaction ({unit})"), pts)
-    } else if let Some(load) = model.loads.first() {
-        let o = (0..3).max_by(|&a, &b| load.force[a].abs().total_cmp(&load.force[b].abs())).unwrap_or(1);
-        let n = load.node;
-        let x0 = [model.nodes[n].x, model.nodes[n].y, 0.0][o];
-        let pts = app.history.iter().map(|r| [r.nodes[n][o] - x0, r.load_factor]).collect();
-        (format!("node {} {}", model.nodes[n].id, ["u", "v", "phi"][o]), "load factor".into(), pts)
-    } else {
-        return;
-    };
+    let (x_label, y_label, pts): (String, String, Vec<[f64; 2]>) =
+        if let Some(p) = model.prescribed.first() {
+            let id = model.nodes[p.node].id;
+            let dof = p.dof.name();
+            let pts = app
+                .history
+                .iter()
+                .map(|r| {
+                    let y = r
+                        .reactions
+                        .iter()
+                        .find(|x| x.node == id && x.dof == dof)
+                        .map_or(0.0, |x| x.value);
+                    [r.prescribed[0], y]
+                })
+                .collect();
+            let unit = if p.dof == Dof::Phi { "N m" } else { "N" };
+            (
+                format!("{} (prescribed)", l.prescribed_labels[0]),
+                format!("reaction ({unit})"),
+                pts,
+            )
+        } else if let Some(load) = model.loads.first() {
+            let o = (0..3)
+                .max_by(|&a, &b| load.force[a].abs().total_cmp(&load.force[b].abs()))
+                .unwrap_or(1);
+            let n = load.node;
+            let x0 = [model.nodes[n].x, model.nodes[n].y, 0.0][o];
+            let pts = app
+                .history
+                .iter()
+                .map(|r| [r.nodes[n][o] - x0, r.load_factor])
+                .collect();
+            (
+                format!("node {} {}", model.nodes[n].id, ["u", "v", "phi"][o]),
+                "load factor".into(),
+                pts,
+            )
+        } else {
+            return;
+        };
     ui.label("Reaction against displacement of the driven dof:");
     let sel = pts.get(app.selected).copied();
-    Plot::new("reaction").x_axis_label(x_label).y_axis_label(y_label).show(ui, move |p| {
-        p.line(Line::new("equilibrium path", pts).color(RESIDUAL).width(1.5));
-        if let Some(s) = sel {
-            p.points(Points::new("selected", vec![s]).color(SELECTED).radius(5.0).filled(true));
-        }
-    });
+    let pts = thin(pts, MAX_POINTS);
+    Plot::new("reaction")
+        .x_axis_label(x_label)
+        .y_axis_label(y_label)
+        .show(ui, move |p| {
+            p.line(
+                Line::new("equilibrium path", pts)
+                    .color(RESIDUAL)
+                    .width(1.5),
+            );
+            if let Some(s) = sel {
+                p.points(
+                    Points::new("selected", vec![s])
+                        .color(SELECTED)
+                        .radius(5.0)
+                        .filled(true),
+                );
+            }
+        });
 }

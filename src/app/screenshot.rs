@@ -44,13 +44,24 @@ impl Shot {
     /// A screenshot to `path`; `close` ends the app afterwards (the `--screenshot` run).
     pub fn new(path: PathBuf, exit: Option<Arc<AtomicI32>>, close: bool) -> Shot {
         let phase = if close { Phase::Load } else { Phase::Settle(1) };
-        Shot { path, exit, close, phase, slot: Arc::default(), started: Instant::now() }
+        Shot {
+            path,
+            exit,
+            close,
+            phase,
+            slot: Arc::default(),
+            started: Instant::now(),
+        }
     }
 
     /// The scene was loaded; `solving` if steps were requested.
     pub fn loaded(&mut self, solving: bool) {
         if self.phase == Phase::Load {
-            self.phase = if solving { Phase::Solving(false) } else { Phase::Settle(3) };
+            self.phase = if solving {
+                Phase::Solving(false)
+            } else {
+                Phase::Settle(3)
+            };
         }
     }
 
@@ -100,7 +111,12 @@ impl Shot {
                 if let Some(img) = img {
                     let code = match save_png(&self.path, &img) {
                         Ok(()) => {
-                            eprintln!("saved {} ({}x{})", self.path.display(), img.size[0], img.size[1]);
+                            eprintln!(
+                                "saved {} ({}x{})",
+                                self.path.display(),
+                                img.size[0],
+                                img.size[1]
+                            );
                             0
                         }
                         Err(e) => {

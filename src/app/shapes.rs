@@ -13,6 +13,8 @@ pub const SAMPLES: usize = 8;
 /// A body's deformed centre line with the bending moment at each point.
 #[derive(Clone, Debug, Default)]
 pub struct BodyCurve {
+    /// Index of the body in `Model::bodies`.
+    pub body: usize,
     /// Points (m).
     pub points: Vec<[f64; 2]>,
     /// Bending moment at each point (N m).
@@ -34,10 +36,17 @@ pub fn moment_at(model: &Model, record: &IncrementRecord, e: usize, x: f64) -> f
 }
 
 /// Deformed curves of every body (elements chained in body order; a gap starts a new curve).
-pub fn deformed_bodies(model: &Model, elements: &[BeamElement], record: &IncrementRecord) -> Vec<BodyCurve> {
+pub fn deformed_bodies(
+    model: &Model,
+    elements: &[BeamElement],
+    record: &IncrementRecord,
+) -> Vec<BodyCurve> {
     let mut out = Vec::new();
-    for body in &model.bodies {
-        let mut cur = BodyCurve::default();
+    for (b, body) in model.bodies.iter().enumerate() {
+        let mut cur = BodyCurve {
+            body: b,
+            ..BodyCurve::default()
+        };
         let mut last_node = None;
         for &e in &body.elements {
             if e >= model.beams.len() || e >= elements.len() {
@@ -45,13 +54,20 @@ pub fn deformed_bodies(model: &Model, elements: &[BeamElement], record: &Increme
             }
             let beam = &model.beams[e];
             if last_node.is_some() && last_node != Some(beam.i) && !cur.points.is_empty() {
-                out.push(std::mem::take(&mut cur));
+                out.push(std::mem::replace(
+                    &mut cur,
+                    BodyCurve {
+                        body: b,
+                        ..BodyCurve::default()
+                    },
+                ));
             }
             let pts = crate::solver::shape::element_curve(model, elements, record, e, SAMPLES);
             let skip = usize::from(!cur.points.is_empty());
             for (k, p) in pts.iter().enumerate().skip(skip) {
                 cur.points.push(*p);
-                cur.moments.push(moment_at(model, record, e, k as f64 / SAMPLES as f64));
+                cur.moments
+                    .push(moment_at(model, record, e, k as f64 / SAMPLES as f64));
             }
             last_node = Some(beam.j);
         }
@@ -69,7 +85,9 @@ pub fn undeformed_bodies(model: &Model) -> Vec<Vec<[f64; 2]>> {
         let mut line: Vec<[f64; 2]> = Vec::new();
         let mut last_node = None;
         for &e in &body.elements {
-            let Some(beam) = model.beams.get(e) else { continue };
+            let Some(beam) = model.beams.get(e) else {
+                continue;
+            };
             if last_node != Some(beam.i) {
                 if line.len() > 1 {
                     out.push(std::mem::take(&mut line));
@@ -89,15 +107,36 @@ pub fn undeformed_bodies(model: &Model) -> Vec<Vec<[f64; 2]>> {
 
 /// Largest |M| over the curves (at least a tiny positive number).
 pub fn max_moment(curves: &[BodyCurve]) -> f64 {
-    curves.iter().flat_map(|c| c.moments.iter()).fold(1e-30, |a, m| a.max(m.abs()))
+    curves
+        .iter()
+        .flat_map(|c| c.moments.iter())
+        .fold(1e-30, |a, m| a.max(m.abs()))
 }
 
 /// Colour of moment `m` on a diverging scale: blue (negative), slate (zero), red (positive).
 pub fn moment_color(m: f64, mmax: f64) -> Color32 {
     let t = (m / mmax.max(1e-30)).clamp(-1.0, 1.0) as f32;
     let zero = [70.0, 78.0, 92.0];
-    let end = if t >= 0.0 { [214.0, 39.0, 40.0] } else { [31.0, 119.0, 220.0] };
+    let end = if t >= 0.0 {
+        [214.0, 39.0, 40.0]
+    } else {
+        [31.0, 119.0, 220.0]
+    };
     let a = t.abs().sqrt();
-    let c: Vec<u8> = (0..3).map(|i| (zero[i] + (end[i] - zero[i]) * a).round() as u8).collect();
+    let c: Vec<u8> = (0..3)
+        .map(|i| (zero[i] + (end[i] - zero[i]) * a).round() as u8)
+        .collect();
     Color32::from_rgb(c[0], c[1], c[2])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn colour_map_ends_and_middle() {
+        assert_eq!(moment_color(0.0, 1.0), Color32::from_rgb(70, 78, 92));
+        assert_eq!(moment_color(2.0, 1.0), Color32::from_rgb(214, 39, 40));
+        assert_eq!(moment_color(-1.0, 1.0), Color32::from_rgb(31, 119, 220));
+    }
 }

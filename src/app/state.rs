@@ -36,7 +36,10 @@ pub struct Startup {
 impl Startup {
     /// Start on a scene.
     pub fn scene(name: &str) -> Startup {
-        Startup { scene: Some(name.into()), ..Startup::default() }
+        Startup {
+            scene: Some(name.into()),
+            ..Startup::default()
+        }
     }
 }
 
@@ -82,7 +85,9 @@ pub fn load_scene(name: &str) -> Result<Scene, String> {
     }
     match crate::scene::builtin::builtin(name) {
         Some(r) => r.map_err(|e| e.to_string()),
-        None => Err(format!("{name}: no such file and no built-in scene of that name")),
+        None => Err(format!(
+            "{name}: no such file and no built-in scene of that name"
+        )),
     }
 }
 
@@ -91,16 +96,36 @@ impl TsmApp {
     pub fn new(cc: &eframe::CreationContext<'_>, startup: Startup) -> TsmApp {
         cc.egui_ctx.set_theme(egui::Theme::Light);
         let ctx = cc.egui_ctx.clone();
-        let worker = Worker::spawn(Some(Box::new(move || ctx.request_repaint())));
+        // At most one repaint per display frame however fast the worker reports.
+        let worker = Worker::spawn(Some(Box::new(move || {
+            ctx.request_repaint_after(std::time::Duration::from_millis(15))
+        })));
         let gpu = !startup.no_gpu
             && std::env::var_os("TSM_NO_GPU").is_none()
-            && cc.wgpu_render_state.as_ref().is_some_and(super::beams_gpu::init);
+            && cc
+                .wgpu_render_state
+                .as_ref()
+                .is_some_and(super::beams_gpu::init);
         let persist = startup.screenshot.is_none();
-        let stored_scene: Option<String> =
-            if persist { cc.storage.and_then(|s| eframe::get_value(s, KEY_SCENE)) } else { None };
-        let stored_view: Option<View> = if persist { cc.storage.and_then(|s| eframe::get_value(s, KEY_VIEW)) } else { None };
-        let default = crate::scene::builtin::BUILTIN[0].0.trim_end_matches(".ron").to_string();
-        let name = startup.scene.clone().or(stored_scene.clone()).unwrap_or(default);
+        let stored_scene: Option<String> = if persist {
+            cc.storage.and_then(|s| eframe::get_value(s, KEY_SCENE))
+        } else {
+            None
+        };
+        let stored_view: Option<View> = if persist {
+            cc.storage.and_then(|s| eframe::get_value(s, KEY_VIEW))
+        } else {
+            None
+        };
+        let default = crate::scene::builtin::BUILTIN[0]
+            .0
+            .trim_end_matches(".ron")
+            .to_string();
+        let name = startup
+            .scene
+            .clone()
+            .or(stored_scene.clone())
+            .unwrap_or(default);
         let keep_view = stored_view.is_some() && stored_scene.as_deref() == Some(name.as_str());
         let mut app = TsmApp {
             worker,
@@ -123,7 +148,9 @@ impl TsmApp {
             open_path: String::new(),
             export_stem: "tsm-history".into(),
             gpu,
-            shot: startup.screenshot.map(|p| Shot::new(p, startup.exit.clone(), true)),
+            shot: startup
+                .screenshot
+                .map(|p| Shot::new(p, startup.exit.clone(), true)),
             run_steps: startup.steps.filter(|&k| k > 0),
             drag: None,
             hover_handle: None,
@@ -157,8 +184,10 @@ impl TsmApp {
 
     /// Send a command to the worker (and note that work was requested).
     pub(crate) fn send(&mut self, c: Command) {
-        if std::env::var_os("TSM_DEBUG").is_some() { eprintln!("send {c:?}"); }
-        if matches!(c, Command::Run | Command::RunSteps(_) | Command::Step | Command::SetTarget { .. }) {
+        if matches!(
+            c,
+            Command::Run | Command::RunSteps(_) | Command::Step | Command::SetTarget { .. }
+        ) {
             self.busy = true;
         }
         self.worker.send(c);
@@ -192,12 +221,15 @@ impl TsmApp {
     /// Apply every waiting worker message. Never blocks.
     fn drain(&mut self) {
         while let Some(m) = self.worker.try_recv() {
-            if std::env::var_os("TSM_DEBUG").is_some() && !matches!(m, Message::Iteration(_)) { eprintln!("msg {:?}", match &m { Message::Increment(r) => format!("inc {}", r.increment), other => format!("{:.60}", format!("{other:?}")) }); }
             match m {
                 Message::Loaded(l) => {
                     self.history = vec![l.initial.clone()];
                     self.targets = l.initial.prescribed.clone();
-                    self.status = format!("{} ({:?})", l.scene.file.name, l.scene.model.formulation);
+                    self.status = format!(
+                        "{} elements ({:?})",
+                        l.scene.model.beams.len(),
+                        l.scene.model.formulation
+                    );
                     self.loaded = Some(l);
                     self.events.clear();
                     self.live.clear();
@@ -235,6 +267,8 @@ impl TsmApp {
                 }
                 Message::Idle => {
                     self.busy = false;
+                    // Iterations of an abandoned attempt.
+                    self.live.clear();
                     if self.targeting && self.drag.is_none() {
                         self.targeting = false;
                         if let Some(r) = self.history.last() {
@@ -286,14 +320,21 @@ impl eframe::App for TsmApp {
                 ui.separator();
                 plots::show(self, ui);
             });
-        egui::Panel::right("details").resizable(true).default_size(330.0).show(ui, |ui| {
-            egui::ScrollArea::vertical().show(ui, |ui| {
-                controls::sliders(self, ui);
-                ui.separator();
-                details::show(self, ui);
+        egui::Panel::right("details")
+            .resizable(true)
+            .default_size(330.0)
+            .show(ui, |ui| {
+                egui::ScrollArea::vertical().show(ui, |ui| {
+                    controls::sliders(self, ui);
+                    ui.separator();
+                    details::show(self, ui);
+                });
             });
-        });
-        let gpu = if self.gpu { frame.wgpu_render_state().cloned() } else { None };
+        let gpu = if self.gpu {
+            frame.wgpu_render_state().cloned()
+        } else {
+            None
+        };
         egui::CentralPanel::no_frame().show(ui, |ui| viewport::show(self, ui, gpu.as_ref()));
         if let Some(shot) = &mut self.shot {
             shot.frame(&ctx);
@@ -303,7 +344,13 @@ impl eframe::App for TsmApp {
         }
         if let Some(log) = &mut self.frame_log {
             log.frame(t0.elapsed(), self.busy);
+            // Keep drawing so that idle frames are measured too.
+            ctx.request_repaint();
         }
+    }
+
+    fn persist_egui_memory(&self) -> bool {
+        self.persist
     }
 
     fn save(&mut self, storage: &mut dyn eframe::Storage) {

@@ -60,8 +60,16 @@ fn miters(p: &[Pos2]) -> Vec<Vec2> {
     };
     (0..n)
         .map(|k| {
-            let n0 = if k > 0 { normal(p[k - 1], p[k]) } else { normal(p[0], p[1]) };
-            let n1 = if k + 1 < n { normal(p[k], p[k + 1]) } else { n0 };
+            let n0 = if k > 0 {
+                normal(p[k - 1], p[k])
+            } else {
+                normal(p[0], p[1])
+            };
+            let n1 = if k + 1 < n {
+                normal(p[k], p[k + 1])
+            } else {
+                n0
+            };
             let m = (n0 + n1).normalized();
             let cos = m.dot(n0).max(0.34);
             if m.x.is_finite() {
@@ -75,7 +83,12 @@ fn miters(p: &[Pos2]) -> Vec<Vec2> {
 
 fn rgba(c: Color32) -> [f32; 4] {
     let [r, g, b, a] = c.to_srgba_unmultiplied();
-    [r as f32 / 255.0, g as f32 / 255.0, b as f32 / 255.0, a as f32 / 255.0]
+    [
+        r as f32 / 255.0,
+        g as f32 / 255.0,
+        b as f32 / 255.0,
+        a as f32 / 255.0,
+    ]
 }
 
 /// Append the strip of `line` (half width `half_px` pixels, at `ppp` pixels per point) as a
@@ -93,7 +106,12 @@ pub fn push_gpu_strip(line: &Polyline, half_px: f32, ppp: f32, out: &mut Vec<Str
         edge: [s * reach, half_px],
     };
     for k in 0..p.len() - 1 {
-        let (l0, r0, l1, r1) = (side(k, 1.0), side(k, -1.0), side(k + 1, 1.0), side(k + 1, -1.0));
+        let (l0, r0, l1, r1) = (
+            side(k, 1.0),
+            side(k, -1.0),
+            side(k + 1, 1.0),
+            side(k + 1, -1.0),
+        );
         out.extend_from_slice(&[l0, r0, l1, r0, r1, l1]);
     }
 }
@@ -112,8 +130,17 @@ pub fn push_mesh_strip(line: &Polyline, half_px: f32, ppp: f32, mesh: &mut Mesh)
     for k in 0..p.len() {
         let solid = c[k];
         let clear = Color32::TRANSPARENT;
-        for (off, col) in [(outer, clear), (inner, solid), (-inner, solid), (-outer, clear)] {
-            mesh.vertices.push(Vertex { pos: p[k] + m[k] * off, uv: WHITE_UV, color: col });
+        for (off, col) in [
+            (outer, clear),
+            (inner, solid),
+            (-inner, solid),
+            (-outer, clear),
+        ] {
+            mesh.vertices.push(Vertex {
+                pos: p[k] + m[k] * off,
+                uv: WHITE_UV,
+                color: col,
+            });
         }
     }
     for k in 0..p.len() as u32 - 1 {
@@ -123,5 +150,35 @@ pub fn push_mesh_strip(line: &Polyline, half_px: f32, ppp: f32, mesh: &mut Mesh)
             mesh.add_triangle(a + s, a + s + 1, b + s);
             mesh.add_triangle(a + s + 1, b + s + 1, b + s);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn strip_has_constant_width_and_soft_edge() {
+        let line = Polyline::uniform(
+            vec![
+                Pos2::new(0.0, 0.0),
+                Pos2::new(10.0, 0.0),
+                Pos2::new(20.0, 0.0),
+            ],
+            Color32::RED,
+        );
+        let mut v = Vec::new();
+        push_gpu_strip(&line, 3.0, 2.0, &mut v);
+        assert_eq!(v.len(), 12);
+        for p in &v {
+            // 3 px + 1 px feather at 2 px per point: 2 points from the centre line.
+            assert!((p.pos[1].abs() - 2.0).abs() < 1e-6);
+            assert_eq!(p.edge[0].abs(), 4.0);
+            assert_eq!(p.edge[1], 3.0);
+        }
+        let mut mesh = Mesh::default();
+        push_mesh_strip(&line, 3.0, 2.0, &mut mesh);
+        assert_eq!(mesh.vertices.len(), 12);
+        assert_eq!(mesh.indices.len(), 2 * 3 * 2 * 3);
     }
 }

@@ -12,13 +12,20 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui) {
         let last = app.last();
         let mut sel = app.selected.min(last);
         ui.spacing_mut().slider_width = (ui.available_width() - 520.0).max(120.0);
-        let r = ui.add(egui::Slider::new(&mut sel, 0..=last).text("Increment").integer());
+        let r = ui.add(
+            egui::Slider::new(&mut sel, 0..=last)
+                .text("Increment")
+                .integer(),
+        );
         if r.changed() {
             app.selected = sel;
             app.playing = false;
         }
         let loaded = app.loaded.is_some();
-        if ui.add_enabled(app.selected > 0, egui::Button::new("Step back")).clicked() {
+        if ui
+            .add_enabled(app.selected > 0, egui::Button::new("Step back"))
+            .clicked()
+        {
             app.selected -= 1;
             app.playing = false;
         }
@@ -38,7 +45,10 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui) {
             }
             app.last_play = ui.input(|i| i.time);
         }
-        if ui.add_enabled(loaded && !app.busy, egui::Button::new("Run")).clicked() {
+        if ui
+            .add_enabled(loaded && !app.busy, egui::Button::new("Run"))
+            .clicked()
+        {
             app.selected = last;
             app.send(Command::Run);
         }

@@ -16,7 +16,10 @@ pub struct View {
 
 impl Default for View {
     fn default() -> Self {
-        View { center: [0.5, -0.2], scale: 500.0 }
+        View {
+            center: [0.5, -0.2],
+            scale: 500.0,
+        }
     }
 }
 
@@ -70,7 +73,12 @@ impl View {
 
 /// Bounds `[xmin, ymin, xmax, ymax]` of a set of points (NaN-free; infinite if empty).
 pub fn bounds<'a>(points: impl IntoIterator<Item = &'a [f64; 3]>) -> [f64; 4] {
-    let mut b = [f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY];
+    let mut b = [
+        f64::INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::NEG_INFINITY,
+    ];
     for p in points {
         b[0] = b[0].min(p[0]);
         b[1] = b[1].min(p[1]);

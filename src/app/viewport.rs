@@ -1,30 +1,27 @@
 //! The central viewport: pan (drag on empty space), zoom at the cursor (scroll), fit
-//! (double-click or the "Fit" button), the beams (deformed strips coloured by bending moment
-//! over the grey undeformed shape, see `beams_gpu`), and the egui overlays: clamps, supports,
-//! contact nodes with force arrows, the draggable handle of each prescribed dof, the moment
-//! legend and a scale bar.
+//! (double-click or the "Fit" button), dragging the handle of a prescribed dof, and the beams
+//! (deformed strips coloured by bending moment over the grey undeformed shape, see
+//! `beams_gpu`) under the overlays of `overlays`.
 
-use egui::{Align2, Color32, FontId, Pos2, Rect, Sense, Shape, Stroke, Vec2};
+use egui::{Align2, Color32, FontId, Pos2, Rect, Sense, Vec2};
 
 use crate::solver::{Dof, IncrementRecord, Model};
 use crate::worker::Command;
 
 use super::beams_gpu::{self, Strip};
+use super::overlays::{self, INK};
 use super::shapes::{deformed_bodies, max_moment, moment_color, undeformed_bodies};
 use super::state::TsmApp;
 use super::strips::Polyline;
-use super::units::num;
 use super::view::bounds;
 
-const INK: Color32 = Color32::from_rgb(40, 44, 52);
 const GHOST: Color32 = Color32::from_rgb(175, 178, 186);
-const ACTIVE: Color32 = Color32::from_rgb(245, 130, 20);
-const HANDLE: Color32 = Color32::from_rgb(20, 150, 90);
 
 /// A drag of a prescribed-dof handle in progress.
 #[derive(Clone, Copy, Debug)]
 pub struct Drag {
-    index: usize,
+    /// Which prescribed dof.
+    pub index: usize,
     start: f64,
     moved: Vec2,
 }
@@ -37,7 +34,13 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui, gpu: Option<&egui_wgpu::RenderS
     painter.rect_filled(rect, 0.0, Color32::from_rgb(251, 251, 253));
     if app.loaded.is_none() {
         let msg = app.error.clone().unwrap_or_else(|| "loading...".into());
-        painter.text(rect.center(), Align2::CENTER_CENTER, msg, FontId::proportional(16.0), INK);
+        painter.text(
+            rect.center(),
+            Align2::CENTER_CENTER,
+            msg,
+            FontId::proportional(16.0),
+            INK,
+        );
         return;
     }
     handles(app, ui, rect);
@@ -46,7 +49,9 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui, gpu: Option<&egui_wgpu::RenderS
         fit(app, rect);
         app.fit_pending = false;
     }
-    let (Some(l), Some(r)) = (app.loaded.as_ref(), app.record()) else { return };
+    let (Some(l), Some(r)) = (app.loaded.as_ref(), app.record()) else {
+        return;
+    };
     let model = &l.scene.model;
     let view = app.view;
     let to_screen = |p: [f64; 2]| view.to_screen(rect, p);
@@ -57,29 +62,50 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui, gpu: Option<&egui_wgpu::RenderS
     let mmax = max_moment(&curves);
     let mut strips: Vec<Strip> = undeformed_bodies(model)
         .into_iter()
-        .map(|line| Strip { line: Polyline::uniform(line.into_iter().map(to_screen).collect(), GHOST), half_px: 0.9 * ppp })
+        .map(|line| Strip {
+            line: Polyline::uniform(line.into_iter().map(to_screen).collect(), GHOST),
+            half_px: 0.9 * ppp,
+        })
         .collect();
     for c in &curves {
         let line = Polyline {
             points: c.points.iter().map(|p| to_screen(*p)).collect(),
             colors: c.moments.iter().map(|m| moment_color(*m, mmax)).collect(),
         };
-        strips.push(Strip { line, half_px: 3.0 * ppp });
+        strips.push(Strip {
+            line,
+            half_px: 3.0 * ppp,
+        });
     }
     beams_gpu::paint(&painter, rect, &strips, gpu);
 
-    supports(&painter, model, r, &to_screen);
-    contacts(&painter, model, r, &to_screen);
-    body_names(&painter, model, &curves, &to_screen);
-    prescribed(&painter, app, model, r, &to_screen);
-    legend(&painter, rect, mmax);
-    scale_bar(&painter, rect, view.scale);
-    let text = format!("increment {}{}", r.increment, if app.busy { "  (solving...)" } else { "" });
-    painter.text(rect.right_top() + Vec2::new(-10.0, 10.0), Align2::RIGHT_TOP, text, FontId::proportional(14.0), INK);
+    overlays::supports(&painter, model, r, &to_screen);
+    overlays::contacts(&painter, model, r, &to_screen);
+    overlays::body_names(&painter, model, &curves, &to_screen);
+    overlays::prescribed(&painter, app, model, r, &to_screen);
+    overlays::legend(&painter, rect, mmax);
+    overlays::scale_bar(&painter, rect, view.scale);
+    let text = format!(
+        "increment {}{}",
+        r.increment,
+        if app.busy { "  (solving...)" } else { "" }
+    );
+    painter.text(
+        rect.right_top() + Vec2::new(-10.0, 10.0),
+        Align2::RIGHT_TOP,
+        text,
+        FontId::proportional(14.0),
+        INK,
+    );
 }
 
 /// World position of the handle of prescribed dof `k` (initial position plus the target).
-fn handle_world(model: &Model, r: &IncrementRecord, k: usize, target: f64) -> Option<[f64; 2]> {
+pub(crate) fn handle_world(
+    model: &Model,
+    r: &IncrementRecord,
+    k: usize,
+    target: f64,
+) -> Option<[f64; 2]> {
     let p = model.prescribed.get(k)?;
     let n = p.node;
     let cur = [r.nodes[n][0], r.nodes[n][1]];
@@ -92,7 +118,9 @@ fn handle_world(model: &Model, r: &IncrementRecord, k: usize, target: f64) -> Op
 
 /// Interact with the prescribed-dof handles: dragging one sets its target.
 fn handles(app: &mut TsmApp, ui: &mut egui::Ui, rect: Rect) {
-    let (Some(l), Some(r)) = (app.loaded.as_ref(), app.record()) else { return };
+    let (Some(l), Some(r)) = (app.loaded.as_ref(), app.record()) else {
+        return;
+    };
     let model = &l.scene.model;
     // (index, dof, current target, screen position) of every draggable handle.
     let spots: Vec<(usize, Dof, f64, Pos2)> = (0..model.prescribed.len())
@@ -106,7 +134,11 @@ fn handles(app: &mut TsmApp, ui: &mut egui::Ui, rect: Rect) {
     app.hover_handle = None;
     for (k, dof, t, pos) in spots {
         let id = ui.scope_id().with(("handle", k));
-        let resp = ui.interact(Rect::from_center_size(pos, Vec2::splat(24.0)), id, Sense::drag());
+        let resp = ui.interact(
+            Rect::from_center_size(pos, Vec2::splat(24.0)),
+            id,
+            Sense::drag(),
+        );
         let resp = resp
             .on_hover_cursor(match dof {
                 Dof::U => egui::CursorIcon::ResizeHorizontal,
@@ -117,7 +149,11 @@ fn handles(app: &mut TsmApp, ui: &mut egui::Ui, rect: Rect) {
             app.hover_handle = Some(k);
         }
         if resp.drag_started() {
-            app.drag = Some(Drag { index: k, start: t, moved: Vec2::ZERO });
+            app.drag = Some(Drag {
+                index: k,
+                start: t,
+                moved: Vec2::ZERO,
+            });
         }
         if resp.dragged() {
             if let Some(d) = &mut app.drag {
@@ -161,157 +197,4 @@ fn navigate(app: &mut TsmApp, ui: &egui::Ui, bg: &egui::Response, rect: Rect) {
 fn fit(app: &mut TsmApp, rect: Rect) {
     let b = bounds(app.history.iter().flat_map(|r| r.nodes.iter()));
     app.view.fit(rect, b);
-}
-
-/// Clamps at nodes with u, v and phi held; small triangles at other supported nodes.
-fn supports(p: &egui::Painter, model: &Model, r: &IncrementRecord, s: &dyn Fn([f64; 2]) -> Pos2) {
-    for n in 0..model.nodes.len() {
-        let held: Vec<Dof> = model.supports.iter().filter(|x| x.node == n).map(|x| x.dof).collect();
-        // A driven node shows its handle instead.
-        if held.is_empty() || model.prescribed.iter().any(|p| p.node == n) {
-            continue;
-        }
-        let at = s([r.nodes[n][0], r.nodes[n][1]]);
-        let clamp = held.contains(&Dof::U) && held.contains(&Dof::V) && (held.contains(&Dof::Phi) || !model.nodes[n].rotation);
-        if clamp && model.nodes[n].rotation {
-            // Direction into the beam, on screen.
-            let into = model
-                .beams
-                .iter()
-                .find_map(|b| {
-                    let other = if b.i == n { b.j } else if b.j == n { b.i } else { return None };
-                    let q = s([r.nodes[other][0], r.nodes[other][1]]);
-                    Some((q - at).normalized())
-                })
-                .unwrap_or(Vec2::X);
-            let across = Vec2::new(-into.y, into.x);
-            let half = 16.0;
-            p.line_segment([at - across * half, at + across * half], Stroke::new(3.0, INK));
-            for k in 0..6 {
-                let o = at + across * (-half + 6.4 * k as f32 + 2.0);
-                p.line_segment([o, o - into * 7.0 - across * 6.0], Stroke::new(1.2, INK));
-            }
-        } else {
-            // Roller or pin: a small triangle below the node, plus the guide of a free direction.
-            let tri = vec![at, at + Vec2::new(-7.0, 12.0), at + Vec2::new(7.0, 12.0)];
-            p.add(Shape::convex_polygon(tri, Color32::from_gray(235), Stroke::new(1.2, INK)));
-        }
-    }
-}
-
-/// Candidate contact nodes as small dots; active contacts as discs with the force arrow.
-fn contacts(p: &egui::Painter, model: &Model, r: &IncrementRecord, s: &dyn Fn([f64; 2]) -> Pos2) {
-    for pair in &model.contacts {
-        for &n in &pair.nodes {
-            let at = s([r.nodes[n][0], r.nodes[n][1]]);
-            if model.nodes[n].rotation {
-                p.circle_filled(at, 1.8, INK);
-            }
-        }
-    }
-    // Pins (nodes without rotation) drawn as discs.
-    for (n, node) in model.nodes.iter().enumerate() {
-        if !node.rotation {
-            let at = s([r.nodes[n][0], r.nodes[n][1]]);
-            p.circle(at, 5.5, INK, Stroke::new(1.5, Color32::WHITE));
-        }
-    }
-    let fmax = r.contacts.iter().fold(1e-30f64, |a, c| a.max(c.force.abs()));
-    for c in &r.contacts {
-        let Some(n) = model.nodes.iter().position(|x| x.id == c.node) else { continue };
-        let Some(b) = model.beams.get(c.element) else { continue };
-        let at = s([r.nodes[n][0], r.nodes[n][1]]);
-        let (pi, pj) = (s([r.nodes[b.i][0], r.nodes[b.i][1]]), s([r.nodes[b.j][0], r.nodes[b.j][1]]));
-        let chord = (pj - pi).normalized();
-        // Force of the node on the beam: Yc along the chord normal (screen y points down).
-        let normal = Vec2::new(chord.y, -chord.x);
-        let dir = normal * c.force.signum() as f32;
-        let len = 14.0 + 36.0 * (c.force.abs() / fmax) as f32;
-        let tail = at - dir * (len + 6.0);
-        p.arrow(tail, dir * len, Stroke::new(2.5, ACTIVE));
-        p.circle(at, 6.0, ACTIVE, Stroke::new(1.5, INK));
-        p.text(tail - dir * 4.0, Align2::CENTER_CENTER, format!("{} N", num(c.force.abs())), FontId::proportional(11.0), INK);
-    }
-}
-
-/// Body names beside the start of each deformed curve.
-fn body_names(p: &egui::Painter, model: &Model, curves: &[super::shapes::BodyCurve], s: &dyn Fn([f64; 2]) -> Pos2) {
-    for (body, c) in model.bodies.iter().zip(curves) {
-        if let (Some(a), Some(b)) = (c.points.first(), c.points.get(c.points.len() / 2)) {
-            let mid = s(*b);
-            let start = s(*a);
-            let at = mid + (mid - start).normalized().rot90() * -14.0;
-            p.text(at, Align2::CENTER_CENTER, &body.name, FontId::proportional(13.0), Color32::from_gray(90));
-        }
-    }
-}
-
-/// The handle of each prescribed dof (at its target) and the node's path from its start.
-fn prescribed(p: &egui::Painter, app: &TsmApp, model: &Model, r: &IncrementRecord, s: &dyn Fn([f64; 2]) -> Pos2) {
-    for (k, pr) in model.prescribed.iter().enumerate() {
-        let n = pr.node;
-        let start = s(model.position(n));
-        let now = s([r.nodes[n][0], r.nodes[n][1]]);
-        p.add(Shape::dashed_line(&[start, now], Stroke::new(1.0, HANDLE), 4.0, 3.0));
-        let Some(t) = app.targets.get(k) else { continue };
-        let Some(w) = handle_world(model, r, k, *t) else { continue };
-        let at = s(w);
-        let active = app.drag.is_some_and(|d| d.index == k);
-        if active {
-            p.line_segment([now, at], Stroke::new(1.0, HANDLE));
-        }
-        p.circle_stroke(at, 10.0, Stroke::new(if active { 3.0 } else { 2.0 }, HANDLE));
-        let (a, b) = if pr.dof == Dof::U { (Vec2::X, Vec2::Y) } else { (Vec2::Y, Vec2::X) };
-        for sign in [-1.0f32, 1.0] {
-            let tip = at + a * sign * 19.0;
-            let base = at + a * sign * 13.0;
-            p.add(Shape::convex_polygon(vec![tip, base + b * 4.5, base - b * 4.5], HANDLE, Stroke::NONE));
-        }
-        if active || app.hover_handle == Some(k) {
-            p.text(at + Vec2::new(24.0, 0.0), Align2::LEFT_CENTER, num(*t), FontId::proportional(12.0), HANDLE);
-        }
-    }
-}
-
-/// Colour legend of the bending moment.
-fn legend(p: &egui::Painter, rect: Rect, mmax: f64) {
-    let o = rect.left_top() + Vec2::new(14.0, 14.0);
-    let (w, h) = (180.0, 12.0);
-    let bg = Rect::from_min_size(o - Vec2::new(8.0, 6.0), Vec2::new(w + 16.0, 62.0));
-    p.rect_filled(bg, 4.0, Color32::from_white_alpha(220));
-    p.text(o, Align2::LEFT_TOP, "bending moment M (N m)", FontId::proportional(12.0), INK);
-    let bar = o + Vec2::new(0.0, 18.0);
-    let mut mesh = egui::Mesh::default();
-    let steps = 32;
-    for k in 0..=steps {
-        let t = k as f32 / steps as f32;
-        let c = moment_color((2.0 * f64::from(t) - 1.0) * mmax, mmax);
-        mesh.colored_vertex(bar + Vec2::new(t * w, 0.0), c);
-        mesh.colored_vertex(bar + Vec2::new(t * w, h), c);
-        if k > 0 {
-            let i = 2 * k as u32;
-            mesh.add_triangle(i - 2, i - 1, i);
-            mesh.add_triangle(i - 1, i + 1, i);
-        }
-    }
-    p.add(Shape::mesh(mesh));
-    let f = FontId::proportional(11.0);
-    let y = bar.y + h + 3.0;
-    p.text(Pos2::new(bar.x, y), Align2::LEFT_TOP, num(-mmax), f.clone(), INK);
-    p.text(Pos2::new(bar.x + w / 2.0, y), Align2::CENTER_TOP, "0", f.clone(), INK);
-    p.text(Pos2::new(bar.x + w, y), Align2::RIGHT_TOP, num(mmax), f, INK);
-}
-
-/// A scale bar of a round length near 100 points.
-fn scale_bar(p: &egui::Painter, rect: Rect, scale: f64) {
-    let raw = 100.0 / scale;
-    let pow = 10f64.powf(raw.log10().floor());
-    let len = [1.0, 2.0, 5.0, 10.0].iter().map(|m| m * pow).rfind(|l| *l <= raw).unwrap_or(pow);
-    let px = (len * scale) as f32;
-    let o = rect.left_bottom() + Vec2::new(16.0, -16.0);
-    let s = Stroke::new(2.0, INK);
-    p.line_segment([o, o + Vec2::new(px, 0.0)], s);
-    p.line_segment([o, o - Vec2::new(0.0, 5.0)], s);
-    p.line_segment([o + Vec2::new(px, 0.0), o + Vec2::new(px, -5.0)], s);
-    p.text(o + Vec2::new(px / 2.0, -6.0), Align2::CENTER_BOTTOM, format!("{len} m"), FontId::proportional(11.0), INK);
 }

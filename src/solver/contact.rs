@@ -10,6 +10,10 @@ use super::contact_element::{contact_response, deflection};
 use super::control::Solver;
 use super::report::{ContactChange, ContactEvent, ContactState, Event};
 
+/// A node found through a body by less than this (in element lengths) is taken as a crossing
+/// without the swept test: the chords used by that test miss the elements' own deflection.
+const SHAPE_MARGIN: f64 = 0.05;
+
 /// A contact node resting on a beam element.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ActiveContact {
@@ -41,7 +45,13 @@ pub struct Probe {
 pub struct ContactSet {
     /// Active contacts.
     pub active: Vec<ActiveContact>,
-    sides: HashMap<(usize, usize), f64>,
+    /// Per (node, body): the side (+1/-1 along the chord normal) and the element it was
+    /// measured against, at the last converged state.
+    sides: HashMap<(usize, usize), (f64, usize)>,
+    /// Set by `after_convergence` when a node was found deeper through a body than
+    /// `max_penetration` element lengths: (node, body, depth / length). The increment is then
+    /// cut back so that the touch is caught close to where it happens.
+    pub(crate) too_deep: Option<(usize, usize, f64)>,
 }
 
 /// Deformed shape of one element at a state: chord plus bending forces.
@@ -57,7 +67,58 @@ struct Shape {
 impl ContactSet {
     /// The remembered side of node `node` relative to body `body` (+1 along the chord normal).
     pub fn side(&self, node: usize, body: usize) -> Option<f64> {
-        self.sides.get(&(node, body)).copied()
+        self.sides.get(&(node, body)).map(|s| s.0)
+    }
+
+    /// Whether node `n` passed through a chord of body `b` between the last converged state and
+    /// `d`, with every position interpolated linearly in between (continuous collision test):
+    /// the signed area cross(xj - xi, xc - xi) is quadratic in the interpolation parameter; a
+    /// root where the node projects inside the chord is a crossing. Tells a node that went
+    /// through a beam from one that went round its end while the beam swung.
+    fn swept_through(solver: &Solver, d: &[f64], n: usize, b: usize) -> bool {
+        let m = &solver.model;
+        let at = |dd: &[f64], k: usize| current(m, &solver.dofs, dd, k).0;
+        let (c0, c1) = (at(&solver.d, n), at(d, n));
+        m.bodies[b].elements.iter().any(|&e| {
+            let (i, j) = (m.beams[e].i, m.beams[e].j);
+            let (p0, p1, q0, q1) = (at(&solver.d, i), at(d, i), at(&solver.d, j), at(d, j));
+            // u(t) = q - p, v(t) = c - p, both linear in t: u = u0 + t du, v = v0 + t dv.
+            let sub = |a: [f64; 2], b: [f64; 2]| [a[0] - b[0], a[1] - b[1]];
+            let cross = |a: [f64; 2], b: [f64; 2]| a[0] * b[1] - a[1] * b[0];
+            let (u0, v0) = (sub(q0, p0), sub(c0, p0));
+            let (du, dv) = (sub(sub(q1, p1), u0), sub(sub(c1, p1), v0));
+            let (qa, qb, qc) = (cross(du, dv), cross(u0, dv) + cross(du, v0), cross(u0, v0));
+            let mut roots = Vec::with_capacity(2);
+            if qa.abs() < 1e-14 * (qb.abs() + qc.abs()) {
+                if qb != 0.0 {
+                    roots.push(-qc / qb);
+                }
+            } else {
+                let disc = qb * qb - 4.0 * qa * qc;
+                if disc >= 0.0 {
+                    let r = disc.sqrt();
+                    roots.push((-qb - r) / (2.0 * qa));
+                    roots.push((-qb + r) / (2.0 * qa));
+                }
+            }
+            roots.into_iter().filter(|t| (0.0..=1.0).contains(t)).any(|t| {
+                let u = [u0[0] + t * du[0], u0[1] + t * du[1]];
+                let v = [v0[0] + t * dv[0], v0[1] + t * dv[1]];
+                let s = (u[0] * v[0] + u[1] * v[1]) / (u[0] * u[0] + u[1] * u[1]);
+                (0.0..=1.0).contains(&s)
+            })
+        })
+    }
+
+    /// Whether elements `e` and `f` of body `b` are the same or neighbours. A node crossing a body
+    /// within one increment does so near one element; a side measured against a distant element
+    /// of a curled beam says nothing about a crossing.
+    fn adjacent(solver: &Solver, b: usize, e: usize, f: usize) -> bool {
+        let els = &solver.model.bodies[b].elements;
+        match (els.iter().position(|&x| x == e), els.iter().position(|&x| x == f)) {
+            (Some(i), Some(j)) => i.abs_diff(j) <= 1,
+            _ => false,
+        }
     }
 
     /// The assembly's view of the active contacts.
@@ -130,18 +191,21 @@ impl ContactSet {
         best
     }
 
-    /// Record the side of every candidate pair that newly projects onto its body, and forget the
-    /// pairs that no longer do, at a converged state.
+    /// Record the side of every candidate pair that projects onto its body, and forget the pairs
+    /// that no longer do, at a converged state. Sides are compared between consecutive converged
+    /// states only: a beam that curls can bring a node to the other side of an element's
+    /// extension without the node ever crossing the element.
     pub fn remember_sides(&mut self, solver: &Solver, d: &[f64]) {
         for (n, b) in Self::candidates(solver) {
             if let Some(a) = self.active.iter().find(|a| a.node == n && a.body == b) {
-                self.sides.insert((n, b), a.side);
+                self.sides.insert((n, b), (a.side, a.beam));
                 continue;
             }
             match self.probe(solver, d, n, b) {
                 Some(p) if p.gap.abs() > 1e-12 * p.length => {
-                    // A side, once known, only changes by going round an end of the body.
-                    self.sides.entry((n, b)).or_insert(p.gap.signum());
+                    // Every crossing since the last converged state was caught by
+                    // `after_convergence`, so the side now is the side to keep.
+                    self.sides.insert((n, b), (p.gap.signum(), p.beam));
                 }
                 Some(_) => {}
                 None => {
@@ -229,6 +293,22 @@ impl ContactSet {
                 events.push(Self::event(solver, &a, ContactChange::SlidOff, increment, iteration, xi_now, 0.0));
                 // The node went round the end: its side is unknown until it projects again.
                 self.sides.remove(&(a.node, a.body));
+                // A tip resting on another body hands the node over to that body (the paper's
+                // "jump"): the node sits on the tip, so it sits on the other body's surface.
+                let beam = &m.beams[a.beam];
+                let tip = if xi_now > 0.5 { beam.j } else { beam.i };
+                let under = self.active.iter().find(|b| b.node == tip && b.body != a.body).copied();
+                if let Some(u) = under {
+                    if !self.is_active(a.node, u.body) {
+                        let h = ActiveContact { node: a.node, beam: u.beam, body: u.body, side: u.side };
+                        events.push(Self::event(solver, &h, ContactChange::Activated, increment, iteration, xi_now, 0.0));
+                        self.sides.insert((a.node, u.body), (u.side, u.beam));
+                        self.active[k] = h;
+                        changes += 1;
+                        k += 1;
+                        continue;
+                    }
+                }
                 self.active.remove(k);
                 changes += 1;
                 continue;
@@ -263,9 +343,15 @@ impl ContactSet {
             if self.is_active(n, b) {
                 continue;
             }
-            let Some(&side) = self.sides.get(&(n, b)) else { continue };
+            let Some(&(side, was)) = self.sides.get(&(n, b)) else { continue };
             if let Some(p) = self.probe(solver, d, n, b) {
-                if p.gap * side < -1e-10 * p.length {
+                if p.gap * side < -1e-10 * p.length
+                    && Self::adjacent(solver, b, was, p.beam)
+                    && (-p.gap * side < SHAPE_MARGIN * p.length || Self::swept_through(solver, d, n, b))
+                {
+                    if -p.gap * side > solver.params.max_penetration * p.length {
+                        self.too_deep = Some((n, b, -p.gap * side / p.length));
+                    }
                     let a = ActiveContact { node: n, beam: p.beam, body: b, side };
                     events.push(Self::event(solver, &a, ContactChange::Activated, increment, iteration, p.xi, 0.0));
                     self.active.push(a);
@@ -325,7 +411,10 @@ impl ContactSet {
             if self.is_active(n, b) {
                 continue;
             }
-            if let (Some(&side), Some(p)) = (self.sides.get(&(n, b)), self.probe(solver, d, n, b)) {
+            if let (Some(&(side, was)), Some(p)) = (self.sides.get(&(n, b)), self.probe(solver, d, n, b)) {
+                if !Self::adjacent(solver, b, was, p.beam) {
+                    continue;
+                }
                 worst = worst.max(-p.gap * side / p.length);
             }
         }

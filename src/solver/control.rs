@@ -13,6 +13,10 @@ use super::newton::{AttemptError, Converged};
 use super::params::SolverParams;
 use super::report::{Event, Flow, IncrementRecord, Observer, Reaction, SolveError};
 
+/// Up to this many equations the mechanism check names every dof of the null space (dense
+/// symmetric eigen-decomposition); above, it names the first vanishing pivot of the band LU.
+const DENSE_MECHANISM_CHECK: usize = 200;
+
 /// The TSM solver for one model: converged state plus everything needed to advance it.
 #[derive(Clone, Debug)]
 pub struct Solver {
@@ -73,7 +77,7 @@ impl Solver {
         let asm = assemble(&ctx, &self.d, true, None);
         let k = asm.tangent.expect("tangent");
         let scale = k.max_diagonal().max(f64::MIN_POSITIVE);
-        if ord.n_eq <= 400 {
+        if ord.n_eq <= DENSE_MECHANISM_CHECK {
             let dense = nalgebra::DMatrix::from_fn(ord.n_eq, ord.n_eq, |i, j| k.get(i, j));
             let eig = nalgebra::SymmetricEigen::new(&dense + dense.transpose());
             let mut out = Vec::new();
@@ -93,7 +97,7 @@ impl Solver {
             out
         } else {
             let mut f: BandMatrix = k;
-            match f.factor(1e-12 * scale) {
+            match f.factor(1e-14 * scale) {
                 Ok(()) => Vec::new(),
                 Err(sp) => vec![self.equation_label(&ord, sp.equation)],
             }
@@ -138,12 +142,6 @@ impl Solver {
         let k = asm.tangent.expect("tangent");
         let dense = nalgebra::DMatrix::from_fn(ord.n_eq, ord.n_eq, |i, j| k.get(i, j));
         (r, dense, free)
-    }
-
-    /// Largest penetration of an inactive contact candidate through a body's deformed shape,
-    /// relative to the element length, at the converged state (0 if none).
-    pub fn max_penetration(&self) -> f64 {
-        self.contacts.max_penetration(self, &self.d)
     }
 
     /// Number of converged increments so far.
@@ -249,6 +247,7 @@ impl Solver {
         self.contacts = c.contacts;
         self.prescribed = tp;
         self.load_factor = tl;
+        let max_penetration = self.contacts.max_penetration(self, &self.d);
         let mut contacts = std::mem::take(&mut self.contacts);
         contacts.remember_sides(self, &self.d);
         self.contacts = contacts;
@@ -290,6 +289,7 @@ impl Solver {
             element_forces: c.assembled.elements.beam_forces,
             reactions,
             contacts,
+            max_penetration,
             events: c.events,
             seconds,
         }

@@ -169,6 +169,13 @@ impl Solver {
                 let settled = rel <= STAGNATION * floor;
                 if accepted || settled {
                     let changed = contacts.after_convergence(self, &d, &asm, increment, iterations, &mut events);
+                    if let Some((n, b, depth)) = contacts.too_deep {
+                        return Err(AttemptError::Failed(format!(
+                            "{} went {depth:.2} element lengths through {} before contact was detected",
+                            self.model.node_label(n),
+                            self.model.bodies[b].name
+                        )));
+                    }
                     if changed == 0 && accepted {
                         return Ok(Converged {
                             d,

@@ -38,6 +38,9 @@ pub struct SolverParams {
     /// Also accept a relative residual below `roundoff_factor` times the estimated round-off
     /// floor (eps max|K_ii| max|x| / reference); 0 disables it. Reported per increment.
     pub roundoff_factor: f64,
+    /// A node found this far through a body (in element lengths) at the end of an increment
+    /// makes the increment be cut back instead of activating the contact from so deep.
+    pub max_penetration: f64,
 }
 
 impl Default for SolverParams {
@@ -55,6 +58,7 @@ impl Default for SolverParams {
             transfer_tolerance: 1e-9,
             free_end_margin: 1e-3,
             roundoff_factor: 0.0,
+            max_penetration: 0.25,
         }
     }
 }

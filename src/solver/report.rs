@@ -133,6 +133,9 @@ pub struct IncrementRecord {
     pub reactions: Vec<Reaction>,
     /// Active contacts.
     pub contacts: Vec<ContactState>,
+    /// Largest penetration of an inactive candidate node through a body's deformed shape, in
+    /// element lengths, measured against the sides at the previous converged state (0 if none).
+    pub max_penetration: f64,
     /// Contact events of this increment.
     pub events: Vec<Event>,
     /// Wall time of this increment, cut-back attempts included (s).
