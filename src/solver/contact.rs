@@ -404,7 +404,8 @@ impl ContactSet {
     }
 
     /// Largest penetration of an inactive candidate node through a body's deformed shape,
-    /// relative to the element length (0 if none).
+    /// relative to the element length (0 if none), for a state `d` reached from the solver's
+    /// converged state (the sides are those of that state).
     pub fn max_penetration(&self, solver: &Solver, d: &[f64]) -> f64 {
         let mut worst: f64 = 0.0;
         for (n, b) in Self::candidates(solver) {
@@ -412,7 +413,9 @@ impl ContactSet {
                 continue;
             }
             if let (Some(&(side, was)), Some(p)) = (self.sides.get(&(n, b)), self.probe(solver, d, n, b)) {
-                if !Self::adjacent(solver, b, was, p.beam) {
+                let crossed = Self::adjacent(solver, b, was, p.beam)
+                    && (-p.gap * side < SHAPE_MARGIN * p.length || Self::swept_through(solver, d, n, b));
+                if !crossed {
                     continue;
                 }
                 worst = worst.max(-p.gap * side / p.length);

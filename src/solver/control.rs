@@ -247,7 +247,7 @@ impl Solver {
         self.contacts = c.contacts;
         self.prescribed = tp;
         self.load_factor = tl;
-        let max_penetration = self.contacts.max_penetration(self, &self.d);
+        let max_penetration = c.max_penetration;
         let mut contacts = std::mem::take(&mut self.contacts);
         contacts.remember_sides(self, &self.d);
         self.contacts = contacts;

@@ -37,6 +37,8 @@ pub struct Converged {
     pub residuals: Vec<IterationRecord>,
     /// Contact events.
     pub events: Vec<Event>,
+    /// Largest penetration through a body, in element lengths (see `IncrementRecord`).
+    pub max_penetration: f64,
 }
 
 /// Why an attempt failed.
@@ -177,7 +179,9 @@ impl Solver {
                         )));
                     }
                     if changed == 0 && accepted {
+                        let max_penetration = contacts.max_penetration(self, &d);
                         return Ok(Converged {
+                            max_penetration,
                             d,
                             contacts,
                             assembled: asm,
