@@ -130,7 +130,8 @@ impl Solver {
                     continue;
                 }
             }
-            let mut tangent = asm.tangent.clone().expect("tangent requested");
+            let mut asm = asm;
+            let mut tangent = asm.tangent.take().expect("tangent requested");
             let floor = f64::EPSILON * tangent.max_diagonal() * self.coordinate_scale(&d) / reference;
             if predictor {
                 for (e, c) in rhs.iter_mut().zip(&asm.coupling) {
