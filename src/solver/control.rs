@@ -210,8 +210,13 @@ impl Solver {
         let mut clock = Instant::now();
         while done < 1.0 {
             let next = (done + h).min(1.0);
-            let tp: Vec<f64> = start_p.iter().zip(targets).map(|(a, b)| a + next * (b - a)).collect();
-            let tl = start_l + next * (lambda - start_l);
+            // The last sub-increment lands exactly on the targets.
+            let tp: Vec<f64> = if next >= 1.0 {
+                targets.to_vec()
+            } else {
+                start_p.iter().zip(targets).map(|(a, b)| a + next * (b - a)).collect()
+            };
+            let tl = if next >= 1.0 { lambda } else { start_l + next * (lambda - start_l) };
             let number = self.increment + 1;
             match self.attempt(&tp, tl, number, obs) {
                 Ok(conv) => {

@@ -21,7 +21,7 @@ pub struct SolverParams {
     /// An attempt fails when the relative residual exceeds this (divergence).
     pub divergence: f64,
     /// Largest displacement correction per iteration (m); larger ones are scaled down.
-    /// Guards spring-back after a release. `f64::INFINITY` disables it.
+    /// Guards spring-back after a release. `f64::MAX` (the default) disables it.
     pub max_step: f64,
     /// Contact state changes allowed within one increment before it is cut back (chattering).
     pub max_active_set_changes: usize,
@@ -51,7 +51,7 @@ impl Default for SolverParams {
             max_iterations: 40,
             max_cutbacks: 12,
             divergence: 1e6,
-            max_step: f64::INFINITY,
+            max_step: f64::MAX,
             max_active_set_changes: 24,
             unsymmetric_from: 1,
             xi_min: 1e-6,
