@@ -7,7 +7,11 @@ use tsm_contact::scene::{builtin::builtin, builtin::BUILTIN, parse};
 use tsm_contact::solver::Silent;
 
 fn cantilever(n: usize) -> tsm_contact::scene::Scene {
-    let text = BUILTIN.iter().find(|(f, _)| *f == "mattiasson.ron").unwrap().1;
+    let text = BUILTIN
+        .iter()
+        .find(|(f, _)| *f == "mattiasson.ron")
+        .unwrap()
+        .1;
     let text = text
         .replace("elements: 32", &format!("elements: {n}"))
         .replace("loads: [(node: 33,", &format!("loads: [(node: {},", n + 1));
@@ -26,7 +30,11 @@ fn newton(c: &mut Criterion) {
         eprintln!("cantilever {n} elements: {iters} Newton iterations for k = 1");
         let fresh = sc.solver().unwrap();
         g.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| {
-            b.iter_batched(|| fresh.clone(), |mut s| s.step(&mut Silent).unwrap(), criterion::BatchSize::LargeInput)
+            b.iter_batched(
+                || fresh.clone(),
+                |mut s| s.step(&mut Silent).unwrap(),
+                criterion::BatchSize::LargeInput,
+            )
         });
     }
     g.finish();

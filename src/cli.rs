@@ -11,7 +11,11 @@ use tsm_contact::solver::report::{ContactChange, Flow};
 use tsm_contact::solver::{Event, Formulation, IncrementRecord, Observer};
 
 #[derive(Parser)]
-#[command(name = "tsm-contact", version, about = "Tangent Stiffness Method for large-displacement contact of plane frames")]
+#[command(
+    name = "tsm-contact",
+    version,
+    about = "Tangent Stiffness Method for large-displacement contact of plane frames"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
@@ -70,7 +74,8 @@ pub fn load_scene(name: &str) -> Result<Scene, SceneError> {
             file: name.into(),
             line: None,
             field: "(file)".into(),
-            message: "no such file and no built-in scene of that name (try `tsm-contact scenes`)".into(),
+            message: "no such file and no built-in scene of that name (try `tsm-contact scenes`)"
+                .into(),
         }),
     }
 }
@@ -78,7 +83,13 @@ pub fn load_scene(name: &str) -> Result<Scene, SceneError> {
 pub fn run() -> i32 {
     let cli = Cli::parse();
     match cli.command {
-        Some(Command::Solve { scene, steps, formulation, json, verbose }) => solve(&scene, steps, formulation, json, verbose),
+        Some(Command::Solve {
+            scene,
+            steps,
+            formulation,
+            json,
+            verbose,
+        }) => solve(&scene, steps, formulation, json, verbose),
         Some(Command::Scenes) => {
             for (f, _) in scene::builtin::BUILTIN {
                 println!("{}", f.trim_end_matches(".ron"));
@@ -86,7 +97,11 @@ pub fn run() -> i32 {
             0
         }
         #[cfg(feature = "gui")]
-        Some(Command::View { scene, steps, screenshot }) => tsm_contact::app::run(scene, steps, screenshot),
+        Some(Command::View {
+            scene,
+            steps,
+            screenshot,
+        }) => tsm_contact::app::run(scene, steps, screenshot),
         None => {
             #[cfg(feature = "gui")]
             {
@@ -120,7 +135,11 @@ impl Observer for Printer {
         let driven = if r.prescribed.is_empty() {
             format!("lambda {:>9.4}", r.load_factor)
         } else {
-            r.prescribed.iter().map(|v| format!("{v:>+10.5}")).collect::<Vec<_>>().join(" ")
+            r.prescribed
+                .iter()
+                .map(|v| format!("{v:>+10.5}"))
+                .collect::<Vec<_>>()
+                .join(" ")
         };
         let it8 = r.iterations_8_orders.map_or("-".into(), |v| v.to_string());
         println!(
@@ -138,7 +157,11 @@ impl Observer for Printer {
     }
     fn event(&mut self, e: &Event) {
         match e {
-            Event::CutBack { increment, reason, fraction } => {
+            Event::CutBack {
+                increment,
+                reason,
+                fraction,
+            } => {
                 println!("      cut-back in increment {increment}: {reason}; now trying {fraction} of the step")
             }
             Event::Contact(c) => {
@@ -158,7 +181,13 @@ impl Observer for Printer {
     }
 }
 
-fn solve(name: &str, steps: Option<usize>, formulation: Option<FormulationArg>, json: Option<PathBuf>, verbose: bool) -> i32 {
+fn solve(
+    name: &str,
+    steps: Option<usize>,
+    formulation: Option<FormulationArg>,
+    json: Option<PathBuf>,
+    verbose: bool,
+) -> i32 {
     let mut scene = match load_scene(name) {
         Ok(s) => s,
         Err(e) => {
@@ -180,7 +209,10 @@ fn solve(name: &str, steps: Option<usize>, formulation: Option<FormulationArg>, 
             return 2;
         }
     };
-    println!("# {} ({:?}), {} steps, tolerance {:.0e}", scene.file.name, scene.model.formulation, steps, scene.params.tolerance);
+    println!(
+        "# {} ({:?}), {} steps, tolerance {:.0e}",
+        scene.file.name, scene.model.formulation, steps, scene.params.tolerance
+    );
     println!("# step  prescribed/load  iter  it8  rel.resid  cut  act   ms");
     let mut printer = Printer {
         history: History {
@@ -202,7 +234,12 @@ fn solve(name: &str, steps: Option<usize>, formulation: Option<FormulationArg>, 
             break;
         }
     }
-    let total: usize = printer.history.increments.iter().map(|r| r.iterations).sum();
+    let total: usize = printer
+        .history
+        .increments
+        .iter()
+        .map(|r| r.iterations)
+        .sum();
     println!(
         "# {} increments, {} iterations, {:.1} ms",
         printer.history.increments.len(),

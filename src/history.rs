@@ -3,8 +3,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::solver::{Event, Formulation, IncrementRecord, IterationRecord, Observer, SolverParams};
 use crate::solver::report::Flow;
+use crate::solver::{Event, Formulation, IncrementRecord, IterationRecord, Observer, SolverParams};
 
 /// A whole run.
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]

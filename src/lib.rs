@@ -2,9 +2,9 @@
 //! with the scene format, the run history, a worker thread and (feature `gui`) an interactive
 //! visualiser.
 
+#[cfg(feature = "gui")]
+pub mod app;
 pub mod history;
 pub mod scene;
 pub mod solver;
 pub mod worker;
-#[cfg(feature = "gui")]
-pub mod app;

@@ -9,7 +9,11 @@ use tsm_contact::solver::model::Section;
 
 /// The paper's material (Example 3.1/3.2): E = 2e7, A = 3e-4, I = 2.2e-8, G = 7.142e6, Ae = A.
 fn strip() -> Section {
-    Section { ea: 2.0e7 * 3.0e-4, ei: 2.0e7 * 2.2e-8, gae: 7.142e6 * 3.0e-4 }
+    Section {
+        ea: 2.0e7 * 3.0e-4,
+        ei: 2.0e7 * 2.2e-8,
+        gae: 7.142e6 * 3.0e-4,
+    }
 }
 
 fn element(length: f64, psi: f64) -> BeamElement {
@@ -158,13 +162,25 @@ fn beam_tangent_equals_finite_differences() {
     let mut rng = Rng(0x9e3779b97f4a7c15);
     for &psi in &[s.ei / s.gae, 0.0] {
         for _ in 0..20 {
-            let el = BeamElement::new([0.1 * rng.next(), 0.1 * rng.next()], [1.0 + 0.1 * rng.next(), 0.3 * rng.next()], s, psi);
+            let el = BeamElement::new(
+                [0.1 * rng.next(), 0.1 * rng.next()],
+                [1.0 + 0.1 * rng.next(), 0.3 * rng.next()],
+                s,
+                psi,
+            );
             // A random large rigid rotation plus a deformation.
             let rot = 7.0 * rng.next();
             let (c, sn) = (rot.cos(), rot.sin());
             let x0 = [0.2 * rng.next(), 0.2 * rng.next()];
             let dx = [el.length * c * (1.0 + 1e-3 * rng.next()), el.length * sn];
-            let state = vec![x0[0], x0[1], rot + 0.2 * rng.next(), x0[0] + dx[0], x0[1] + dx[1], rot + 0.2 * rng.next()];
+            let state = vec![
+                x0[0],
+                x0[1],
+                rot + 0.2 * rng.next(),
+                x0[0] + dx[0],
+                x0[1] + dx[1],
+                rot + 0.2 * rng.next(),
+            ];
             let eval = |x: &[f64]| el.response([x[0], x[1]], [x[3], x[4]], x[2], x[5], true);
             let k = eval(&state).tangent.unwrap();
             let k = DMatrix::from_fn(6, 6, |i, j| k[(i, j)]);
@@ -187,7 +203,14 @@ fn contact_tangent_equals_finite_differences() {
                 let rot = 9.0 * rng.next();
                 let (c, sn) = (rot.cos(), rot.sin());
                 let lcur = l * (1.0 + 1e-3 * rng.next());
-                let mut state = vec![0.3, -0.2, rot + 0.05 * rng.next(), 0.3 + lcur * c, -0.2 + lcur * sn, rot + 0.05 * rng.next()];
+                let mut state = vec![
+                    0.3,
+                    -0.2,
+                    rot + 0.05 * rng.next(),
+                    0.3 + lcur * c,
+                    -0.2 + lcur * sn,
+                    rot + 0.05 * rng.next(),
+                ];
                 for m in 0..k {
                     let t = (m as f64 + 0.5 + 0.4 * rng.next()) / k as f64;
                     let w = 2e-3 * rng.next();
@@ -196,12 +219,23 @@ fn contact_tangent_equals_finite_differences() {
                 }
                 let eval = |x: &[f64]| {
                     let xc: Vec<[f64; 2]> = (0..k).map(|m| [x[6 + 2 * m], x[7 + 2 * m]]).collect();
-                    contact_response(&el, [x[0], x[1]], [x[3], x[4]], [x[2], x[5]], &xc, ContactOptions::default(), true)
+                    contact_response(
+                        &el,
+                        [x[0], x[1]],
+                        [x[3], x[4]],
+                        [x[2], x[5]],
+                        &xc,
+                        ContactOptions::default(),
+                        true,
+                    )
                 };
                 let kt = eval(&state).tangent.unwrap();
                 let fd = fd_jacobian(&state, 1e-7, |x| eval(x).nodal.iter().copied().collect());
                 let e = rel_diff(&fd, &kt);
-                assert!(e < 1e-6, "psi {psi} k {k}: tangent vs finite differences {e:e}");
+                assert!(
+                    e < 1e-6,
+                    "psi {psi} k {k}: tangent vs finite differences {e:e}"
+                );
             }
         }
     }
@@ -213,7 +247,14 @@ fn rigid_body_motion_of_any_size_gives_zero_forces() {
     for &psi in &[s.ei / s.gae, 0.0] {
         let el = BeamElement::new([0.2, 0.1], [1.1, 0.5], s, psi);
         let (xi, xj) = ([0.2, 0.1], [1.1, 0.5]);
-        for &rot in &[0.3, 3.0, -3.5, 2.0 * std::f64::consts::TAU + 0.7, 5.0 * std::f64::consts::TAU - 0.1, -40.0] {
+        for &rot in &[
+            0.3,
+            3.0,
+            -3.5,
+            2.0 * std::f64::consts::TAU + 0.7,
+            5.0 * std::f64::consts::TAU - 0.1,
+            -40.0,
+        ] {
             let (c, sn) = (f64::cos(rot), f64::sin(rot));
             let t = [123.4, -56.7];
             let map = |p: [f64; 2]| [t[0] + c * p[0] - sn * p[1], t[1] + sn * p[0] + c * p[1]];
@@ -225,10 +266,21 @@ fn rigid_body_motion_of_any_size_gives_zero_forces() {
             }
             // Contact element with a node on the chord: also force-free.
             let pc = [xi[0] + 0.3 * (xj[0] - xi[0]), xi[1] + 0.3 * (xj[1] - xi[1])];
-            let cr = contact_response(&el, map(xi), map(xj), [rot, rot], &[map(pc)], ContactOptions::default(), false);
+            let cr = contact_response(
+                &el,
+                map(xi),
+                map(xj),
+                [rot, rot],
+                &[map(pc)],
+                ContactOptions::default(),
+                false,
+            );
             let kscale = bending_stiffness(&el, &[0.3]).abs().max() * el.length;
             for f in &cr.forces {
-                assert!(f.abs() < 1e-12 * kscale.max(scale), "contact, rotation {rot}: force {f:e}");
+                assert!(
+                    f.abs() < 1e-12 * kscale.max(scale),
+                    "contact, rotation {rot}: force {f:e}"
+                );
             }
         }
     }

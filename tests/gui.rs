@@ -4,6 +4,7 @@
 //! number of active contacts matches a direct headless `Solver` run, the "Increment" slider
 //! selects earlier states, and the rendered viewport shows the moment-coloured beams on both
 //! the wgpu path and the egui-painter fallback.
+#![cfg(feature = "gui")]
 
 use std::time::{Duration, Instant};
 

@@ -16,13 +16,23 @@ impl Rng {
 #[test]
 fn band_lu_agrees_with_dense_lu_even_when_pivoting() {
     let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
-    for &(n, kl, ku) in &[(1usize, 0usize, 0usize), (7, 1, 2), (40, 3, 3), (200, 5, 2), (300, 8, 8)] {
+    for &(n, kl, ku) in &[
+        (1usize, 0usize, 0usize),
+        (7, 1, 2),
+        (40, 3, 3),
+        (200, 5, 2),
+        (300, 8, 8),
+    ] {
         let mut band = BandMatrix::zeros(n, kl, ku);
         let mut dense = vec![0.0; n * n];
         for i in 0..n {
             for j in i.saturating_sub(kl)..(i + ku + 1).min(n) {
                 // Weak diagonal: partial pivoting must swap rows to stay accurate.
-                let v = if i == j { 1e-3 * rng.next() } else { rng.next() };
+                let v = if i == j {
+                    1e-3 * rng.next()
+                } else {
+                    rng.next()
+                };
                 band.add(i, j, v);
                 dense[i * n + j] = v;
             }
@@ -33,8 +43,14 @@ fn band_lu_agrees_with_dense_lu_even_when_pivoting() {
         let mut x = b.clone();
         band.solve(&mut x);
         let scale = reference.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        let err = x.iter().zip(&reference).fold(0.0f64, |m, (a, r)| m.max((a - r).abs()));
-        assert!(err < 1e-10 * scale, "n {n} kl {kl} ku {ku}: {err:e} vs {scale:e}");
+        let err = x
+            .iter()
+            .zip(&reference)
+            .fold(0.0f64, |m, (a, r)| m.max((a - r).abs()));
+        assert!(
+            err < 1e-10 * scale,
+            "n {n} kl {kl} ku {ku}: {err:e} vs {scale:e}"
+        );
     }
 }
 
@@ -53,7 +69,11 @@ fn reverse_cuthill_mckee_orders_a_shuffled_chain_to_bandwidth_one() {
     for (new, &old) in perm.iter().enumerate() {
         pos[old] = new;
     }
-    let band = (0..n).flat_map(|v| adj[v].iter().map(move |&u| (v, u))).map(|(v, u)| pos[v].abs_diff(pos[u])).max().unwrap();
+    let band = (0..n)
+        .flat_map(|v| adj[v].iter().map(move |&u| (v, u)))
+        .map(|(v, u)| pos[v].abs_diff(pos[u]))
+        .max()
+        .unwrap();
     assert_eq!(band, 1);
     let mut sorted = perm.clone();
     sorted.sort();

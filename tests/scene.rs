@@ -12,7 +12,9 @@ const GOOD: &str = r#"(
 )"#;
 
 fn err(text: &str) -> String {
-    parse(text, "bad.ron").expect_err("must be rejected").to_string()
+    parse(text, "bad.ron")
+        .expect_err("must be rejected")
+        .to_string()
 }
 
 #[test]
@@ -34,7 +36,12 @@ fn malformed_ron_names_the_line() {
 #[test]
 fn unknown_node_id_is_named() {
     let e = err(&GOOD.replace("(node: 3, fy", "(node: 99, fy"));
-    assert!(e.contains("loads[0].node") && e.contains("unknown node id 99") && e.starts_with("bad.ron:6:"), "{e}");
+    assert!(
+        e.contains("loads[0].node")
+            && e.contains("unknown node id 99")
+            && e.starts_with("bad.ron:6:"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -60,7 +67,10 @@ fn mechanism_names_the_free_dofs() {
         assert!(e.contains(dof), "{dof} missing in: {e}");
     }
     // A pin that nothing holds.
-    let text = GOOD.replace("bodies:", "nodes: [(id: 50, x: 0.5, y: 1.0, rotation: false)],\n    bodies:");
+    let text = GOOD.replace(
+        "bodies:",
+        "nodes: [(id: 50, x: 0.5, y: 1.0, rotation: false)],\n    bodies:",
+    );
     let e = err(&text);
     assert!(e.contains("node 50 u") && e.contains("node 50 v"), "{e}");
 }
@@ -75,7 +85,15 @@ fn unknown_fields_and_sections_are_rejected() {
 
 #[test]
 fn garbage_never_panics() {
-    for text in ["", "(", "()", "[1,2", "(name: 3)", "\u{0}\u{1}", "(name: \"x\", sections: [], bodies: [])"] {
+    for text in [
+        "",
+        "(",
+        "()",
+        "[1,2",
+        "(name: 3)",
+        "\u{0}\u{1}",
+        "(name: \"x\", sections: [], bodies: [])",
+    ] {
         assert!(parse(text, "garbage.ron").is_err(), "{text:?} accepted");
     }
 }

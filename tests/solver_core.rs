@@ -38,19 +38,33 @@ fn mattiasson_tips(n: usize) -> Vec<(f64, f64)> {
         .replace("loads: [(node: 33,", &format!("loads: [(node: {},", n + 1));
     let sc = parse(&text, "mattiasson-variant").expect("valid");
     let tip = sc.model.nodes.len() - 1;
-    run(&sc, 10).iter().map(|r| (-(r.nodes[tip][0] - 1.0), -r.nodes[tip][1])).collect()
+    run(&sc, 10)
+        .iter()
+        .map(|r| (-(r.nodes[tip][0] - 1.0), -r.nodes[tip][1]))
+        .collect()
 }
 
 fn builtin_text(file: &str) -> String {
-    tsm_contact::scene::builtin::BUILTIN.iter().find(|(f, _)| *f == file).unwrap().1.to_string()
+    tsm_contact::scene::builtin::BUILTIN
+        .iter()
+        .find(|(f, _)| *f == file)
+        .unwrap()
+        .1
+        .to_string()
 }
 
 #[test]
 fn mattiasson_table_within_2e4_at_32_elements() {
     let tips = mattiasson_tips(32);
     for ((k, u_ref, w_ref), (u, w)) in MATTIASSON.iter().zip(&tips) {
-        assert!((u - u_ref).abs() < 2e-4, "k = {k}: u/L = {u}, reference {u_ref}");
-        assert!((w - w_ref).abs() < 2e-4, "k = {k}: w/L = {w}, reference {w_ref}");
+        assert!(
+            (u - u_ref).abs() < 2e-4,
+            "k = {k}: u/L = {u}, reference {u_ref}"
+        );
+        assert!(
+            (w - w_ref).abs() < 2e-4,
+            "k = {k}: w/L = {w}, reference {w_ref}"
+        );
     }
 }
 
@@ -63,15 +77,24 @@ fn mattiasson_error_falls_as_h_squared() {
         // Observed order from three meshes, immune to the mesh-independent model error of the
         // finite EA: log2((e8 - e16) / (e16 - e32)).
         let order = ((w8 - w16) / (w16 - w32)).log2();
-        assert!((order - 2.0).abs() < 0.1, "k = {load} w: observed order {order}");
+        assert!(
+            (order - 2.0).abs() < 0.1,
+            "k = {load} w: observed order {order}"
+        );
         let ratio = w16 / w32;
-        assert!((3.6..4.4).contains(&ratio), "k = {load} w: error ratio 16/32 = {ratio}");
+        assert!(
+            (3.6..4.4).contains(&ratio),
+            "k = {load} w: error ratio 16/32 = {ratio}"
+        );
         // u/L: its h^2 coefficient shrinks and changes sign near k = 10, where h^4 takes over;
         // the clean O(h^2) regime is k <= 4.
         if load <= 4 {
             let (u8, u16, u32) = (a[k].0 - u_ref, b[k].0 - u_ref, c[k].0 - u_ref);
             let order = ((u8 - u16) / (u16 - u32)).log2();
-            assert!((order - 2.0).abs() < 0.1, "k = {load} u: observed order {order}");
+            assert!(
+                (order - 2.0).abs() < 0.1,
+                "k = {load} u: observed order {order}"
+            );
         }
     }
 }
@@ -87,10 +110,17 @@ fn end_moment_rolls_the_cantilever_into_a_circle() {
     // with rotation 2 pi.
     let dist = tip[0].hypot(tip[1]);
     assert!(dist < 1e-3, "tip {dist} from the clamp");
-    assert!((tip[2] - std::f64::consts::TAU).abs() < 1e-9, "tip rotation {}", tip[2]);
+    assert!(
+        (tip[2] - std::f64::consts::TAU).abs() < 1e-9,
+        "tip rotation {}",
+        tip[2]
+    );
     // Halfway (M = pi EI/L): the tip sits at (0, 2L/pi) to within the discretisation error.
     let half = recs[4].nodes[16];
-    assert!((half[0]).abs() < 2e-3 && (half[1] - 2.0 / std::f64::consts::PI).abs() < 2e-3, "half turn tip {half:?}");
+    assert!(
+        (half[0]).abs() < 2e-3 && (half[1] - 2.0 / std::f64::consts::PI).abs() < 2e-3,
+        "half turn tip {half:?}"
+    );
 }
 
 #[test]
@@ -105,14 +135,19 @@ fn linear_limit_timoshenko_cantilever_one_element() {
     let sc = parse(text, "one-element").unwrap();
     let solver = sc.solver().unwrap();
     // The tangent at the undeformed state is the linear stiffness: solve K u = P.
-    let (_, k, free) = solver.unbalanced_force_and_tangent(&vec![0.0; solver.displacements().len()]);
+    let (_, k, free) =
+        solver.unbalanced_force_and_tangent(&vec![0.0; solver.displacements().len()]);
     let mut f = nalgebra::DVector::zeros(free.len());
     let v_tip = free.iter().position(|&g| g == 4).unwrap();
     f[v_tip] = -1.0;
     let u = k.lu().solve(&f).unwrap();
     let (ei, l, gae) = (2.0e7 * 2.2e-8, 0.7, 7.142e6 * 2.5e-4);
     let exact = -(l * l * l / (3.0 * ei) + l / gae);
-    assert!(((u[v_tip] - exact) / exact).abs() < 1e-10, "tip {} vs exact {exact}", u[v_tip]);
+    assert!(
+        ((u[v_tip] - exact) / exact).abs() < 1e-10,
+        "tip {} vs exact {exact}",
+        u[v_tip]
+    );
 }
 
 /// Finite-difference Jacobian of the unbalanced force against the assembled tangent, in deformed
@@ -150,7 +185,11 @@ fn check_tangent(scene: &Scene, steps: usize, seed: u64) {
         }
     }
     let rel = worst / k.abs().max();
-    assert!(rel < 1e-6, "{}: tangent vs finite differences {rel:e}", scene.file.name);
+    assert!(
+        rel < 1e-6,
+        "{}: tangent vs finite differences {rel:e}",
+        scene.file.name
+    );
 }
 
 #[test]
@@ -166,8 +205,7 @@ fn tangent_equals_finite_difference_jacobian() {
     // Three active contacts (the Bernoulli-Euler run of this scene fails at the first touch,
     // which lands on a node; its contact tangent is checked in tests/contact.rs).
     check_tangent(&scene("example_3_2"), 14, 0x2545_f491_4f6c_dd1d);
-    {
-    }
+    {}
 }
 
 #[test]

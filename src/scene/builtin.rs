@@ -4,10 +4,22 @@ use super::validate::{parse, Scene, SceneError};
 
 /// (file name, RON text) of every built-in scene, default first.
 pub const BUILTIN: &[(&str, &str)] = &[
-    ("example_3_2.ron", include_str!("../../assets/scenes/example_3_2.ron")),
-    ("mattiasson.ron", include_str!("../../assets/scenes/mattiasson.ron")),
-    ("end_moment.ron", include_str!("../../assets/scenes/end_moment.ron")),
-    ("williams_toggle.ron", include_str!("../../assets/scenes/williams_toggle.ron")),
+    (
+        "example_3_2.ron",
+        include_str!("../../assets/scenes/example_3_2.ron"),
+    ),
+    (
+        "mattiasson.ron",
+        include_str!("../../assets/scenes/mattiasson.ron"),
+    ),
+    (
+        "end_moment.ron",
+        include_str!("../../assets/scenes/end_moment.ron"),
+    ),
+    (
+        "williams_toggle.ron",
+        include_str!("../../assets/scenes/williams_toggle.ron"),
+    ),
 ];
 
 /// Parse a built-in scene by file name (with or without `.ron`).

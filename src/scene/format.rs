@@ -180,6 +180,11 @@ pub struct ControlDef {
 
 impl Default for ControlDef {
     fn default() -> Self {
-        ControlDef { steps: 10, load_per_step: None, tolerance: None, max_step: None }
+        ControlDef {
+            steps: 10,
+            load_per_step: None,
+            tolerance: None,
+            max_step: None,
+        }
     }
 }

@@ -8,7 +8,8 @@ use std::path::Path;
 
 use super::format::SceneFile;
 use crate::solver::{
-    Beam, Body, ContactPair, Dof, Load, Model, Node, Prescribed, Section, Solver, SolveError, SolverParams, Support,
+    Beam, Body, ContactPair, Dof, Load, Model, Node, Prescribed, Section, SolveError, Solver,
+    SolverParams, Support,
 };
 
 /// A problem with a scene, located as precisely as possible.
@@ -69,7 +70,8 @@ pub fn load_file(path: &Path) -> Result<Scene, SceneError> {
 
 /// Parse and validate scene text; `file` is used in messages.
 pub fn parse(text: &str, file: &str) -> Result<Scene, SceneError> {
-    let options = ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
+    let options =
+        ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
     let sf: SceneFile = options.from_str(text).map_err(|e| SceneError {
         file: file.into(),
         line: Some(e.span.start.line),
@@ -85,9 +87,19 @@ struct Ctx<'a> {
 }
 
 impl Ctx<'_> {
-    fn err(&self, field: impl Into<String>, needle: Option<String>, message: impl Into<String>) -> SceneError {
+    fn err(
+        &self,
+        field: impl Into<String>,
+        needle: Option<String>,
+        message: impl Into<String>,
+    ) -> SceneError {
         let line = needle.and_then(|n| locate(self.text, &n));
-        SceneError { file: self.file.into(), line, field: field.into(), message: message.into() }
+        SceneError {
+            file: self.file.into(),
+            line,
+            field: field.into(),
+            message: message.into(),
+        }
     }
 }
 
@@ -95,14 +107,20 @@ impl Ctx<'_> {
 fn locate(text: &str, needle: &str) -> Option<usize> {
     let squash = |s: &str| s.chars().filter(|c| !c.is_whitespace()).collect::<String>();
     let n = squash(needle);
-    text.lines().position(|l| squash(l).contains(&n)).map(|i| i + 1)
+    text.lines()
+        .position(|l| squash(l).contains(&n))
+        .map(|i| i + 1)
 }
 
 fn positive(ctx: &Ctx, field: String, needle: Option<String>, v: f64) -> Result<(), SceneError> {
     if v.is_finite() && v > 0.0 {
         Ok(())
     } else {
-        Err(ctx.err(field, needle, format!("must be positive and finite, got {v}")))
+        Err(ctx.err(
+            field,
+            needle,
+            format!("must be positive and finite, got {v}"),
+        ))
     }
 }
 
@@ -118,13 +136,27 @@ fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
         positive(&ctx, f("I"), nd.clone(), s.i)?;
         let nu = s.nu.unwrap_or(0.3);
         if !(nu > -1.0 && nu < 0.5) {
-            return Err(ctx.err(f("nu"), nd, format!("Poisson's ratio must lie in (-1, 0.5), got {nu}")));
+            return Err(ctx.err(
+                f("nu"),
+                nd,
+                format!("Poisson's ratio must lie in (-1, 0.5), got {nu}"),
+            ));
         }
         let g = s.g.unwrap_or(s.e / (2.0 * (1.0 + nu)));
         positive(&ctx, f("G"), nd.clone(), g)?;
         let ae = s.ae.unwrap_or(s.a);
         positive(&ctx, f("Ae"), nd.clone(), ae)?;
-        if sections.insert(&s.name, Section { ea: s.e * s.a, ei: s.e * s.i, gae: g * ae }).is_some() {
+        if sections
+            .insert(
+                &s.name,
+                Section {
+                    ea: s.e * s.a,
+                    ei: s.e * s.i,
+                    gae: g * ae,
+                },
+            )
+            .is_some()
+        {
             return Err(ctx.err(f("name"), nd, "duplicate section name"));
         }
     }
@@ -134,12 +166,25 @@ fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
     for (k, n) in sf.nodes.iter().enumerate() {
         let nd = Some(format!("id:{}", n.id));
         if !(n.x.is_finite() && n.y.is_finite()) {
-            return Err(ctx.err(format!("nodes[{k}] (node {})", n.id), nd, "coordinates must be finite"));
+            return Err(ctx.err(
+                format!("nodes[{k}] (node {})", n.id),
+                nd,
+                "coordinates must be finite",
+            ));
         }
         if index.insert(n.id, nodes.len()).is_some() {
-            return Err(ctx.err(format!("nodes[{k}].id"), nd, format!("duplicate node id {}", n.id)));
+            return Err(ctx.err(
+                format!("nodes[{k}].id"),
+                nd,
+                format!("duplicate node id {}", n.id),
+            ));
         }
-        nodes.push(Node { id: n.id, x: n.x, y: n.y, rotation: n.rotation });
+        nodes.push(Node {
+            id: n.id,
+            x: n.x,
+            y: n.y,
+            rotation: n.rotation,
+        });
     }
     let explicit = nodes.len();
     // Bodies.
@@ -150,7 +195,11 @@ fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
         let nd = Some(format!("name:\"{}\"", body.name));
         let field = |n: &str| format!("bodies[{b}].{n} (body \"{}\")", body.name);
         let Some(&section) = sections.get(body.section.as_str()) else {
-            return Err(ctx.err(field("section"), nd, format!("unknown section \"{}\"", body.section)));
+            return Err(ctx.err(
+                field("section"),
+                nd,
+                format!("unknown section \"{}\"", body.section),
+            ));
         };
         if body.path.len() < 2 {
             return Err(ctx.err(field("path"), nd, "needs at least two points"));
@@ -184,7 +233,11 @@ fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
                 Some(&n) => {
                     let node = &nodes[n];
                     if (node.x - x).hypot(node.y - y) > 1e-9 * (1.0 + x.abs() + y.abs()) {
-                        let whose = if n < explicit { "an explicit node" } else { "another body's node" };
+                        let whose = if n < explicit {
+                            "an explicit node"
+                        } else {
+                            "another body's node"
+                        };
                         return Err(ctx.err(
                             field("first_node"),
                             nd,
@@ -195,13 +248,22 @@ fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
                         ));
                     }
                     if !node.rotation {
-                        return Err(ctx.err(field("path"), nd, format!("node {id} has no rotation dof and cannot join beams")));
+                        return Err(ctx.err(
+                            field("path"),
+                            nd,
+                            format!("node {id} has no rotation dof and cannot join beams"),
+                        ));
                     }
                     n
                 }
                 None => {
                     index.insert(id, nodes.len());
-                    nodes.push(Node { id, x, y, rotation: true });
+                    nodes.push(Node {
+                        id,
+                        x,
+                        y,
+                        rotation: true,
+                    });
                     nodes.len() - 1
                 }
             };
@@ -210,20 +272,42 @@ fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
         let mut elements = Vec::new();
         for w in ids.windows(2) {
             if w[0] == w[1] {
-                return Err(ctx.err(field("path"), nd, format!("element from node {0} to node {0}", nodes[w[0]].id)));
+                return Err(ctx.err(
+                    field("path"),
+                    nd,
+                    format!("element from node {0} to node {0}", nodes[w[0]].id),
+                ));
             }
             elements.push(beams.len());
-            beams.push(Beam { i: w[0], j: w[1], section, body: b });
+            beams.push(Beam {
+                i: w[0],
+                j: w[1],
+                section,
+                body: b,
+            });
         }
-        bodies.push(Body { name: body.name.clone(), elements });
+        bodies.push(Body {
+            name: body.name.clone(),
+            elements,
+        });
     }
     let node_of = |field: String, id: u32| -> Result<usize, SceneError> {
-        index.get(&id).copied().ok_or_else(|| ctx.err(field, Some(format!("node:{id}")), format!("unknown node id {id}")))
+        index.get(&id).copied().ok_or_else(|| {
+            ctx.err(
+                field,
+                Some(format!("node:{id}")),
+                format!("unknown node id {id}"),
+            )
+        })
     };
     let check_dof = |field: String, n: usize, dof: Dof| -> Result<(), SceneError> {
         if dof == Dof::Phi && !nodes[n].rotation {
             let id = nodes[n].id;
-            return Err(ctx.err(field, Some(format!("node:{id}")), format!("node {id} has no rotation dof")));
+            return Err(ctx.err(
+                field,
+                Some(format!("node:{id}")),
+                format!("node {id} has no rotation dof"),
+            ));
         }
         Ok(())
     };
@@ -248,9 +332,16 @@ fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
             check_dof(format!("loads[{k}].m (node {})", l.node), n, Dof::Phi)?;
         }
         if ![l.fx, l.fy, l.m].iter().all(|v| v.is_finite()) {
-            return Err(ctx.err(format!("loads[{k}] (node {})", l.node), Some(format!("node:{}", l.node)), "load must be finite"));
+            return Err(ctx.err(
+                format!("loads[{k}] (node {})", l.node),
+                Some(format!("node:{}", l.node)),
+                "load must be finite",
+            ));
         }
-        loads.push(Load { node: n, force: [l.fx, l.fy, l.m] });
+        loads.push(Load {
+            node: n,
+            force: [l.fx, l.fy, l.m],
+        });
     }
     // Prescribed displacements.
     let mut prescribed: Vec<Prescribed> = Vec::new();
@@ -268,7 +359,11 @@ fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
         if prescribed.iter().any(|q| q.node == n && q.dof == p.dof) {
             return Err(ctx.err(field, nd, "prescribed twice"));
         }
-        prescribed.push(Prescribed { node: n, dof: p.dof, per_step: p.per_step });
+        prescribed.push(Prescribed {
+            node: n,
+            dof: p.dof,
+            per_step: p.per_step,
+        });
     }
     // Contacts.
     let mut contacts = Vec::new();
@@ -278,10 +373,13 @@ fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
             cn.push(node_of(format!("contacts[{k}].nodes[{m}]"), id)?);
         }
         let body_of = |field: String, name: &str| -> Result<usize, SceneError> {
-            body_index
-                .get(name)
-                .copied()
-                .ok_or_else(|| ctx.err(field, Some(format!("\"{name}\"")), format!("unknown body \"{name}\"")))
+            body_index.get(name).copied().ok_or_else(|| {
+                ctx.err(
+                    field,
+                    Some(format!("\"{name}\"")),
+                    format!("unknown body \"{name}\""),
+                )
+            })
         };
         for (m, name) in c.node_bodies.iter().enumerate() {
             let b = body_of(format!("contacts[{k}].node_bodies[{m}]"), name)?;
@@ -298,13 +396,21 @@ fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
         for (m, name) in c.bodies.iter().enumerate() {
             cb.push(body_of(format!("contacts[{k}].bodies[{m}]"), name)?);
         }
-        contacts.push(ContactPair { nodes: cn, bodies: cb });
+        contacts.push(ContactPair {
+            nodes: cn,
+            bodies: cb,
+        });
     }
     // Control.
     let c = &sf.control;
     let mut params = SolverParams::default();
     if let Some(t) = c.tolerance {
-        positive(&ctx, "control.tolerance".into(), Some("tolerance".into()), t)?;
+        positive(
+            &ctx,
+            "control.tolerance".into(),
+            Some("tolerance".into()),
+            t,
+        )?;
         params.tolerance = t;
     }
     if let Some(s) = c.max_step {
@@ -314,7 +420,13 @@ fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
     let steps = c.steps.max(1);
     let load_per_step = match c.load_per_step {
         Some(v) if v.is_finite() => v,
-        Some(v) => return Err(ctx.err("control.load_per_step", Some("load_per_step".into()), format!("must be finite, got {v}"))),
+        Some(v) => {
+            return Err(ctx.err(
+                "control.load_per_step",
+                Some("load_per_step".into()),
+                format!("must be finite, got {v}"),
+            ))
+        }
         None if loads.is_empty() => 0.0,
         None => 1.0 / steps as f64,
     };
@@ -332,11 +444,19 @@ fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
         formulation: sf.formulation,
         contacts,
     };
-    let scene = Scene { file: sf, model, params, steps };
+    let scene = Scene {
+        file: sf,
+        model,
+        params,
+        steps,
+    };
     if let Err(e) = scene.solver() {
         let message = match e {
             SolveError::Mechanism { dofs } => {
-                format!("the structure is a mechanism; these free dofs have no stiffness: {}", dofs.join(", "))
+                format!(
+                    "the structure is a mechanism; these free dofs have no stiffness: {}",
+                    dofs.join(", ")
+                )
             }
             other => other.to_string(),
         };

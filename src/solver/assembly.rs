@@ -121,7 +121,12 @@ impl Ordering {
                 }
             }
         }
-        let mut ord = Ordering { eq, n_eq, band: 0, links: links.to_vec() };
+        let mut ord = Ordering {
+            eq,
+            n_eq,
+            band: 0,
+            links: links.to_vec(),
+        };
         let mut band = 0;
         for (e, b) in model.beams.iter().enumerate() {
             let mut nodes = vec![b.i, b.j];
@@ -183,13 +188,22 @@ pub struct AssemblyContext<'a> {
 pub fn current(model: &Model, dofs: &DofMap, d: &[f64], n: usize) -> ([f64; 2], f64) {
     let f = dofs.first[n];
     let p = model.position(n);
-    let phi = if model.nodes[n].rotation { d[f + 2] } else { 0.0 };
+    let phi = if model.nodes[n].rotation {
+        d[f + 2]
+    } else {
+        0.0
+    };
     ([p[0] + d[f], p[1] + d[f + 1]], phi)
 }
 
 /// Assemble internal forces (and the tangent) at displacements `d`.
 /// `dp`, if given, is a prescribed increment over all dofs whose K_fp product is returned.
-pub fn assemble(ctx: &AssemblyContext, d: &[f64], with_tangent: bool, dp: Option<&[f64]>) -> Assembled {
+pub fn assemble(
+    ctx: &AssemblyContext,
+    d: &[f64],
+    with_tangent: bool,
+    dp: Option<&[f64]>,
+) -> Assembled {
     let model = ctx.model;
     let dofs = ctx.dofs;
     let ord = ctx.ordering;
@@ -208,35 +222,70 @@ pub fn assemble(ctx: &AssemblyContext, d: &[f64], with_tangent: bool, dp: Option
         gdofs.clear();
         gdofs.extend((0..3).map(|o| dofs.dof(beam.i, o)));
         gdofs.extend((0..3).map(|o| dofs.dof(beam.j, o)));
-        let on_this: Vec<usize> =
-            ord.links.iter().enumerate().filter(|(_, l)| l.beam == e).map(|(k, _)| k).collect();
+        let on_this: Vec<usize> = ord
+            .links
+            .iter()
+            .enumerate()
+            .filter(|(_, l)| l.beam == e)
+            .map(|(k, _)| k)
+            .collect();
         if on_this.is_empty() {
             let r = ctx.elements[e].response(xi, xj, phi_i, phi_j, with_tangent);
             results.beam_forces[e] = r.forces;
             scatter(&gdofs, r.nodal.as_slice(), &mut internal, &mut force_scale);
             if let Some(k) = r.tangent {
-                add_matrix(&gdofs, |a, b| k[(a, b)], ord, tangent.as_mut(), dp, &mut coupling);
+                add_matrix(
+                    &gdofs,
+                    |a, b| k[(a, b)],
+                    ord,
+                    tangent.as_mut(),
+                    dp,
+                    &mut coupling,
+                );
             }
         } else {
-            let xc: Vec<[f64; 2]> =
-                on_this.iter().map(|&k| current(model, dofs, d, ord.links[k].node).0).collect();
+            let xc: Vec<[f64; 2]> = on_this
+                .iter()
+                .map(|&k| current(model, dofs, d, ord.links[k].node).0)
+                .collect();
             for &k in &on_this {
                 let c = ord.links[k].node;
                 gdofs.push(dofs.dof(c, 0));
                 gdofs.push(dofs.dof(c, 1));
             }
-            let r = contact_response(&ctx.elements[e], xi, xj, [phi_i, phi_j], &xc, ctx.contact, with_tangent);
+            let r = contact_response(
+                &ctx.elements[e],
+                xi,
+                xj,
+                [phi_i, phi_j],
+                &xc,
+                ctx.contact,
+                with_tangent,
+            );
             results.beam_forces[e] = [r.forces[0], r.forces[1], r.forces[2]];
             for (m, &k) in on_this.iter().enumerate() {
                 results.contact_forces[k] = (r.forces[3 + m], r.xi[m]);
             }
             scatter(&gdofs, r.nodal.as_slice(), &mut internal, &mut force_scale);
             if let Some(k) = r.tangent.as_ref() {
-                add_matrix(&gdofs, |a, b| k[(a, b)], ord, tangent.as_mut(), dp, &mut coupling);
+                add_matrix(
+                    &gdofs,
+                    |a, b| k[(a, b)],
+                    ord,
+                    tangent.as_mut(),
+                    dp,
+                    &mut coupling,
+                );
             }
         }
     }
-    Assembled { internal, tangent, coupling, elements: results, force_scale }
+    Assembled {
+        internal,
+        tangent,
+        coupling,
+        elements: results,
+        force_scale,
+    }
 }
 
 fn scatter(gdofs: &[usize], f: &[f64], internal: &mut [f64], scale: &mut [f64]) {

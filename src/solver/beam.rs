@@ -95,7 +95,12 @@ impl BeamElement {
     /// Element from its initial end positions.
     pub fn new(xi: [f64; 2], xj: [f64; 2], section: Section, psi: f64) -> BeamElement {
         let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
-        BeamElement { length: dx.hypot(dy), alpha0: dy.atan2(dx), section, psi }
+        BeamElement {
+            length: dx.hypot(dy),
+            alpha0: dy.atan2(dx),
+            section,
+            psi,
+        }
     }
 
     /// The bending part of the element force equation: [[k11, k12], [k12, k11]] with
@@ -137,6 +142,11 @@ impl BeamElement {
             k += (bi * bj.transpose() + bj * bi.transpose()) * k12;
             k + ch.geometric_stiffness(n, mi + mj)
         });
-        BeamResponse { deformation: [dl, ti, tj], forces: [n, mi, mj], nodal, tangent }
+        BeamResponse {
+            deformation: [dl, ti, tj],
+            forces: [n, mi, mj],
+            nodal,
+            tangent,
+        }
     }
 }

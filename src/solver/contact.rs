@@ -101,12 +101,15 @@ impl ContactSet {
                     roots.push((-qb + r) / (2.0 * qa));
                 }
             }
-            roots.into_iter().filter(|t| (0.0..=1.0).contains(t)).any(|t| {
-                let u = [u0[0] + t * du[0], u0[1] + t * du[1]];
-                let v = [v0[0] + t * dv[0], v0[1] + t * dv[1]];
-                let s = (u[0] * v[0] + u[1] * v[1]) / (u[0] * u[0] + u[1] * u[1]);
-                (0.0..=1.0).contains(&s)
-            })
+            roots
+                .into_iter()
+                .filter(|t| (0.0..=1.0).contains(t))
+                .any(|t| {
+                    let u = [u0[0] + t * du[0], u0[1] + t * du[1]];
+                    let v = [v0[0] + t * dv[0], v0[1] + t * dv[1]];
+                    let s = (u[0] * v[0] + u[1] * v[1]) / (u[0] * u[0] + u[1] * u[1]);
+                    (0.0..=1.0).contains(&s)
+                })
         })
     }
 
@@ -115,7 +118,10 @@ impl ContactSet {
     /// of a curled beam says nothing about a crossing.
     fn adjacent(solver: &Solver, b: usize, e: usize, f: usize) -> bool {
         let els = &solver.model.bodies[b].elements;
-        match (els.iter().position(|&x| x == e), els.iter().position(|&x| x == f)) {
+        match (
+            els.iter().position(|&x| x == e),
+            els.iter().position(|&x| x == f),
+        ) {
             (Some(i), Some(j)) => i.abs_diff(j) <= 1,
             _ => false,
         }
@@ -123,7 +129,13 @@ impl ContactSet {
 
     /// The assembly's view of the active contacts.
     pub fn links(&self) -> Vec<ContactLink> {
-        self.active.iter().map(|a| ContactLink { node: a.node, beam: a.beam }).collect()
+        self.active
+            .iter()
+            .map(|a| ContactLink {
+                node: a.node,
+                beam: a.beam,
+            })
+            .collect()
     }
 
     fn is_active(&self, node: usize, body: usize) -> bool {
@@ -136,8 +148,11 @@ impl ContactSet {
         let mut out = Vec::new();
         for pair in &m.contacts {
             for &b in &pair.bodies {
-                let own: Vec<usize> =
-                    m.bodies[b].elements.iter().flat_map(|&e| [m.beams[e].i, m.beams[e].j]).collect();
+                let own: Vec<usize> = m.bodies[b]
+                    .elements
+                    .iter()
+                    .flat_map(|&e| [m.beams[e].i, m.beams[e].j])
+                    .collect();
                 for &n in &pair.nodes {
                     if !own.contains(&n) && !out.contains(&(n, b)) {
                         out.push((n, b));
@@ -154,14 +169,28 @@ impl ContactSet {
         let el = &solver.elements[e];
         let (xi, pi) = current(m, &solver.dofs, d, beam.i);
         let (xj, pj) = current(m, &solver.dofs, d, beam.j);
-        let on: Vec<[f64; 2]> =
-            self.active.iter().filter(|a| a.beam == e).map(|a| current(m, &solver.dofs, d, a.node).0).collect();
+        let on: Vec<[f64; 2]> = self
+            .active
+            .iter()
+            .filter(|a| a.beam == e)
+            .map(|a| current(m, &solver.dofs, d, a.node).0)
+            .collect();
         let opts = solver.params.contact_options(usize::MAX);
         let r = contact_response(el, xi, xj, [pi, pj], &on, opts, false);
         let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
         let l = dx.hypot(dy);
-        let xis = r.xi.iter().map(|x| x.clamp(opts.xi_min, 1.0 - opts.xi_min)).collect();
-        Shape { origin: xi, c: dx / l, s: dy / l, l, bending: r.forces[1..].to_vec(), xis }
+        let xis =
+            r.xi.iter()
+                .map(|x| x.clamp(opts.xi_min, 1.0 - opts.xi_min))
+                .collect();
+        Shape {
+            origin: xi,
+            c: dx / l,
+            s: dy / l,
+            l,
+            bending: r.forces[1..].to_vec(),
+            xis,
+        }
     }
 
     /// Where node `n` lies relative to body `b` at displacements `d` (None if it projects onto no
@@ -185,7 +214,12 @@ impl ContactSet {
             let w = deflection(&solver.elements[e], &sh.bending, &sh.xis, t);
             let gap = off - w;
             if best.is_none_or(|bp| gap.abs() < bp.gap.abs()) {
-                best = Some(Probe { beam: e, xi: t, gap, length: l });
+                best = Some(Probe {
+                    beam: e,
+                    xi: t,
+                    gap,
+                    length: l,
+                });
             }
         }
         best
@@ -252,7 +286,11 @@ impl ContactSet {
     ) -> usize {
         let m = &solver.model;
         let tol = solver.params.transfer_tolerance;
-        let margin = if converged { solver.params.free_end_margin } else { -tol };
+        let margin = if converged {
+            solver.params.free_end_margin
+        } else {
+            -tol
+        };
         let mut changes = 0;
         let mut k = 0;
         while k < self.active.len() {
@@ -260,7 +298,11 @@ impl ContactSet {
             let mut moved = false;
             let mut off_end = false;
             let mut xi_now = 0.0;
-            let walk = if converged { m.bodies[a.body].elements.len() } else { 1 };
+            let walk = if converged {
+                m.bodies[a.body].elements.len()
+            } else {
+                1
+            };
             for _ in 0..walk {
                 let beam = &m.beams[a.beam];
                 let (xi, _) = current(m, &solver.dofs, d, beam.i);
@@ -269,8 +311,16 @@ impl ContactSet {
                 let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
                 let t = ((p[0] - xi[0]) * dx + (p[1] - xi[1]) * dy) / (dx * dx + dy * dy);
                 xi_now = t;
-                let before = m.bodies[a.body].elements.iter().copied().find(|&e| m.beams[e].j == beam.i);
-                let after = m.bodies[a.body].elements.iter().copied().find(|&e| m.beams[e].i == beam.j);
+                let before = m.bodies[a.body]
+                    .elements
+                    .iter()
+                    .copied()
+                    .find(|&e| m.beams[e].j == beam.i);
+                let after = m.bodies[a.body]
+                    .elements
+                    .iter()
+                    .copied()
+                    .find(|&e| m.beams[e].i == beam.j);
                 let next = if t < -tol || (before.is_none() && t < margin) {
                     before
                 } else if t > 1.0 + tol || (after.is_none() && t > 1.0 - margin) {
@@ -290,18 +340,43 @@ impl ContactSet {
                 }
             }
             if off_end {
-                events.push(Self::event(solver, &a, ContactChange::SlidOff, increment, iteration, xi_now, 0.0));
+                events.push(Self::event(
+                    solver,
+                    &a,
+                    ContactChange::SlidOff,
+                    increment,
+                    iteration,
+                    xi_now,
+                    0.0,
+                ));
                 // The node went round the end: its side is unknown until it projects again.
                 self.sides.remove(&(a.node, a.body));
                 // A tip resting on another body hands the node over to that body (the paper's
                 // "jump"): the node sits on the tip, so it sits on the other body's surface.
                 let beam = &m.beams[a.beam];
                 let tip = if xi_now > 0.5 { beam.j } else { beam.i };
-                let under = self.active.iter().find(|b| b.node == tip && b.body != a.body).copied();
+                let under = self
+                    .active
+                    .iter()
+                    .find(|b| b.node == tip && b.body != a.body)
+                    .copied();
                 if let Some(u) = under {
                     if !self.is_active(a.node, u.body) {
-                        let h = ActiveContact { node: a.node, beam: u.beam, body: u.body, side: u.side };
-                        events.push(Self::event(solver, &h, ContactChange::Activated, increment, iteration, xi_now, 0.0));
+                        let h = ActiveContact {
+                            node: a.node,
+                            beam: u.beam,
+                            body: u.body,
+                            side: u.side,
+                        };
+                        events.push(Self::event(
+                            solver,
+                            &h,
+                            ContactChange::Activated,
+                            increment,
+                            iteration,
+                            xi_now,
+                            0.0,
+                        ));
                         self.sides.insert((a.node, u.body), (u.side, u.beam));
                         self.active[k] = h;
                         changes += 1;
@@ -314,7 +389,15 @@ impl ContactSet {
                 continue;
             }
             if moved {
-                events.push(Self::event(solver, &a, ContactChange::Transferred, increment, iteration, xi_now, 0.0));
+                events.push(Self::event(
+                    solver,
+                    &a,
+                    ContactChange::Transferred,
+                    increment,
+                    iteration,
+                    xi_now,
+                    0.0,
+                ));
                 self.active[k] = a;
                 changes += 1;
             }
@@ -343,17 +426,33 @@ impl ContactSet {
             if self.is_active(n, b) {
                 continue;
             }
-            let Some(&(side, was)) = self.sides.get(&(n, b)) else { continue };
+            let Some(&(side, was)) = self.sides.get(&(n, b)) else {
+                continue;
+            };
             if let Some(p) = self.probe(solver, d, n, b) {
                 if p.gap * side < -1e-10 * p.length
                     && Self::adjacent(solver, b, was, p.beam)
-                    && (-p.gap * side < SHAPE_MARGIN * p.length || Self::swept_through(solver, d, n, b))
+                    && (-p.gap * side < SHAPE_MARGIN * p.length
+                        || Self::swept_through(solver, d, n, b))
                 {
                     if -p.gap * side > solver.params.max_penetration * p.length {
                         self.too_deep = Some((n, b, -p.gap * side / p.length));
                     }
-                    let a = ActiveContact { node: n, beam: p.beam, body: b, side };
-                    events.push(Self::event(solver, &a, ContactChange::Activated, increment, iteration, p.xi, 0.0));
+                    let a = ActiveContact {
+                        node: n,
+                        beam: p.beam,
+                        body: b,
+                        side,
+                    };
+                    events.push(Self::event(
+                        solver,
+                        &a,
+                        ContactChange::Activated,
+                        increment,
+                        iteration,
+                        p.xi,
+                        0.0,
+                    ));
                     self.active.push(a);
                     changes += 1;
                 }
@@ -377,7 +476,15 @@ impl ContactSet {
         let mut keep = Vec::with_capacity(before);
         for (a, &(yc, xi)) in self.active.iter().zip(forces) {
             if -a.side * yc < 0.0 {
-                events.push(Self::event(solver, a, ContactChange::Released, increment, iteration, xi, yc));
+                events.push(Self::event(
+                    solver,
+                    a,
+                    ContactChange::Released,
+                    increment,
+                    iteration,
+                    xi,
+                    yc,
+                ));
             } else {
                 keep.push(*a);
             }
@@ -412,9 +519,12 @@ impl ContactSet {
             if self.is_active(n, b) {
                 continue;
             }
-            if let (Some(&(side, was)), Some(p)) = (self.sides.get(&(n, b)), self.probe(solver, d, n, b)) {
+            if let (Some(&(side, was)), Some(p)) =
+                (self.sides.get(&(n, b)), self.probe(solver, d, n, b))
+            {
                 let crossed = Self::adjacent(solver, b, was, p.beam)
-                    && (-p.gap * side < SHAPE_MARGIN * p.length || Self::swept_through(solver, d, n, b));
+                    && (-p.gap * side < SHAPE_MARGIN * p.length
+                        || Self::swept_through(solver, d, n, b));
                 if !crossed {
                     continue;
                 }

@@ -40,13 +40,21 @@ pub fn flexibility<T: Real + Into<Dual>>(len: f64, inv_ei: f64, inv_gae: f64, a:
             m[t][0] = one - x / lt;
             m[t][1] = zero - x / lt;
             for p in 0..k {
-                m[t][2 + p] = if s <= rank[p] { (one - a[p] / lt) * x } else { a[p] * (one - x / lt) };
+                m[t][2 + p] = if s <= rank[p] {
+                    (one - a[p] / lt) * x
+                } else {
+                    a[p] * (one - x / lt)
+                };
             }
         }
         v[0] = one / lt;
         v[1] = one / lt;
         for p in 0..k {
-            v[2 + p] = if s <= rank[p] { zero - (one - a[p] / lt) } else { a[p] / lt };
+            v[2 + p] = if s <= rank[p] {
+                zero - (one - a[p] / lt)
+            } else {
+                a[p] / lt
+            };
         }
         let wb = h * T::from(inv_ei / 6.0);
         let ws = h * T::from(inv_gae);
@@ -91,7 +99,9 @@ fn invert_spd(f: DMatrix<f64>) -> DMatrix<f64> {
     let n = f.nrows();
     match f.clone().cholesky() {
         Some(ch) => ch.inverse(),
-        None => f.try_inverse().unwrap_or_else(|| DMatrix::from_element(n, n, f64::NAN)),
+        None => f
+            .try_inverse()
+            .unwrap_or_else(|| DMatrix::from_element(n, n, f64::NAN)),
     }
 }
 
@@ -106,7 +116,10 @@ pub fn bending_stiffness_derivative(
     let a: Vec<Dual> = xi
         .iter()
         .enumerate()
-        .map(|(p, x)| Dual { re: x * l, du: if p == m { l } else { 0.0 } })
+        .map(|(p, x)| Dual {
+            re: x * l,
+            du: if p == m { l } else { 0.0 },
+        })
         .collect();
     let n = 2 + xi.len();
     let (inv_ei, inv_gae) = inverse_stiffness(beam);
@@ -126,7 +139,10 @@ pub struct ContactOptions {
 
 impl Default for ContactOptions {
     fn default() -> Self {
-        ContactOptions { xi_min: 1e-6, unsymmetric: 1.0 }
+        ContactOptions {
+            xi_min: 1e-6,
+            unsymmetric: 1.0,
+        }
     }
 }
 
@@ -256,7 +272,13 @@ pub fn contact_response(
         }
         kt
     });
-    ContactResponse { deformation, forces, xi, nodal, tangent }
+    ContactResponse {
+        deformation,
+        forces,
+        xi,
+        nodal,
+        tangent,
+    }
 }
 
 /// Deflection from the chord at fraction `x` of the element, given the bending forces
@@ -270,5 +292,9 @@ pub fn deflection(beam: &BeamElement, bending_forces: &[f64], xi: &[f64], x: f64
     let (inv_ei, inv_gae) = inverse_stiffness(beam);
     let f = flexibility(l, inv_ei, inv_gae, &a);
     let row = n - 1;
-    bending_forces.iter().enumerate().map(|(q, sq)| sq * f[row * n + q]).sum()
+    bending_forces
+        .iter()
+        .enumerate()
+        .map(|(q, sq)| sq * f[row * n + q])
+        .sum()
 }

@@ -40,7 +40,14 @@ impl Solver {
         let elements = model
             .beams
             .iter()
-            .map(|b| BeamElement::new(model.position(b.i), model.position(b.j), b.section, b.section.psi(model.formulation)))
+            .map(|b| {
+                BeamElement::new(
+                    model.position(b.i),
+                    model.position(b.j),
+                    b.section,
+                    b.section.psi(model.formulation),
+                )
+            })
             .collect();
         let dofs = DofMap::new(&model);
         let max_ea = model.beams.iter().map(|b| b.section.ea).fold(0.0, f64::max);
@@ -127,7 +134,10 @@ impl Solver {
     /// Unbalanced force `lambda F - sum J S` over the free dofs and the dense tangent over the
     /// same dofs, at displacements `d` with the current contacts and load factor. Returns the
     /// free global dofs too, in the order of the vector and matrix. For checks and tests.
-    pub fn unbalanced_force_and_tangent(&self, d: &[f64]) -> (Vec<f64>, nalgebra::DMatrix<f64>, Vec<usize>) {
+    pub fn unbalanced_force_and_tangent(
+        &self,
+        d: &[f64],
+    ) -> (Vec<f64>, nalgebra::DMatrix<f64>, Vec<usize>) {
         let ord = self.ordering_for(&self.contacts);
         let ctx = self.context(&ord);
         let asm = assemble(&ctx, d, true, None);
@@ -186,8 +196,13 @@ impl Solver {
 
     /// Advance by one scene step (prescribed values += per_step, load factor += load_per_step).
     pub fn step(&mut self, obs: &mut dyn Observer) -> Result<Vec<IncrementRecord>, SolveError> {
-        let targets: Vec<f64> =
-            self.model.prescribed.iter().zip(&self.prescribed).map(|(p, v)| v + p.per_step).collect();
+        let targets: Vec<f64> = self
+            .model
+            .prescribed
+            .iter()
+            .zip(&self.prescribed)
+            .map(|(p, v)| v + p.per_step)
+            .collect();
         let lambda = self.load_factor + self.model.load_per_step;
         self.advance_to(&targets, lambda, obs)
     }
@@ -214,9 +229,17 @@ impl Solver {
             let tp: Vec<f64> = if next >= 1.0 {
                 targets.to_vec()
             } else {
-                start_p.iter().zip(targets).map(|(a, b)| a + next * (b - a)).collect()
+                start_p
+                    .iter()
+                    .zip(targets)
+                    .map(|(a, b)| a + next * (b - a))
+                    .collect()
             };
-            let tl = if next >= 1.0 { lambda } else { start_l + next * (lambda - start_l) };
+            let tl = if next >= 1.0 {
+                lambda
+            } else {
+                start_l + next * (lambda - start_l)
+            };
             let number = self.increment + 1;
             match self.attempt(&tp, tl, number, obs) {
                 Ok(conv) => {
@@ -236,17 +259,32 @@ impl Solver {
                 Err(AttemptError::Failed(reason)) => {
                     cutbacks += 1;
                     if cutbacks > self.params.max_cutbacks {
-                        return Err(SolveError::NoConvergence { increment: number, cutbacks: cutbacks - 1, reason });
+                        return Err(SolveError::NoConvergence {
+                            increment: number,
+                            cutbacks: cutbacks - 1,
+                            reason,
+                        });
                     }
                     h *= 0.5;
-                    obs.event(&Event::CutBack { increment: number, reason, fraction: h });
+                    obs.event(&Event::CutBack {
+                        increment: number,
+                        reason,
+                        fraction: h,
+                    });
                 }
             }
         }
         Ok(out)
     }
 
-    fn commit(&mut self, c: Converged, tp: Vec<f64>, tl: f64, cutbacks: usize, seconds: f64) -> IncrementRecord {
+    fn commit(
+        &mut self,
+        c: Converged,
+        tp: Vec<f64>,
+        tl: f64,
+        cutbacks: usize,
+        seconds: f64,
+    ) -> IncrementRecord {
         self.increment += 1;
         self.d = c.d;
         self.contacts = c.contacts;

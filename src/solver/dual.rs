@@ -32,35 +32,50 @@ impl From<f64> for Dual {
 impl Add for Dual {
     type Output = Dual;
     fn add(self, o: Dual) -> Dual {
-        Dual { re: self.re + o.re, du: self.du + o.du }
+        Dual {
+            re: self.re + o.re,
+            du: self.du + o.du,
+        }
     }
 }
 
 impl Sub for Dual {
     type Output = Dual;
     fn sub(self, o: Dual) -> Dual {
-        Dual { re: self.re - o.re, du: self.du - o.du }
+        Dual {
+            re: self.re - o.re,
+            du: self.du - o.du,
+        }
     }
 }
 
 impl Mul for Dual {
     type Output = Dual;
     fn mul(self, o: Dual) -> Dual {
-        Dual { re: self.re * o.re, du: self.du * o.re + self.re * o.du }
+        Dual {
+            re: self.re * o.re,
+            du: self.du * o.re + self.re * o.du,
+        }
     }
 }
 
 impl Div for Dual {
     type Output = Dual;
     fn div(self, o: Dual) -> Dual {
-        Dual { re: self.re / o.re, du: (self.du * o.re - self.re * o.du) / (o.re * o.re) }
+        Dual {
+            re: self.re / o.re,
+            du: (self.du * o.re - self.re * o.du) / (o.re * o.re),
+        }
     }
 }
 
 impl Neg for Dual {
     type Output = Dual;
     fn neg(self) -> Dual {
-        Dual { re: -self.re, du: -self.du }
+        Dual {
+            re: -self.re,
+            du: -self.du,
+        }
     }
 }
 

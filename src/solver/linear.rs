@@ -25,7 +25,14 @@ impl BandMatrix {
     /// A zero n x n band matrix.
     pub fn zeros(n: usize, kl: usize, ku: usize) -> BandMatrix {
         let ld = 2 * kl + ku + 1;
-        BandMatrix { n, kl, ku, ld, ab: vec![0.0; ld * n], pivots: vec![0; n] }
+        BandMatrix {
+            n,
+            kl,
+            ku,
+            ld,
+            ab: vec![0.0; ld * n],
+            pivots: vec![0; n],
+        }
     }
 
     /// Order of the matrix.
@@ -51,7 +58,10 @@ impl BandMatrix {
     /// Add `v` to entry (i, j); panics in debug builds if (i, j) lies outside the band.
     #[inline]
     pub fn add(&mut self, i: usize, j: usize, v: f64) {
-        debug_assert!(i <= j + self.kl && j <= i + self.ku, "({i},{j}) outside band");
+        debug_assert!(
+            i <= j + self.kl && j <= i + self.ku,
+            "({i},{j}) outside band"
+        );
         let k = self.idx(i, j);
         self.ab[k] += v;
     }
@@ -67,7 +77,9 @@ impl BandMatrix {
 
     /// Largest absolute diagonal entry (before factorisation), a scale for pivot tests.
     pub fn max_diagonal(&self) -> f64 {
-        (0..self.n).map(|i| self.ab[self.idx(i, i)].abs()).fold(0.0, f64::max)
+        (0..self.n)
+            .map(|i| self.ab[self.idx(i, i)].abs())
+            .fold(0.0, f64::max)
     }
 
     /// In-place LU factorisation with partial pivoting. A pivot below `tiny` (absolute) is
@@ -134,8 +146,9 @@ impl BandMatrix {
         for j in (0..n).rev() {
             b[j] /= self.ab[self.idx(j, j)];
             let bj = b[j];
-            for i in j.saturating_sub(w)..j {
-                b[i] -= self.ab[self.idx(i, j)] * bj;
+            let lo = j.saturating_sub(w);
+            for (i, bi) in b[lo..j].iter_mut().enumerate() {
+                *bi -= self.ab[self.idx(lo + i, j)] * bj;
             }
         }
     }

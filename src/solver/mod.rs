@@ -15,6 +15,10 @@ pub mod report;
 pub mod shape;
 
 pub use control::Solver;
-pub use model::{Beam, Body, ContactPair, Dof, Formulation, Load, Model, Node, Prescribed, Section, Support};
+pub use model::{
+    Beam, Body, ContactPair, Dof, Formulation, Load, Model, Node, Prescribed, Section, Support,
+};
 pub use params::SolverParams;
-pub use report::{ContactChange, Event, Flow, IncrementRecord, IterationRecord, Observer, Silent, SolveError};
+pub use report::{
+    ContactChange, Event, Flow, IncrementRecord, IterationRecord, Observer, Silent, SolveError,
+};

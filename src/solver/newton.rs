@@ -10,10 +10,6 @@ use super::report::{ContactChange, Event, Flow, IterationRecord, Observer};
 
 /// A residual within this factor of the round-off floor counts as stagnated.
 const STAGNATION: f64 = 10.0;
-/// Backtracking starts at this iteration of a pass.
-const LINE_SEARCH_FROM: usize = usize::MAX;
-/// Halvings tried by the line search.
-const LINE_SEARCH_HALVINGS: usize = 6;
 
 /// The converged outcome of one attempt, before it is committed.
 pub struct Converged {
@@ -118,7 +114,8 @@ impl Solver {
             let asm = assemble(&ctx, &d, true, predictor.then_some(dp.as_slice()));
             let (mut rhs, norm, reference) = self.residual(&asm, &fext, &ordering);
             if springback && !predictor {
-                let released = contacts.release_tensile(self, &asm, increment, iterations, &mut events);
+                let released =
+                    contacts.release_tensile(self, &asm, increment, iterations, &mut events);
                 if released > 0 {
                     changes += released;
                     if changes > p.max_active_set_changes {
@@ -132,7 +129,8 @@ impl Solver {
             }
             let mut asm = asm;
             let mut tangent = asm.tangent.take().expect("tangent requested");
-            let floor = f64::EPSILON * tangent.max_diagonal() * self.coordinate_scale(&d) / reference;
+            let floor =
+                f64::EPSILON * tangent.max_diagonal() * self.coordinate_scale(&d) / reference;
             if predictor {
                 for (e, c) in rhs.iter_mut().zip(&asm.coupling) {
                     *e -= c;
@@ -160,7 +158,9 @@ impl Solver {
                             eprintln!("DEBUG {e:?}");
                         }
                     }
-                    return Err(AttemptError::Failed(format!("non-finite residual at iteration {iterations}")));
+                    return Err(AttemptError::Failed(format!(
+                        "non-finite residual at iteration {iterations}"
+                    )));
                 }
                 if it8.is_none() && r0.is_some_and(|r0| norm <= 1e-8 * r0) {
                     it8 = Some(iterations);
@@ -171,7 +171,14 @@ impl Solver {
                 // tolerance itself is out of reach for this contact set.
                 let settled = rel <= STAGNATION * floor;
                 if accepted || settled {
-                    let changed = contacts.after_convergence(self, &d, &asm, increment, iterations, &mut events);
+                    let changed = contacts.after_convergence(
+                        self,
+                        &d,
+                        &asm,
+                        increment,
+                        iterations,
+                        &mut events,
+                    );
                     if let Some((n, b, depth)) = contacts.too_deep {
                         return Err(AttemptError::Failed(format!(
                             "{} went {depth:.2} element lengths through {} before contact was detected",
@@ -236,12 +243,11 @@ impl Solver {
                 step2 += dp.iter().map(|v| v * v).sum::<f64>();
             }
             let step = step2.sqrt();
-            let mut scale = if step > p.max_step { p.max_step / step } else { 1.0 };
-            if !predictor && pass_iter >= LINE_SEARCH_FROM {
-                // Newton is struggling (far from the solution, e.g. spring-back after a
-                // release): backtrack until the unbalanced force decreases.
-                scale = self.line_search(&ordering, &d, &rhs, scale, norm, &fext, pass_iter + 1);
-            }
+            let scale = if step > p.max_step {
+                p.max_step / step
+            } else {
+                1.0
+            };
             for (g, e) in ordering.eq.iter().enumerate() {
                 if let Some(e) = e {
                     d[g] += scale * rhs[*e];
@@ -267,41 +273,6 @@ impl Solver {
             }
             last_step = scale * step;
         }
-    }
-
-    #[allow(clippy::too_many_arguments)]
-    fn line_search(
-        &self,
-        ordering: &Ordering,
-        d: &[f64],
-        dir: &[f64],
-        mut scale: f64,
-        norm: f64,
-        fext: &[f64],
-        iteration: usize,
-    ) -> f64 {
-        let ctx = AssemblyContext {
-            model: &self.model,
-            elements: &self.elements,
-            dofs: &self.dofs,
-            ordering,
-            contact: self.params.contact_options(iteration),
-        };
-        let mut trial = d.to_vec();
-        for _ in 0..LINE_SEARCH_HALVINGS {
-            for (g, e) in ordering.eq.iter().enumerate() {
-                if let Some(e) = e {
-                    trial[g] = d[g] + scale * dir[*e];
-                }
-            }
-            let asm = assemble(&ctx, &trial, false, None);
-            let (_, n, _) = self.residual(&asm, fext, ordering);
-            if n.is_finite() && n < norm {
-                return scale;
-            }
-            scale *= 0.5;
-        }
-        scale
     }
 
     fn coordinate_scale(&self, d: &[f64]) -> f64 {

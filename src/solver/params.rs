@@ -68,7 +68,11 @@ impl SolverParams {
     pub fn contact_options(&self, iteration: usize) -> ContactOptions {
         ContactOptions {
             xi_min: self.xi_min,
-            unsymmetric: if iteration >= self.unsymmetric_from { 1.0 } else { 0.0 },
+            unsymmetric: if iteration >= self.unsymmetric_from {
+                1.0
+            } else {
+                0.0
+            },
         }
     }
 }

@@ -173,7 +173,9 @@ impl Observer for Silent {}
 #[derive(Clone, Debug, PartialEq, thiserror::Error, Serialize, Deserialize)]
 pub enum SolveError {
     /// Newton failed even after the allowed cut-backs.
-    #[error("increment {increment}: no convergence after {cutbacks} cut-backs (last attempt: {reason})")]
+    #[error(
+        "increment {increment}: no convergence after {cutbacks} cut-backs (last attempt: {reason})"
+    )]
     NoConvergence {
         /// Increment number.
         increment: usize,

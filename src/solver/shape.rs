@@ -12,7 +12,13 @@ const XI_MIN: f64 = 1e-6;
 
 /// Points along beam element `e` in the state of `record`: `samples + 1` points from node i to
 /// node j, each at chord position x (0..1) plus the element's deflection there.
-pub fn element_curve(model: &Model, elements: &[BeamElement], record: &IncrementRecord, e: usize, samples: usize) -> Vec<[f64; 2]> {
+pub fn element_curve(
+    model: &Model,
+    elements: &[BeamElement],
+    record: &IncrementRecord,
+    e: usize,
+    samples: usize,
+) -> Vec<[f64; 2]> {
     let beam = &model.beams[e];
     let (pi, pj) = (record.nodes[beam.i], record.nodes[beam.j]);
     let (dx, dy) = (pj[0] - pi[0], pj[1] - pi[1]);
@@ -29,7 +35,11 @@ pub fn element_curve(model: &Model, elements: &[BeamElement], record: &Increment
     (0..=samples)
         .map(|k| {
             let x = k as f64 / samples as f64;
-            let w = if k == 0 || k == samples { 0.0 } else { deflection(&elements[e], &bending, &xis, x) };
+            let w = if k == 0 || k == samples {
+                0.0
+            } else {
+                deflection(&elements[e], &bending, &xis, x)
+            };
             [pi[0] + x * l * c - w * s, pi[1] + x * l * s + w * c]
         })
         .collect()
