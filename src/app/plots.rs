@@ -251,7 +251,7 @@ fn convergence(app: &mut TsmApp, ui: &mut egui::Ui) {
     } else {
         "iteration"
     };
-    Plot::new("convergence")
+    let shown = Plot::new("convergence")
         .x_axis_label(x_label)
         .y_axis_label("relative residual")
         .y_grid_spacer(decades)
@@ -300,6 +300,7 @@ fn convergence(app: &mut TsmApp, ui: &mut egui::Ui) {
                 );
             }
         });
+    app.layout.plot = Some(*shown.transform.frame());
 }
 
 fn reaction(app: &TsmApp, ui: &mut egui::Ui) {

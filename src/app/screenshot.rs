@@ -1,15 +1,18 @@
 //! Screenshots: the `view --screenshot` sequence (wait for the scene and the requested steps,
-//! let the layout settle, request the frame, save the PNG, close) and the "Save PNG" button.
+//! let the layout settle, request the frame, save the PNG and its `.json` sidecar, close) and
+//! the "Save PNG" button.
 
 use std::path::PathBuf;
 use std::sync::atomic::AtomicI32;
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use egui::ColorImage;
+use egui::{ColorImage, Rect};
+use serde::Serialize;
 
 use super::export::save_png;
 use super::state::set_exit;
+use super::view::View;
 
 /// Longest a screenshot run may take before it gives up.
 const TIMEOUT: Duration = Duration::from_secs(600);
@@ -29,6 +32,89 @@ pub enum Phase {
     Done,
 }
 
+/// Where the last frame drew the viewport and the convergence plot (points), filled in by
+/// `viewport::show` and `plots::show`.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Layout {
+    /// The viewport's rect.
+    pub viewport: Option<Rect>,
+    /// The camera it was drawn with.
+    pub view: View,
+    /// The increment it showed.
+    pub increment: usize,
+    /// The data area of the convergence plot.
+    pub plot: Option<Rect>,
+}
+
+/// A rect in image pixels: `min` and `max` corners as `[x, y]`, y down.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct PixelRect {
+    /// Top-left corner.
+    pub min: [f32; 2],
+    /// Bottom-right corner.
+    pub max: [f32; 2],
+}
+
+impl PixelRect {
+    fn new(r: Rect, ppp: f32) -> PixelRect {
+        PixelRect {
+            min: [r.min.x * ppp, r.min.y * ppp],
+            max: [r.max.x * ppp, r.max.y * ppp],
+        }
+    }
+}
+
+/// The `OUT.png.json` sidecar of `view --screenshot OUT.png`: how to find solver coordinates in
+/// the image. World point (x, y) in metres is drawn at pixel
+/// `(origin_px[0] + scale_px_per_m * x, origin_px[1] - scale_px_per_m * y)`.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Sidecar {
+    /// Image size `[width, height]` (px).
+    pub image_size: [usize; 2],
+    /// Physical pixels per egui point.
+    pub pixels_per_point: f32,
+    /// The viewport's rect.
+    pub viewport: Option<PixelRect>,
+    /// Pixels per metre.
+    pub scale_px_per_m: f64,
+    /// Pixel position of the world origin.
+    pub origin_px: [f64; 2],
+    /// The increment shown.
+    pub increment: usize,
+    /// The data area of the convergence plot.
+    pub convergence_plot: Option<PixelRect>,
+}
+
+impl Sidecar {
+    /// The sidecar of an image of `size` pixels drawn with `layout` at `ppp` pixels per point.
+    pub fn new(layout: &Layout, ppp: f32, size: [usize; 2]) -> Sidecar {
+        let v = layout.view;
+        let c = layout.viewport.map_or(egui::Pos2::ZERO, |r| r.center());
+        let ppp64 = f64::from(ppp);
+        Sidecar {
+            image_size: size,
+            pixels_per_point: ppp,
+            viewport: layout.viewport.map(|r| PixelRect::new(r, ppp)),
+            scale_px_per_m: v.scale * ppp64,
+            origin_px: [
+                (f64::from(c.x) - v.center[0] * v.scale) * ppp64,
+                (f64::from(c.y) + v.center[1] * v.scale) * ppp64,
+            ],
+            increment: layout.increment,
+            convergence_plot: layout.plot.map(|r| PixelRect::new(r, ppp)),
+        }
+    }
+}
+
+/// Write the sidecar of the PNG at `png` to `png` + ".json".
+fn save_sidecar(png: &std::path::Path, sidecar: &Sidecar) -> Result<(), String> {
+    let mut path = png.as_os_str().to_owned();
+    path.push(".json");
+    let text = serde_json::to_string_pretty(sidecar).map_err(|e| e.to_string())?;
+    crate::history::write_atomic(std::path::Path::new(&path), text.as_bytes())
+        .map_err(|e| e.to_string())
+}
+
 /// A pending screenshot.
 pub struct Shot {
     path: PathBuf,
@@ -37,6 +123,8 @@ pub struct Shot {
     /// Current phase.
     pub phase: Phase,
     slot: Arc<Mutex<Option<Arc<ColorImage>>>>,
+    /// Layout and pixels per point of the frame that was captured.
+    layout: Option<(Layout, f32)>,
     started: Instant,
 }
 
@@ -50,6 +138,7 @@ impl Shot {
             close,
             phase,
             slot: Arc::default(),
+            layout: None,
             started: Instant::now(),
         }
     }
@@ -86,8 +175,8 @@ impl Shot {
         self.phase == Phase::Done
     }
 
-    /// Advance the sequence by one frame.
-    pub fn frame(&mut self, ctx: &egui::Context) {
+    /// Advance the sequence by one frame; `layout` is where this frame drew things.
+    pub fn frame(&mut self, ctx: &egui::Context, layout: &Layout) {
         if self.close && self.started.elapsed() > TIMEOUT {
             eprintln!("error: screenshot timed out");
             set_exit(&self.exit, 1);
@@ -103,13 +192,19 @@ impl Shot {
                     *slot.lock().expect("screenshot slot") = Some(img);
                     c.request_repaint();
                 });
+                self.layout = Some((*layout, ctx.pixels_per_point()));
                 self.phase = Phase::Waiting;
             }
             Phase::Settle(n) => self.phase = Phase::Settle(n - 1),
             Phase::Waiting => {
                 let img = self.slot.lock().expect("screenshot slot").take();
                 if let Some(img) = img {
-                    let code = match save_png(&self.path, &img) {
+                    let mut saved = save_png(&self.path, &img);
+                    if let (true, Ok(()), Some((layout, ppp))) = (self.close, &saved, &self.layout)
+                    {
+                        saved = save_sidecar(&self.path, &Sidecar::new(layout, *ppp, img.size));
+                    }
+                    let code = match saved {
                         Ok(()) => {
                             eprintln!(
                                 "saved {} ({}x{})",

@@ -10,7 +10,7 @@ use crate::scene::Scene;
 use crate::solver::{Event, IncrementRecord, IterationRecord};
 use crate::worker::{Command, Loaded, Message, Worker};
 
-use super::screenshot::{Phase, Shot};
+use super::screenshot::{Layout, Phase, Shot};
 use super::view::View;
 use super::{controls, details, frame_log::FrameLog, plots, timeline, viewport};
 
@@ -70,6 +70,8 @@ pub struct TsmApp {
     pub(crate) export_stem: String,
     pub(crate) gpu: bool,
     pub(crate) shot: Option<Shot>,
+    /// Where this frame drew the viewport and the convergence plot (for the screenshot sidecar).
+    pub(crate) layout: Layout,
     pub(crate) run_steps: Option<usize>,
     pub(crate) drag: Option<viewport::Drag>,
     pub(crate) hover_handle: Option<usize>,
@@ -151,6 +153,7 @@ impl TsmApp {
             shot: startup
                 .screenshot
                 .map(|p| Shot::new(p, startup.exit.clone(), true)),
+            layout: Layout::default(),
             run_steps: startup.steps.filter(|&k| k > 0),
             drag: None,
             hover_handle: None,
@@ -337,7 +340,7 @@ impl eframe::App for TsmApp {
         };
         egui::CentralPanel::no_frame().show(ui, |ui| viewport::show(self, ui, gpu.as_ref()));
         if let Some(shot) = &mut self.shot {
-            shot.frame(&ctx);
+            shot.frame(&ctx, &self.layout);
             if shot.finished() {
                 self.shot = None;
             }

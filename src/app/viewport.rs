@@ -49,6 +49,9 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui, gpu: Option<&egui_wgpu::RenderS
         fit(app, rect);
         app.fit_pending = false;
     }
+    app.layout.viewport = Some(rect);
+    app.layout.view = app.view;
+    app.layout.increment = app.record().map_or(0, |r| r.increment);
     let (Some(l), Some(r)) = (app.loaded.as_ref(), app.record()) else {
         return;
     };
