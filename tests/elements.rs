@@ -285,3 +285,132 @@ fn rigid_body_motion_of_any_size_gives_zero_forces() {
         }
     }
 }
+
+/// Two Timoshenko elements i-c and c-j (lengths xi L and (1 - xi) L) with the rotation at c
+/// condensed out (moment equilibrium there): nodal forces over (i, j, c) translations plus
+/// rotations at i, j, and the condensed tangent, in the contact element's dof order.
+fn two_elements(
+    s: Section,
+    psi: f64,
+    len: f64,
+    xi: f64,
+    x: &[f64; 8],
+) -> (nalgebra::DVector<f64>, DMatrix<f64>) {
+    let e1 = BeamElement {
+        length: xi * len,
+        alpha0: 0.0,
+        section: s,
+        psi,
+    };
+    let e2 = BeamElement {
+        length: (1.0 - xi) * len,
+        alpha0: 0.0,
+        section: s,
+        psi,
+    };
+    let (pi, pj, pc) = ([x[0], x[1]], [x[3], x[4]], [x[6], x[7]]);
+    // Solve Z_c(phi_c) = 0 by Newton, starting from the mean end rotation.
+    let mut phic = 0.5 * (x[2] + x[5]);
+    for _ in 0..50 {
+        let r1 = e1.response(pi, pc, x[2], phic, true);
+        let r2 = e2.response(pc, pj, phic, x[5], true);
+        let z = r1.nodal[5] + r2.nodal[2];
+        let k = r1.tangent.unwrap()[(5, 5)] + r2.tangent.unwrap()[(2, 2)];
+        phic -= z / k;
+        if z.abs() < 1e-15 {
+            break;
+        }
+    }
+    let r1 = e1.response(pi, pc, x[2], phic, true);
+    let r2 = e2.response(pc, pj, phic, x[5], true);
+    // Assemble over (ui, vi, phii, uj, vj, phij, uc, vc, phic).
+    let map1 = [0usize, 1, 2, 6, 7, 8];
+    let map2 = [6usize, 7, 8, 3, 4, 5];
+    let mut f = nalgebra::DVector::<f64>::zeros(9);
+    let mut k = DMatrix::<f64>::zeros(9, 9);
+    for (r, map) in [(&r1, map1), (&r2, map2)] {
+        let kt = r.tangent.unwrap();
+        for a in 0..6 {
+            f[map[a]] += r.nodal[a];
+            for b in 0..6 {
+                k[(map[a], map[b])] += kt[(a, b)];
+            }
+        }
+    }
+    let kpp = k[(8, 8)];
+    let cond = DMatrix::from_fn(8, 8, |a, b| k[(a, b)] - k[(a, 8)] * k[(8, b)] / kpp);
+    (f.rows(0, 8).into_owned(), cond)
+}
+
+#[test]
+fn contact_element_at_fixed_li_equals_two_elements_joined_at_c() {
+    let s = strip();
+    let (len, xi) = (0.1, 0.3);
+    for &psi in &[s.ei / s.gae, 0.0] {
+        let el = BeamElement::new([0.0, 0.0], [len, 0.0], s, psi);
+        let mut diffs = Vec::new();
+        for &amp in &[1e-4, 1e-5] {
+            // A large rigid motion plus a deformation of relative size `amp`: end rotations,
+            // stretch, and c off the chord; c sits at li/l = xi exactly (uniform stretch).
+            let (rot, t) = (2.3, [0.7, -0.4]);
+            let (c, sn) = (f64::cos(rot), f64::sin(rot));
+            let lcur = len * (1.0 + 0.3 * amp);
+            let map = |p: [f64; 2]| [t[0] + c * p[0] - sn * p[1], t[1] + sn * p[0] + c * p[1]];
+            let (pi, pj) = (map([0.0, 0.0]), map([lcur, 0.0]));
+            let pc = map([xi * lcur, 0.8 * amp * len]);
+            let x = [
+                pi[0],
+                pi[1],
+                rot + 2.0 * amp,
+                pj[0],
+                pj[1],
+                rot - 1.5 * amp,
+                pc[0],
+                pc[1],
+            ];
+            let opts = ContactOptions {
+                xi_min: 1e-6,
+                unsymmetric: 0.0,
+            };
+            let cr = contact_response(&el, pi, pj, [x[2], x[5]], &[pc], opts, true);
+            assert!((cr.xi[0] - xi).abs() < 1e-12);
+            let (f2, k2) = two_elements(s, psi, len, xi, &x);
+            let scale = f2.abs().max();
+            diffs.push((&cr.nodal - &f2).abs().max() / scale);
+            // Tangents over i, j and c's motion normal to the chord. Along the chord the contact
+            // node slides freely, so the joined node's tangential dof is condensed out (zero
+            // tangential force), exactly as its rotation was.
+            let (n, tg) = ([-sn, c], [c, sn]);
+            let basis = DMatrix::from_fn(8, 8, |a, b| match (a, b) {
+                (a, b) if a < 6 && a == b => 1.0,
+                (6, 6) => n[0],
+                (7, 6) => n[1],
+                (6, 7) => tg[0],
+                (7, 7) => tg[1],
+                _ => 0.0,
+            });
+            let kc_full = basis.transpose() * cr.tangent.unwrap() * &basis;
+            let kt_full = basis.transpose() * k2 * &basis;
+            let kc = kc_full.view((0, 0), (7, 7)).into_owned();
+            let ktt = kt_full[(7, 7)];
+            let kt = DMatrix::from_fn(7, 7, |a, b| {
+                kt_full[(a, b)] - kt_full[(a, 7)] * kt_full[(7, b)] / ktt
+            });
+            let e = (&kc - &kt).abs().max() / kt.abs().max();
+            // The two models share their linear part exactly; they differ by the segments' own
+            // chord rotations, first order in the deformation (relative).
+            assert!(
+                e < 5.0 * amp,
+                "psi {psi} amp {amp}: tangents differ by {e:e}"
+            );
+        }
+        // The element force equations agree to first order: the difference is second order in
+        // the deformation, i.e. falls 10x with a 10x smaller deformation.
+        assert!(diffs[0] < 1e-3 && diffs[1] < 1e-4, "psi {psi}: {diffs:?}");
+        let ratio = diffs[0] / diffs[1];
+        assert!(
+            (5.0..20.0).contains(&ratio),
+            "psi {psi}: differences {diffs:?}"
+        );
+    }
+}
