@@ -65,13 +65,20 @@ pub fn show(app: &TsmApp, ui: &mut egui::Ui) {
     if !r.reactions.is_empty() {
         ui.separator();
         ui.label(RichText::new("Reactions").strong());
+        // Round-off far below every reaction of the run (like 1e-178 N once stress-free) is 0.
+        let floor = 1e-12
+            * app
+                .history
+                .iter()
+                .flat_map(|r| r.reactions.iter())
+                .fold(0.0f64, |a, x| a.max(x.value.abs()));
         egui::Grid::new("reactions")
             .striped(true)
             .num_columns(2)
             .show(ui, |ui| {
                 for x in &r.reactions {
                     ui.label(format!("node {} {}", x.node, x.dof));
-                    ui.label(num(x.value));
+                    ui.label(num(if x.value.abs() <= floor { 0.0 } else { x.value }));
                     ui.end_row();
                 }
             });

@@ -1,6 +1,6 @@
 //! Frame-time logging for performance checks: with `TSM_FRAME_LOG=1` the app prints, every two
 //! seconds, the frame interval and the time spent building the ui, split by whether the worker
-//! was solving.
+//! was solving, and the number of converged increments held.
 
 use std::time::{Duration, Instant};
 
@@ -37,8 +37,8 @@ impl FrameLog {
         }
     }
 
-    /// Record one frame that took `build` to lay out.
-    pub fn frame(&mut self, build: Duration, busy: bool) {
+    /// Record one frame that took `build` to lay out, with `increments` in the history.
+    pub fn frame(&mut self, build: Duration, busy: bool, increments: usize) {
         let now = Instant::now();
         if let Some(last) = self.last {
             let dt = now - last;
@@ -54,7 +54,7 @@ impl FrameLog {
         if now - self.window >= Duration::from_secs(2) {
             let n = self.frames.max(1);
             eprintln!(
-                "frames {:>4} ({} while solving): interval mean {:.2} ms max {:.2} ms; ui build mean {:.2} ms max {:.2} ms",
+                "frames {:>4} ({} while solving, {increments} increments): interval mean {:.2} ms max {:.2} ms; ui build mean {:.2} ms max {:.2} ms",
                 self.frames,
                 self.busy_frames,
                 self.interval_sum.as_secs_f64() * 1e3 / f64::from(self.intervals.max(1)),

@@ -51,8 +51,8 @@ pub(crate) fn supports(
                     } else {
                         return None;
                     };
-                    let q = s([r.nodes[other][0], r.nodes[other][1]]);
-                    Some((q - at).normalized())
+                    // A clamp does not turn: its side follows the undeformed beam.
+                    Some((s(model.position(other)) - s(model.position(n))).normalized())
                 })
                 .unwrap_or(Vec2::X);
             let across = Vec2::new(-into.y, into.x);
@@ -148,10 +148,16 @@ pub(crate) fn body_names(
         if c.points.len() >= 3 {
             // Beside the middle of the curve, off its local tangent.
             let (before, mid, after) = (s(c.points[k - 1]), s(c.points[k]), s(c.points[k + 1]));
-            let at = mid + (after - before).normalized().rot90() * -15.0;
+            let off = (after - before).normalized().rot90() * -1.0;
+            // Anchor the text at its side nearest the curve, so long names clear steep curves.
+            let side = |v: f32| match v {
+                v if v > 0.4 => egui::Align::Min,
+                v if v < -0.4 => egui::Align::Max,
+                _ => egui::Align::Center,
+            };
             p.text(
-                at,
-                Align2::CENTER_CENTER,
+                mid + off * 10.0,
+                Align2([side(off.x), side(off.y)]),
                 &body.name,
                 FontId::proportional(13.0),
                 Color32::from_gray(90),
@@ -250,10 +256,16 @@ pub(crate) fn legend(p: &egui::Painter, rect: Rect, mmax: f64) {
     p.add(Shape::mesh(mesh));
     let f = FontId::proportional(11.0);
     let y = bar.y + h + 3.0;
+    // Stress-free: `max_moment`'s floor is no scale to print.
+    let end = if mmax > 1e-20 { num(mmax) } else { "0".into() };
     p.text(
         Pos2::new(bar.x, y),
         Align2::LEFT_TOP,
-        num(-mmax),
+        if mmax > 1e-20 {
+            format!("-{end}")
+        } else {
+            end.clone()
+        },
         f.clone(),
         INK,
     );
@@ -264,13 +276,7 @@ pub(crate) fn legend(p: &egui::Painter, rect: Rect, mmax: f64) {
         f.clone(),
         INK,
     );
-    p.text(
-        Pos2::new(bar.x + w, y),
-        Align2::RIGHT_TOP,
-        num(mmax),
-        f,
-        INK,
-    );
+    p.text(Pos2::new(bar.x + w, y), Align2::RIGHT_TOP, end, f, INK);
 }
 
 /// A scale bar of a round length near 100 points.

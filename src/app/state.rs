@@ -345,8 +345,9 @@ impl eframe::App for TsmApp {
                 self.shot = None;
             }
         }
+        let increments = self.last();
         if let Some(log) = &mut self.frame_log {
-            log.frame(t0.elapsed(), self.busy);
+            log.frame(t0.elapsed(), self.busy, increments);
             // Keep drawing so that idle frames are measured too.
             ctx.request_repaint();
         }

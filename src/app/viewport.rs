@@ -196,8 +196,19 @@ fn navigate(app: &mut TsmApp, ui: &egui::Ui, bg: &egui::Response, rect: Rect) {
     }
 }
 
-/// Fit the undeformed shape and every converged state into the viewport.
+/// Height kept clear of the beams at the top of the viewport for the legend (points).
+const LEGEND_ROOM: f32 = 70.0;
+
+/// Fit the undeformed shape and every converged state into the viewport below the legend.
 fn fit(app: &mut TsmApp, rect: Rect) {
     let b = bounds(app.history.iter().flat_map(|r| r.nodes.iter()));
-    app.view.fit(rect, b);
+    let room = if rect.height() > 3.0 * LEGEND_ROOM {
+        LEGEND_ROOM
+    } else {
+        0.0
+    };
+    let below = Rect::from_min_max(rect.min + Vec2::new(0.0, room), rect.max);
+    app.view.fit(below, b);
+    // `fit` centred the bounds in `below`; the view is anchored at the centre of `rect`.
+    app.view.center[1] += f64::from(room / 2.0) / app.view.scale;
 }
