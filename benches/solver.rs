@@ -31,7 +31,11 @@ fn newton(c: &mut Criterion) {
         let mut probe = sc.solver().unwrap();
         let recs = probe.step(&mut Silent).unwrap();
         let (iters, cut) = (recs[0].iterations, recs[0].cutbacks);
-        assert_eq!((recs.len(), cut), (1, 0), "the benchmark increment must not be cut back");
+        assert_eq!(
+            (recs.len(), cut),
+            (1, 0),
+            "the benchmark increment must not be cut back"
+        );
         eprintln!("cantilever {n} elements: {iters} Newton iterations for k = 0.1 (divide the time by {iters} x {n})");
         let fresh = sc.solver().unwrap();
         g.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| {

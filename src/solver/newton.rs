@@ -117,12 +117,7 @@ impl Solver {
                 let released =
                     contacts.release_tensile(self, &asm, increment, iterations, &mut events);
                 if released > 0 {
-                    changes += released;
-                    if changes > p.max_active_set_changes {
-                        return Err(AttemptError::Failed(format!(
-                            "{changes} contact state changes in one increment (chattering)"
-                        )));
-                    }
+                    changes = self.count_changes(changes, released)?;
                     ordering = self.ordering_for(&contacts);
                     continue;
                 }
@@ -208,12 +203,7 @@ impl Solver {
                         springback |= events.iter().any(|e| {
                             matches!(e, Event::Contact(c) if matches!(c.change, ContactChange::Released | ContactChange::SlidOff))
                         });
-                        changes += changed;
-                        if changes > p.max_active_set_changes {
-                            return Err(AttemptError::Failed(format!(
-                                "{changes} contact state changes in one increment (chattering)"
-                            )));
-                        }
+                        changes = self.count_changes(changes, changed)?;
                         ordering = self.ordering_for(&contacts);
                         pass_iter = 0;
                         continue;
@@ -263,16 +253,22 @@ impl Solver {
             pass_iter += 1;
             let moved = contacts.transfer(self, &d, increment, iterations, false, &mut events);
             if moved > 0 {
-                changes += moved;
-                if changes > p.max_active_set_changes {
-                    return Err(AttemptError::Failed(format!(
-                        "{changes} contact state changes in one increment (chattering)"
-                    )));
-                }
+                changes = self.count_changes(changes, moved)?;
                 ordering = self.ordering_for(&contacts);
             }
             last_step = scale * step;
         }
+    }
+
+    /// Add `more` contact state changes to `so_far`; too many in one increment is chattering.
+    fn count_changes(&self, so_far: usize, more: usize) -> Result<usize, AttemptError> {
+        let total = so_far + more;
+        if total > self.params.max_active_set_changes {
+            return Err(AttemptError::Failed(format!(
+                "{total} contact state changes in one increment (chattering)"
+            )));
+        }
+        Ok(total)
     }
 
     fn coordinate_scale(&self, d: &[f64]) -> f64 {
