@@ -199,11 +199,7 @@ fn pin_across(n: usize) -> Vec<IncrementRecord> {
         control: (steps: 50),
     )"#
     );
-    let mut sc = parse(&text, "pin-across").unwrap();
-    // Short elements put the contact close to element ends where K44 ~ G Ae / li lifts the
-    // round-off floor of the residual above 1e-8: accept 10x the floor there (each increment
-    // reports its floor, and is checked against it below).
-    sc.params.roundoff_factor = 10.0;
+    let sc = parse(&text, "pin-across").unwrap();
     let mut solver = sc.solver().unwrap();
     let mut out = Vec::new();
     for _ in 0..50 {
@@ -219,9 +215,11 @@ fn pin_across(n: usize) -> Vec<IncrementRecord> {
         }
         assert!(r.max_penetration < 1e-9, "n {n}, increment {}", r.increment);
         assert!(
-            r.relative_residual <= 1e-8f64.max(10.0 * r.roundoff_floor),
-            "n {n}, increment {}",
-            r.increment
+            r.relative_residual <= 1e-8,
+            "n {n}, increment {}: residual {:e} (floor {:e})",
+            r.increment,
+            r.relative_residual,
+            r.roundoff_floor
         );
     }
     out
@@ -235,25 +233,43 @@ fn pin_reaction_converges_under_refinement_and_slip_off_depth_is_mesh_independen
             .iter()
             .find(|r| (r.prescribed[0] + depth).abs() < 1e-9)
             .expect("increment at depth");
-        r.reactions
-            .iter()
-            .find(|x| x.node == 1000 && x.dof == "v")
-            .unwrap()
-            .value
+        let of = |dof: &str| {
+            r.reactions
+                .iter()
+                .find(|x| x.node == 1000 && x.dof == dof)
+                .unwrap()
+                .value
+        };
+        (of("u"), of("v"))
     };
     for depth in [0.1, 0.2, 0.3, 0.4] {
-        let r: Vec<f64> = runs.iter().map(|recs| reaction(recs, depth)).collect();
-        // Differences from the finest mesh fall with every refinement, and the 40-element value
-        // is within 1e-4 of it. (The ratios are not a clean 4: the contact force is normal to the
-        // element chord, not to the deflected beam at c, and where c falls within its element
-        // changes with the mesh; see the closing note.)
-        let e: Vec<f64> = r[..3].iter().map(|v| (v - r[3]).abs()).collect();
-        assert!(e[0] > e[1] && e[1] > e[2], "depth {depth}: reactions {r:?}");
-        assert!(e[2] < 1e-4 * r[3].abs(), "depth {depth}: reactions {r:?}");
-        assert!(
-            e[0] / e[2] > 8.0,
-            "depth {depth}: reactions {r:?} converge too slowly"
-        );
+        let r: Vec<(f64, f64)> = runs.iter().map(|recs| reaction(recs, depth)).collect();
+        // The magnitude of the pin reaction (= |Yc|) converges as O(h^2): successive differences
+        // fall about 4x per halving (observed 3.1 to 4.2; order >= 1.5 required).
+        let mag: Vec<f64> = r.iter().map(|(u, v)| u.hypot(*v)).collect();
+        for k in 0..2 {
+            let ratio = (mag[k] - mag[k + 1]) / (mag[k + 1] - mag[k + 2]);
+            assert!(
+                (2.8..5.7).contains(&ratio),
+                "depth {depth}: |R| = {mag:?}, ratio {ratio}"
+            );
+        }
+        // Its direction does not: the paper's element applies Yc normal to the element chord,
+        // not to the deflected beam at c, an O(h) error that changes with where c falls in its
+        // element. The components still converge: differences from the finest mesh fall with
+        // every refinement and are below 1e-4 relative at 40 elements.
+        for comp in [0, 1] {
+            let c: Vec<f64> = r
+                .iter()
+                .map(|x| if comp == 0 { x.0 } else { x.1 })
+                .collect();
+            let e: Vec<f64> = c[..3].iter().map(|v| (v - c[3]).abs()).collect();
+            assert!(
+                e[2] < 1e-4 * mag[3],
+                "depth {depth}: component {comp}: {c:?}"
+            );
+            assert!(e[0] > e[2], "depth {depth}: component {comp}: {c:?}");
+        }
     }
     // Slip-off: the last increment in contact is the same for every mesh.
     let last_contact: Vec<f64> = runs
