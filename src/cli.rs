@@ -45,6 +45,10 @@ enum Command {
         /// Print every Newton iteration's residual.
         #[arg(long)]
         verbose: bool,
+        /// Use the contact element's unsymmetric tangent term from this iteration of each pass
+        /// on (1 = always, the default; 0 = never).
+        #[arg(long)]
+        unsymmetric_from: Option<usize>,
     },
     /// List the built-in scenes.
     Scenes,
@@ -89,7 +93,8 @@ pub fn run() -> i32 {
             formulation,
             json,
             verbose,
-        }) => solve(&scene, steps, formulation, json, verbose),
+            unsymmetric_from,
+        }) => solve(&scene, steps, formulation, json, verbose, unsymmetric_from),
         Some(Command::Scenes) => {
             for (f, _) in scene::builtin::BUILTIN {
                 println!("{}", f.trim_end_matches(".ron"));
@@ -187,6 +192,7 @@ fn solve(
     formulation: Option<FormulationArg>,
     json: Option<PathBuf>,
     verbose: bool,
+    unsymmetric_from: Option<usize>,
 ) -> i32 {
     let mut scene = match load_scene(name) {
         Ok(s) => s,
@@ -200,6 +206,9 @@ fn solve(
             FormulationArg::Timoshenko => Formulation::Timoshenko,
             FormulationArg::BernoulliEuler => Formulation::BernoulliEuler,
         };
+    }
+    if let Some(k) = unsymmetric_from {
+        scene.params.unsymmetric_from = if k == 0 { usize::MAX } else { k };
     }
     let steps = steps.unwrap_or(scene.steps);
     let mut solver = match scene.solver() {
