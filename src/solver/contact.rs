@@ -241,12 +241,44 @@ impl ContactSet {
                     // `after_convergence`, so the side now is the side to keep.
                     self.sides.insert((n, b), (p.gap.signum(), p.beam));
                 }
+                // Touching: the node lies on the body, so its own position says nothing. A
+                // node of a beam touches from the side its own beam lies on: take the side of
+                // its neighbouring nodes (a pin has none and must start with a gap).
+                Some(p) if !self.sides.contains_key(&(n, b)) => {
+                    if let Some(side) = self.neighbour_side(solver, d, n, b) {
+                        self.sides.insert((n, b), (side, p.beam));
+                    }
+                }
                 Some(_) => {}
                 None => {
                     self.sides.remove(&(n, b));
                 }
             }
         }
+    }
+
+    /// The side of body `b` on which the beam neighbours of node `n` lie, if they agree and are
+    /// clear of it.
+    fn neighbour_side(&self, solver: &Solver, d: &[f64], n: usize, b: usize) -> Option<f64> {
+        let m = &solver.model;
+        let mut side = None;
+        for beam in m
+            .beams
+            .iter()
+            .filter(|e| (e.i == n || e.j == n) && e.body != b)
+        {
+            let other = if beam.i == n { beam.j } else { beam.i };
+            let p = self.probe(solver, d, other, b)?;
+            if p.gap.abs() <= 1e-12 * p.length {
+                return None;
+            }
+            match side {
+                None => side = Some(p.gap.signum()),
+                Some(s) if s != p.gap.signum() => return None,
+                Some(_) => {}
+            }
+        }
+        side
     }
 
     fn event(
