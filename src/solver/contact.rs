@@ -113,6 +113,16 @@ impl ContactSet {
         })
     }
 
+    /// li/l of node `n` on the current chord of beam `e`.
+    fn chord_fraction(solver: &Solver, d: &[f64], n: usize, e: usize) -> f64 {
+        let m = &solver.model;
+        let (xi, _) = current(m, &solver.dofs, d, m.beams[e].i);
+        let (xj, _) = current(m, &solver.dofs, d, m.beams[e].j);
+        let p = current(m, &solver.dofs, d, n).0;
+        let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
+        ((p[0] - xi[0]) * dx + (p[1] - xi[1]) * dy) / (dx * dx + dy * dy)
+    }
+
     /// Whether elements `e` and `f` of body `b` are the same or neighbours. A node crossing a body
     /// within one increment does so near one element; a side measured against a distant element
     /// of a curled beam says nothing about a crossing.
@@ -400,13 +410,14 @@ impl ContactSet {
                             body: u.body,
                             side: u.side,
                         };
+                        let xi_there = Self::chord_fraction(solver, d, a.node, u.beam);
                         events.push(Self::event(
                             solver,
                             &h,
                             ContactChange::Activated,
                             increment,
                             iteration,
-                            xi_now,
+                            xi_there,
                             0.0,
                         ));
                         self.sides.insert((a.node, u.body), (u.side, u.beam));
@@ -421,13 +432,14 @@ impl ContactSet {
                 continue;
             }
             if moved {
+                let xi_there = Self::chord_fraction(solver, d, a.node, a.beam);
                 events.push(Self::event(
                     solver,
                     &a,
                     ContactChange::Transferred,
                     increment,
                     iteration,
-                    xi_now,
+                    xi_there,
                     0.0,
                 ));
                 self.active[k] = a;
