@@ -69,6 +69,11 @@ fn run_example_3_2(steps: usize) -> Vec<IncrementRecord> {
     let mut out = Vec::new();
     for _ in 0..steps {
         let recs = solver.step(&mut Silent).expect("converges");
+        // Every active contact node lies on its beam's deformed shape.
+        let gaps = solver
+            .contacts()
+            .active_gaps(&solver, solver.displacements());
+        assert!(gaps.iter().all(|g| g.abs() < 1e-9), "gaps {gaps:?}");
         for r in &recs {
             // Every converged increment: contacts compressive, nobody through a beam.
             for c in &r.contacts {

@@ -165,9 +165,6 @@ pub struct Assembled {
     pub coupling: Vec<f64>,
     /// Element results.
     pub elements: ElementResults,
-    /// Sum over elements of |J S| per dof: the scale of the element contributions, used for the
-    /// round-off floor of the residual.
-    pub force_scale: Vec<f64>,
 }
 
 /// Everything an assembly needs besides the state.
@@ -227,7 +224,6 @@ pub fn assemble(
     let dofs = ctx.dofs;
     let ord = ctx.ordering;
     let mut internal = vec![0.0; dofs.len()];
-    let mut force_scale = vec![0.0; dofs.len()];
     let mut coupling = vec![0.0; ord.n_eq];
     let mut tangent = with_tangent.then(|| BandMatrix::zeros(ord.n_eq, ord.band, ord.band));
     let mut results = ElementResults {
@@ -254,7 +250,7 @@ pub fn assemble(
         if on_this.is_empty() {
             let r = ctx.elements[e].response(xi, xj, phi_i, phi_j, with_tangent);
             results.beam_forces[e] = r.forces;
-            scatter(&gdofs, r.nodal.as_slice(), &mut internal, &mut force_scale);
+            scatter(&gdofs, r.nodal.as_slice(), &mut internal);
             if let Some(k) = r.tangent {
                 add_matrix(
                     &gdofs,
@@ -288,7 +284,7 @@ pub fn assemble(
             for (m, &k) in on_this.iter().enumerate() {
                 results.contact_forces[k] = (r.forces[3 + m], r.xi[m]);
             }
-            scatter(&gdofs, r.nodal.as_slice(), &mut internal, &mut force_scale);
+            scatter(&gdofs, r.nodal.as_slice(), &mut internal);
             if let Some(k) = r.tangent.as_ref() {
                 add_matrix(
                     &gdofs,
@@ -306,14 +302,12 @@ pub fn assemble(
         tangent,
         coupling,
         elements: results,
-        force_scale,
     }
 }
 
-fn scatter(gdofs: &[usize], f: &[f64], internal: &mut [f64], scale: &mut [f64]) {
+fn scatter(gdofs: &[usize], f: &[f64], internal: &mut [f64]) {
     for (a, &g) in gdofs.iter().enumerate() {
         internal[g] += f[a];
-        scale[g] += f[a].abs();
     }
 }
 

@@ -65,11 +65,6 @@ struct Shape {
 }
 
 impl ContactSet {
-    /// The remembered side of node `node` relative to body `body` (+1 along the chord normal).
-    pub fn side(&self, node: usize, body: usize) -> Option<f64> {
-        self.sides.get(&(node, body)).map(|s| s.0)
-    }
-
     /// Whether node `n` passed through a chord of body `b` between the last converged state and
     /// `d`, with every position interpolated linearly in between (continuous collision test):
     /// the signed area cross(xj - xi, xc - xi) is quadratic in the interpolation parameter; a

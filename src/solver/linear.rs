@@ -35,21 +35,6 @@ impl BandMatrix {
         }
     }
 
-    /// Order of the matrix.
-    pub fn order(&self) -> usize {
-        self.n
-    }
-
-    /// Half-bandwidths (kl, ku).
-    pub fn bandwidths(&self) -> (usize, usize) {
-        (self.kl, self.ku)
-    }
-
-    /// Reset every entry to zero, keeping the shape.
-    pub fn clear(&mut self) {
-        self.ab.iter_mut().for_each(|v| *v = 0.0);
-    }
-
     #[inline]
     fn idx(&self, i: usize, j: usize) -> usize {
         j * self.ld + self.kl + self.ku + i - j
