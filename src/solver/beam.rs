@@ -43,7 +43,7 @@ impl Chord {
     /// rotation for unwrapping (the mean end rotation).
     pub fn new(xi: [f64; 2], xj: [f64; 2], alpha0: f64, reference: f64) -> Chord {
         let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
-        let l = dx.hypot(dy);
+        let l = (dx * dx + dy * dy).sqrt();
         let (c, s) = (dx / l, dy / l);
         let beta = unwrap_angle(dy.atan2(dx) - alpha0, reference);
         Chord {

@@ -31,6 +31,7 @@ pub struct Solver {
     pub(crate) load_factor: f64,
     pub(crate) contacts: ContactSet,
     pub(crate) force_floor: f64,
+    ordering_cache: std::cell::RefCell<Option<Ordering>>,
     increment: usize,
 }
 
@@ -57,6 +58,7 @@ impl Solver {
             load_factor: 0.0,
             contacts: ContactSet::default(),
             force_floor: params.force_floor * max_ea.max(f64::MIN_POSITIVE),
+            ordering_cache: std::cell::RefCell::new(None),
             increment: 0,
             elements,
             dofs,
@@ -121,8 +123,19 @@ impl Solver {
         }
     }
 
+    /// The equation ordering for a contact topology; the last one built is kept, since the
+    /// topology rarely changes between iterations and increments.
     pub(crate) fn ordering_for(&self, contacts: &ContactSet) -> Ordering {
-        Ordering::new(&self.model, &self.dofs, &contacts.links())
+        let links = contacts.links();
+        let mut cache = self.ordering_cache.borrow_mut();
+        match cache.as_ref() {
+            Some(o) if o.links == links => o.clone(),
+            _ => {
+                let o = Ordering::new(&self.model, &self.dofs, &links);
+                *cache = Some(o.clone());
+                o
+            }
+        }
     }
 
     /// "node N u" for a global dof.

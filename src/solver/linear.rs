@@ -95,17 +95,19 @@ impl BandMatrix {
                 }
             }
             let d = self.ab[self.idx(j, j)];
-            for t in 1..=km {
-                let k = self.idx(j + t, j);
-                self.ab[k] /= d;
-            }
+            let ld = self.ld;
+            // Column j below the diagonal (the multipliers) and each later column's rows
+            // j+1..=j+km are contiguous in the band storage: the update is an axpy on slices.
+            let (head, tail) = self.ab.split_at_mut((j + 1) * ld);
+            let lstart = j * ld + kl + ku + 1;
+            let lcol = &mut head[lstart..lstart + km];
+            lcol.iter_mut().for_each(|v| *v /= d);
             for c in (j + 1)..=ju {
-                let a = self.ab[self.idx(j, c)];
+                let base = (c - j - 1) * ld + kl + ku + j - c;
+                let a = tail[base];
                 if a != 0.0 {
-                    for t in 1..=km {
-                        let l = self.ab[self.idx(j + t, j)];
-                        let k = self.idx(j + t, c);
-                        self.ab[k] -= l * a;
+                    for (x, l) in tail[base + 1..base + 1 + km].iter_mut().zip(lcol.iter()) {
+                        *x -= l * a;
                     }
                 }
             }
