@@ -52,6 +52,16 @@ enum Command {
     },
     /// List the built-in scenes.
     Scenes,
+    /// Work-precision report: error against wall time for reference problems, formulations,
+    /// meshes and tolerances; writes work-precision.csv and .svg into --out and prints a table.
+    Bench {
+        /// Fewer meshes, one tolerance, one repeat.
+        #[arg(long)]
+        quick: bool,
+        /// Output folder.
+        #[arg(long, default_value = "docs")]
+        out: PathBuf,
+    },
     /// Open the visualiser on a scene (default: the built-in default scene).
     #[cfg(feature = "gui")]
     View {
@@ -95,6 +105,7 @@ pub fn run() -> i32 {
             verbose,
             unsymmetric_from,
         }) => solve(&scene, steps, formulation, json, verbose, unsymmetric_from),
+        Some(Command::Bench { quick, out }) => bench(quick, &out),
         Some(Command::Scenes) => {
             for (f, _) in scene::builtin::BUILTIN {
                 println!("{}", f.trim_end_matches(".ron"));
@@ -262,4 +273,27 @@ fn solve(
         }
     }
     code
+}
+
+fn bench(quick: bool, out: &Path) -> i32 {
+    use tsm_contact::work_precision as wp;
+    let points = wp::measure(quick);
+    let write = |name: &str, text: String| {
+        let path = out.join(name);
+        tsm_contact::history::write_atomic(&path, text.as_bytes())
+            .map_err(|e| format!("{}: {e}", path.display()))
+    };
+    if let Err(e) = write("work-precision.csv", wp::csv(&points))
+        .and_then(|_| write("work-precision.svg", wp::svg(&points)))
+    {
+        eprintln!("error: cannot write {e}");
+        return 2;
+    }
+    println!("{}", wp::table(&points));
+    println!(
+        "wrote {0}/work-precision.csv and {0}/work-precision.svg ({1} points)",
+        out.display(),
+        points.len()
+    );
+    0
 }

@@ -7,4 +7,5 @@ pub mod app;
 pub mod history;
 pub mod scene;
 pub mod solver;
+pub mod work_precision;
 pub mod worker;

@@ -7,14 +7,13 @@ use std::time::Instant;
 use super::assembly::{assemble, current, AssemblyContext, DofKind, DofMap, Ordering};
 use super::beam::BeamElement;
 use super::contact::ContactSet;
-use super::linear::BandMatrix;
 use super::model::Model;
 use super::newton::{AttemptError, Converged};
 use super::params::SolverParams;
 use super::report::{Event, Flow, IncrementRecord, Observer, Reaction, SolveError};
 
-/// Up to this many equations the mechanism check names every dof of the null space (dense
-/// symmetric eigen-decomposition); above, it names the first vanishing pivot of the band LU.
+/// Up to this many equations a singular structure gets every dof of its null space named (dense
+/// symmetric eigen-decomposition); above, the first vanishing pivot of the band LU.
 const DENSE_MECHANISM_CHECK: usize = 200;
 
 /// The TSM solver for one model: converged state plus everything needed to advance it.
@@ -86,31 +85,32 @@ impl Solver {
         let asm = assemble(&ctx, &self.d, true, None);
         let k = asm.tangent.expect("tangent");
         let scale = k.max_diagonal().max(f64::MIN_POSITIVE);
-        if ord.n_eq <= DENSE_MECHANISM_CHECK {
-            let dense = nalgebra::DMatrix::from_fn(ord.n_eq, ord.n_eq, |i, j| k.get(i, j));
-            let eig = nalgebra::SymmetricEigen::new(&dense + dense.transpose());
-            let mut out = Vec::new();
-            for (m, lam) in eig.eigenvalues.iter().enumerate() {
-                if lam.abs() < 1e-13 * scale {
-                    let v = eig.eigenvectors.column(m);
-                    for (e, c) in v.iter().enumerate() {
-                        if c.abs() > 1e-3 {
-                            let label = self.equation_label(&ord, e);
-                            if !out.contains(&label) {
-                                out.push(label);
-                            }
-                        }
+        // The band LU decides (O(n)); only a singular structure pays for the dense
+        // eigen-decomposition that names every dof of the null space.
+        let first = match k.clone().factor(1e-14 * scale) {
+            Ok(()) => return Vec::new(),
+            Err(sp) => self.equation_label(&ord, sp.equation),
+        };
+        if ord.n_eq > DENSE_MECHANISM_CHECK {
+            return vec![first];
+        }
+        let dense = nalgebra::DMatrix::from_fn(ord.n_eq, ord.n_eq, |i, j| k.get(i, j));
+        let eig = nalgebra::SymmetricEigen::new(&dense + dense.transpose());
+        let mut out = Vec::new();
+        for (m, lam) in eig.eigenvalues.iter().enumerate() {
+            if lam.abs() < 1e-13 * scale {
+                for (e, c) in eig.eigenvectors.column(m).iter().enumerate() {
+                    let label = self.equation_label(&ord, e);
+                    if c.abs() > 1e-3 && !out.contains(&label) {
+                        out.push(label);
                     }
                 }
             }
-            out
-        } else {
-            let mut f: BandMatrix = k;
-            match f.factor(1e-14 * scale) {
-                Ok(()) => Vec::new(),
-                Err(sp) => vec![self.equation_label(&ord, sp.equation)],
-            }
         }
+        if out.is_empty() {
+            out.push(first);
+        }
+        out
     }
 
     pub(crate) fn context<'a>(&'a self, ord: &'a Ordering) -> AssemblyContext<'a> {

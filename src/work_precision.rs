@@ -1,0 +1,301 @@
+//! The work-precision report: for reference problems with known answers, each element
+//! formulation, mesh and Newton tolerance, the error against the reference and the wall time
+//! (median of repeats). Written as CSV, an SVG log-log plot (error against time) and a
+//! Markdown table by `tsm-contact bench`.
+
+use std::fmt::Write as _;
+use std::time::Instant;
+
+use crate::scene::{builtin::BUILTIN, parse, Scene};
+use crate::solver::{Formulation, IncrementRecord, Silent};
+
+/// One measured point.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Point {
+    /// Problem name.
+    pub problem: String,
+    /// Element formulation.
+    pub formulation: Formulation,
+    /// Elements in the mesh.
+    pub elements: usize,
+    /// Newton tolerance (relative residual).
+    pub tolerance: f64,
+    /// Converged increments.
+    pub increments: usize,
+    /// Newton iterations in all.
+    pub iterations: usize,
+    /// Error against the reference (problem-specific, dimensionless).
+    pub error: f64,
+    /// Median wall time of one whole run (s).
+    pub seconds: f64,
+}
+
+/// Mattiasson's table (k, u/L, w/L) for the loads the report uses.
+const MATTIASSON: [(f64, f64, f64); 3] = [
+    (1.0, 0.056433236, 0.301720774),
+    (5.0, 0.387628361, 0.713791524),
+    (10.0, 0.554995598, 0.810609025),
+];
+
+fn builtin_text(file: &str) -> &'static str {
+    BUILTIN
+        .iter()
+        .find(|(f, _)| *f == file)
+        .map(|(_, t)| *t)
+        .expect("built-in scene")
+}
+
+fn cantilever(
+    file: &str,
+    n: usize,
+    formulation: Formulation,
+    tol: f64,
+    load: Option<f64>,
+) -> Scene {
+    let default_n = if file == "mattiasson.ron" { 32 } else { 16 };
+    let text = builtin_text(file)
+        .replace(&format!("elements: {default_n}"), &format!("elements: {n}"))
+        .replace(
+            &format!("(node: {},", default_n + 1),
+            &format!("(node: {},", n + 1),
+        );
+    let mut sc = parse(&text, file).expect("valid variant");
+    sc.model.formulation = formulation;
+    sc.params.tolerance = tol;
+    // Fine meshes of an axially stiff beam hit the round-off floor eps EA/l |x| / P; accept
+    // convergence to 10x that floor (each increment reports it).
+    sc.params.roundoff_factor = 10.0;
+    if let Some(k) = load {
+        sc.model.load_per_step = k / sc.steps as f64;
+    }
+    sc
+}
+
+fn run(sc: &Scene) -> Option<Vec<IncrementRecord>> {
+    let mut solver = sc.solver().ok()?;
+    let mut out = Vec::new();
+    for _ in 0..sc.steps {
+        out.extend(solver.step(&mut Silent).ok()?);
+    }
+    Some(out)
+}
+
+/// Time `f` `repeats` times; return the median (s) and the last result.
+fn timed<T>(repeats: usize, mut f: impl FnMut() -> T) -> (f64, T) {
+    let mut times = Vec::with_capacity(repeats);
+    let mut last = None;
+    for _ in 0..repeats.max(1) {
+        let t = Instant::now();
+        last = Some(f());
+        times.push(t.elapsed().as_secs_f64());
+    }
+    times.sort_by(f64::total_cmp);
+    (times[times.len() / 2], last.expect("ran once"))
+}
+
+/// Mattiasson cantilever at load k: error max(|u/L - ref|, |w/L - ref|) at the tip.
+pub fn mattiasson(
+    k_index: usize,
+    n: usize,
+    f: Formulation,
+    tol: f64,
+    repeats: usize,
+) -> Option<Point> {
+    let (k, u_ref, w_ref) = MATTIASSON[k_index];
+    let sc = cantilever("mattiasson.ron", n, f, tol, Some(k));
+    let (seconds, recs) = timed(repeats, || run(&sc));
+    let recs = recs?;
+    let tip = recs.last()?.nodes[n];
+    let error = ((1.0 - tip[0]) - u_ref).abs().max((-tip[1] - w_ref).abs());
+    Some(point(
+        format!("Mattiasson k={k}"),
+        f,
+        n,
+        tol,
+        &recs,
+        error,
+        seconds,
+    ))
+}
+
+/// End moment pi EI/L (half the roll-up): tip at (0, 2L/pi) exactly; error is the distance.
+pub fn end_moment(n: usize, f: Formulation, tol: f64, repeats: usize) -> Option<Point> {
+    let mut sc = cantilever("end_moment.ron", n, f, tol, None);
+    sc.steps /= 2;
+    let (seconds, recs) = timed(repeats, || run(&sc));
+    let recs = recs?;
+    let tip = recs.last()?.nodes[n];
+    let error = tip[0].hypot(tip[1] - 2.0 / std::f64::consts::PI);
+    Some(point(
+        "End moment pi".into(),
+        f,
+        n,
+        tol,
+        &recs,
+        error,
+        seconds,
+    ))
+}
+
+fn point(
+    problem: String,
+    f: Formulation,
+    n: usize,
+    tol: f64,
+    recs: &[IncrementRecord],
+    error: f64,
+    seconds: f64,
+) -> Point {
+    Point {
+        problem,
+        formulation: f,
+        elements: n,
+        tolerance: tol,
+        increments: recs.len(),
+        iterations: recs.iter().map(|r| r.iterations).sum(),
+        error,
+        seconds,
+    }
+}
+
+/// Every point of the report. `quick` uses fewer meshes and repeats.
+pub fn measure(quick: bool) -> Vec<Point> {
+    let meshes: &[usize] = if quick {
+        &[4, 8, 16, 32]
+    } else {
+        &[4, 8, 16, 32, 64, 128, 256, 512, 1024]
+    };
+    let tols: &[f64] = if quick { &[1e-8] } else { &[1e-6, 1e-8, 1e-10] };
+    let repeats = if quick { 1 } else { 5 };
+    let mut out = Vec::new();
+    for f in [Formulation::BernoulliEuler, Formulation::Timoshenko] {
+        for &tol in tols {
+            for &n in meshes {
+                for k in 0..MATTIASSON.len() {
+                    out.extend(mattiasson(k, n, f, tol, repeats));
+                }
+                out.extend(end_moment(n, f, tol, repeats));
+            }
+        }
+    }
+    out
+}
+
+/// CSV text of the points.
+pub fn csv(points: &[Point]) -> String {
+    let mut s = String::from(
+        "problem,formulation,elements,tolerance,increments,iterations,error,seconds\n",
+    );
+    for p in points {
+        let _ = writeln!(
+            s,
+            "{},{:?},{},{:e},{},{},{:e},{:e}",
+            p.problem,
+            p.formulation,
+            p.elements,
+            p.tolerance,
+            p.increments,
+            p.iterations,
+            p.error,
+            p.seconds
+        );
+    }
+    s
+}
+
+/// Markdown table: error and time per mesh at tolerance 1e-8.
+pub fn table(points: &[Point]) -> String {
+    let mut s = String::from("| problem | formulation | elements | iterations | error | time (ms) |\n|---|---|---|---|---|---|\n");
+    for p in points.iter().filter(|p| p.tolerance == 1e-8) {
+        let _ = writeln!(
+            s,
+            "| {} | {:?} | {} | {} | {:.2e} | {:.3} |",
+            p.problem,
+            p.formulation,
+            p.elements,
+            p.iterations,
+            p.error,
+            p.seconds * 1e3
+        );
+    }
+    s
+}
+
+/// SVG log-log plot of error against time at tolerance 1e-8, one polyline per problem and
+/// formulation (points along a line are the meshes).
+pub fn svg(points: &[Point]) -> String {
+    let pts: Vec<&Point> = points
+        .iter()
+        .filter(|p| p.tolerance == 1e-8 && p.error > 0.0)
+        .collect();
+    let (w, h, m) = (900.0, 600.0, 70.0);
+    let lx = |t: f64| t.max(1e-7).log10();
+    let ly = |e: f64| e.max(1e-16).log10();
+    let (x0, x1) = (
+        pts.iter()
+            .map(|p| lx(p.seconds))
+            .fold(f64::MAX, f64::min)
+            .floor(),
+        pts.iter()
+            .map(|p| lx(p.seconds))
+            .fold(f64::MIN, f64::max)
+            .ceil(),
+    );
+    let (y0, y1) = (
+        pts.iter()
+            .map(|p| ly(p.error))
+            .fold(f64::MAX, f64::min)
+            .floor(),
+        pts.iter()
+            .map(|p| ly(p.error))
+            .fold(f64::MIN, f64::max)
+            .ceil(),
+    );
+    let sx = |t: f64| m + (lx(t) - x0) / (x1 - x0).max(1.0) * (w - 2.0 * m);
+    let sy = |e: f64| h - m - (ly(e) - y0) / (y1 - y0).max(1.0) * (h - 2.0 * m);
+    let mut s = format!("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n");
+    for d in (x0 as i32)..=(x1 as i32) {
+        let x = m + (d as f64 - x0) / (x1 - x0).max(1.0) * (w - 2.0 * m);
+        let _ = writeln!(s, "<line x1=\"{x}\" y1=\"{m}\" x2=\"{x}\" y2=\"{}\" stroke=\"#ddd\"/><text x=\"{x}\" y=\"{}\" text-anchor=\"middle\">1e{d} s</text>", h - m, h - m + 18.0);
+    }
+    for d in (y0 as i32)..=(y1 as i32) {
+        let y = h - m - (d as f64 - y0) / (y1 - y0).max(1.0) * (h - 2.0 * m);
+        let _ = writeln!(s, "<line x1=\"{m}\" y1=\"{y}\" x2=\"{}\" y2=\"{y}\" stroke=\"#ddd\"/><text x=\"{}\" y=\"{}\" text-anchor=\"end\">1e{d}</text>", w - m, m - 6.0, y + 4.0);
+    }
+    let _ = writeln!(s, "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">wall time of the run (median)</text><text x=\"16\" y=\"{}\" transform=\"rotate(-90 16 {})\" text-anchor=\"middle\">error against the reference</text>", w / 2.0, h - 20.0, h / 2.0, h / 2.0);
+    let colours = [
+        "#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#17becf", "#7f7f7f",
+    ];
+    let mut keys: Vec<(String, Formulation)> = Vec::new();
+    for p in &pts {
+        if !keys.contains(&(p.problem.clone(), p.formulation)) {
+            keys.push((p.problem.clone(), p.formulation));
+        }
+    }
+    for (k, (prob, f)) in keys.iter().enumerate() {
+        let c = colours[k % colours.len()];
+        let dash = if *f == Formulation::Timoshenko {
+            " stroke-dasharray=\"6 3\""
+        } else {
+            ""
+        };
+        let line: Vec<String> = pts
+            .iter()
+            .filter(|p| &p.problem == prob && p.formulation == *f)
+            .map(|p| format!("{:.1},{:.1}", sx(p.seconds), sy(p.error)))
+            .collect();
+        let _ = writeln!(
+            s,
+            "<polyline points=\"{}\" fill=\"none\" stroke=\"{c}\" stroke-width=\"2\"{dash}/>",
+            line.join(" ")
+        );
+        let _ = writeln!(
+            s,
+            "<text x=\"{}\" y=\"{}\" fill=\"{c}\">{prob} ({f:?})</text>",
+            w - m - 230.0,
+            m + 16.0 * (k as f64 + 1.0)
+        );
+    }
+    s.push_str("</svg>\n");
+    s
+}
