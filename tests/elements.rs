@@ -2,6 +2,8 @@
 //! corrected), symmetry, condensation to the 2-node element, the Psi -> 0 limit, exact tangents
 //! against central finite differences, and rigid-body invariance of any size.
 
+mod common;
+use common::Rng;
 use nalgebra::DMatrix;
 use tsm_contact::solver::beam::BeamElement;
 use tsm_contact::solver::contact_element::{bending_stiffness, contact_response, ContactOptions};
@@ -143,17 +145,6 @@ fn fd_jacobian(x: &[f64], h: f64, f: impl Fn(&[f64]) -> Vec<f64>) -> DMatrix<f64
         }
     }
     jac
-}
-
-/// A small deterministic pseudo-random sequence (xorshift), so failures are reproducible.
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-    }
 }
 
 #[test]

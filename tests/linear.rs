@@ -1,17 +1,9 @@
 //! The banded LU (with row pivoting) against a dense LU, and reverse Cuthill-McKee against the
 //! bandwidth a chain must have.
 
+mod common;
+use common::Rng;
 use tsm_contact::solver::linear::{dense_solve, reverse_cuthill_mckee, BandMatrix};
-
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-    }
-}
 
 #[test]
 fn band_lu_agrees_with_dense_lu_even_when_pivoting() {
