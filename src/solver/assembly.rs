@@ -88,6 +88,8 @@ pub struct Ordering {
     pub band: usize,
     /// The contact topology this ordering was built for.
     pub links: Vec<ContactLink>,
+    /// For every beam, the indices into `links` of the contacts resting on it.
+    pub on_beam: Vec<Vec<usize>>,
 }
 
 impl Ordering {
@@ -121,11 +123,16 @@ impl Ordering {
                 }
             }
         }
+        let mut on_beam = vec![Vec::new(); model.beams.len()];
+        for (k, l) in links.iter().enumerate() {
+            on_beam[l.beam].push(k);
+        }
         let mut ord = Ordering {
             eq,
             n_eq,
             band: 0,
             links: links.to_vec(),
+            on_beam,
         };
         let mut band = 0;
         for (e, b) in model.beams.iter().enumerate() {
@@ -240,33 +247,19 @@ pub fn assemble(
         gdofs.clear();
         gdofs.extend((0..3).map(|o| dofs.dof(beam.i, o)));
         gdofs.extend((0..3).map(|o| dofs.dof(beam.j, o)));
-        let on_this: Vec<usize> = ord
-            .links
-            .iter()
-            .enumerate()
-            .filter(|(_, l)| l.beam == e)
-            .map(|(k, _)| k)
-            .collect();
+        let on_this = &ord.on_beam[e];
         if on_this.is_empty() {
             let r = ctx.elements[e].response(xi, xj, phi_i, phi_j, with_tangent);
             results.beam_forces[e] = r.forces;
-            scatter(&gdofs, r.nodal.as_slice(), &mut internal);
-            if let Some(k) = r.tangent {
-                add_matrix(
-                    &gdofs,
-                    |a, b| k[(a, b)],
-                    ord,
-                    tangent.as_mut(),
-                    dp,
-                    &mut coupling,
-                );
-            }
+            let k = r.tangent.map(|k| move |a: usize, b: usize| k[(a, b)]);
+            let sink = (&mut internal, tangent.as_mut(), &mut coupling);
+            add_element(&gdofs, r.nodal.as_slice(), k, ord, dp, sink);
         } else {
             let xc: Vec<[f64; 2]> = on_this
                 .iter()
                 .map(|&k| relative(model, dofs, d, ord.links[k].node, beam.i).0)
                 .collect();
-            for &k in &on_this {
+            for &k in on_this {
                 let c = ord.links[k].node;
                 gdofs.push(dofs.dof(c, 0));
                 gdofs.push(dofs.dof(c, 1));
@@ -284,17 +277,12 @@ pub fn assemble(
             for (m, &k) in on_this.iter().enumerate() {
                 results.contact_forces[k] = (r.forces[3 + m], r.xi[m]);
             }
-            scatter(&gdofs, r.nodal.as_slice(), &mut internal);
-            if let Some(k) = r.tangent.as_ref() {
-                add_matrix(
-                    &gdofs,
-                    |a, b| k[(a, b)],
-                    ord,
-                    tangent.as_mut(),
-                    dp,
-                    &mut coupling,
-                );
-            }
+            let k = r
+                .tangent
+                .as_ref()
+                .map(|k| move |a: usize, b: usize| k[(a, b)]);
+            let sink = (&mut internal, tangent.as_mut(), &mut coupling);
+            add_element(&gdofs, r.nodal.as_slice(), k, ord, dp, sink);
         }
     }
     Assembled {
@@ -305,9 +293,27 @@ pub fn assemble(
     }
 }
 
-fn scatter(gdofs: &[usize], f: &[f64], internal: &mut [f64]) {
+/// Where element contributions go: internal forces, the band tangent, K_fp dp.
+type Sink<'a> = (
+    &'a mut Vec<f64>,
+    Option<&'a mut BandMatrix>,
+    &'a mut Vec<f64>,
+);
+
+/// Add one element's nodal forces and (if given) its tangent over the global dofs `gdofs`.
+fn add_element(
+    gdofs: &[usize],
+    nodal: &[f64],
+    k: Option<impl Fn(usize, usize) -> f64>,
+    ord: &Ordering,
+    dp: Option<&[f64]>,
+    (internal, band, coupling): Sink,
+) {
     for (a, &g) in gdofs.iter().enumerate() {
-        internal[g] += f[a];
+        internal[g] += nodal[a];
+    }
+    if let Some(k) = k {
+        add_matrix(gdofs, k, ord, band, dp, coupling);
     }
 }
 
