@@ -7,5 +7,6 @@ pub mod app;
 pub mod history;
 pub mod scene;
 pub mod solver;
+pub mod stress;
 pub mod work_precision;
 pub mod worker;

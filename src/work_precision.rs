@@ -31,7 +31,8 @@ pub struct Point {
 }
 
 /// Mattiasson's table (k, u/L, w/L) for the loads the report uses.
-const MATTIASSON: [(f64, f64, f64); 3] = [
+/// Mattiasson (1981) tip displacements (k, u/L, w/L) for k = 1, 5, 10.
+pub const MATTIASSON: [(f64, f64, f64); 3] = [
     (1.0, 0.056433236, 0.301720774),
     (5.0, 0.387628361, 0.713791524),
     (10.0, 0.554995598, 0.810609025),

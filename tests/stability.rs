@@ -1,10 +1,14 @@
-//! Hard cases: Williams' toggle driven through its limit point under apex displacement control.
-//! The limit load of the shipped scene (10 elements per member, 0.03 in steps) must lie within
-//! 1% of a converged reference computed here (40 elements per member, 0.003 in steps), each peak
-//! located by a parabola through the first local maximum and its neighbours.
+//! Hard cases (the stability suite of `tsm_contact::stress`), each checked against an
+//! independent reference: Williams' toggle and Lee's frame limit loads against converged
+//! references (and arc length against displacement control), contact near element ends,
+//! a pin slid over a 50-element beam (one transfer per element boundary), a beam pressed flat
+//! and released (path independence, stress-free when unloaded), slender and stubby members
+//! against the elastica and the exact linear Timoshenko cantilever, short elements next to long
+//! ones, and a cantilever rolled up more than twice (exact circle).
 
 use tsm_contact::scene::{builtin::BUILTIN, parse};
-use tsm_contact::solver::Silent;
+use tsm_contact::solver::{Formulation, Silent};
+use tsm_contact::stress;
 
 fn apex_reactions(elements: usize, step: f64, steps: usize) -> Vec<(f64, f64)> {
     let text = BUILTIN
@@ -86,64 +90,223 @@ fn toggle_limit_load_within_one_percent_of_a_converged_reference() {
     );
 }
 
-/// A pin over a cantilever at li/l = `xi` of element 5 (nodes 6-7), pushed down 0.01 m per
-/// step for 10 steps. Returns the furthest li/l reached on that element and whether it ran.
-fn pushed_near_element_end(xi: f64, formulation: &str) -> Result<Vec<f64>, String> {
-    let text = format!(
-        r#"(
-        name: "pin near an element end", formulation: {formulation},
-        sections: [(name: "strip", E: 2.0e7, A: 3.0e-4, I: 2.2e-8, G: 7.142e6)],
-        nodes: [(id: 100, x: {x}, y: 0.001, rotation: false)],
-        bodies: [(name: "beam", section: "strip", path: [(0.0, 0.0), (1.0, 0.0)], elements: 10, first_node: 1)],
-        supports: [(node: 1, u: true, v: true, phi: true), (node: 100, u: true)],
-        prescribed: [(node: 100, dof: V, per_step: -0.01)],
-        contacts: [(nodes: [100], bodies: ["beam"])],
-        control: (steps: 10),
-    )"#,
-        x = 0.5 + 0.1 * xi
+const BOTH: [Formulation; 2] = [Formulation::Timoshenko, Formulation::BernoulliEuler];
+
+#[test]
+fn toggle_limit_load_by_arc_length_matches_displacement_control() {
+    // The same toggle, loaded at the apex and traced by arc length: the same equilibrium path,
+    // so the same limit load as under displacement control (to the parabola fits' accuracy).
+    let text = BUILTIN
+        .iter()
+        .find(|(f, _)| *f == "williams_toggle.ron")
+        .unwrap()
+        .1
+        .replace(
+            "prescribed: [(node: 11, dof: V, per_step: -0.03)]",
+            "loads: [(node: 11, fy: -1.0)]",
+        )
+        .replace(
+            "control: (steps: 40)",
+            "control: (steps: 60, arc_length: 0.004)",
+        );
+    let run = stress::run("toggle, arc length", &text, &stress::Path::Steps(60));
+    assert!(run.row.converged, "{:?}", run.row.error);
+    let curve: Vec<(f64, f64)> = run
+        .records
+        .iter()
+        .map(|r| (r.increment as f64, r.load_factor))
+        .collect();
+    let arc = stress::first_peak(&curve).expect("a limit point");
+    let disp = peak(&apex_reactions(10, 0.003, 400));
+    assert!(
+        ((arc - disp) / disp).abs() < 1e-3,
+        "arc-length limit {arc} vs displacement control {disp}"
     );
-    let sc = parse(&text, "near-end").unwrap();
-    let mut solver = sc.solver().unwrap();
-    let mut xis = Vec::new();
-    for _ in 0..10 {
-        let recs = solver.step(&mut Silent).map_err(|e| e.to_string())?;
-        for r in &recs {
-            assert!(r.relative_residual <= 1e-8);
-            xis.extend(r.contacts.iter().map(|c| c.element as f64 + c.xi));
-        }
+}
+
+#[test]
+fn lee_frame_limit_load_within_one_percent_and_both_limit_points_passed() {
+    for f in BOTH {
+        let coarse = stress::lee_frame(10, 0.5, 60, f);
+        let fine = stress::lee_frame(40, 0.25, 120, f);
+        let finer = stress::lee_frame(80, 0.125, 240, f);
+        let value = |r: &stress::Run| r.row.measure.as_ref().expect("a limit point").1;
+        let (pc, p40, p80) = (value(&coarse), value(&fine), value(&finer));
+        // Converged reference: Richardson extrapolation of the O(h^2) mesh error.
+        let reference = p80 + (p80 - p40) / 3.0;
+        assert!(
+            ((pc - reference) / reference).abs() < 0.01,
+            "{f:?}: limit load {pc} vs converged {reference}"
+        );
+        assert!(((p80 - reference) / reference).abs() < 1e-3);
+        // The path goes on through the load minimum (negative load) and up again.
+        let long = stress::lee_frame(10, 0.5, 160, f);
+        assert!(long.row.converged, "{:?}", long.row.error);
+        let lambdas: Vec<f64> = long.records.iter().map(|r| r.load_factor).collect();
+        let (kmin, min) = lambdas
+            .iter()
+            .enumerate()
+            .fold((0, f64::MAX), |a, (k, &l)| if l < a.1 { (k, l) } else { a });
+        assert!(min < -0.5, "{f:?}: load minimum {min}");
+        assert!(
+            lambdas[lambdas.len() - 1] > min + 0.5,
+            "{f:?}: no rise after the minimum"
+        );
+        assert!(kmin > 50 && kmin < lambdas.len() - 5, "minimum at {kmin}");
+        eprintln!("Lee's frame {f:?}: limit {pc:.5} (10 el.), {p40:.5} (40), {p80:.5} (80), extrapolated {reference:.5}; minimum {min:.4}");
     }
-    Ok(xis)
 }
 
 #[test]
 fn timoshenko_contact_converges_near_element_ends_and_bernoulli_euler_fails_cleanly() {
     for xi in [0.9, 0.97, 0.99, 0.999, 0.9999] {
-        let t = pushed_near_element_end(xi, "Timoshenko")
-            .unwrap_or_else(|e| panic!("Timoshenko at li/l = {xi}: {e}"));
-        // The contact starts on element 5 near its end and ends up on 5 or, transferred, on 6.
+        let t = stress::pin_near_end(xi, Formulation::Timoshenko);
         assert!(
-            t.len() >= 10 && t.iter().all(|p| (5.0..7.0).contains(p)),
-            "li/l = {xi}: {t:?}"
+            t.row.converged,
+            "Timoshenko at li/l = {xi}: {:?}",
+            t.row.error
         );
-        eprintln!(
-            "li/l {xi}: Timoshenko {} increments, element + li/l from {:.5} to {:.5}",
-            t.len(),
-            t[0],
-            t[t.len() - 1]
+        // Every increment to the tolerance itself, not to a round-off floor.
+        assert!(
+            t.row.max_residual <= 1e-8,
+            "li/l = {xi}: {}",
+            t.row.max_residual
         );
-        // Bernoulli-Euler: converged or a typed error, never a panic.
-        match pushed_near_element_end(xi, "BernoulliEuler") {
-            Ok(b) => {
-                assert!(b.len() >= 10);
-                eprintln!(
-                    "li/l {xi}: Bernoulli-Euler converged, {} increments",
-                    b.len()
-                );
-            }
-            Err(e) => {
-                assert!(e.contains("no convergence"), "{e}");
-                eprintln!("li/l {xi}: Bernoulli-Euler failed cleanly: {e}");
-            }
+        // The contact starts on element 5 near its end and ends on 5 or, transferred, on 6.
+        assert!(t.records.iter().all(|r| r.contacts.len() <= 1
+            && r.contacts.iter().all(|c| c.element == 5 || c.element == 6)));
+        if xi >= 0.97 {
+            assert!(t.row.transfers >= 1, "li/l = {xi}: no transfer");
         }
+        let b = stress::pin_near_end(xi, Formulation::BernoulliEuler);
+        match &b.row.error {
+            None => assert!(b.row.increments >= 10),
+            Some(e) => assert!(e.contains("no convergence"), "{e}"),
+        }
+        eprintln!(
+            "li/l {xi}: Timoshenko {} increments, {} transfers; Bernoulli-Euler {}",
+            t.row.increments,
+            t.row.transfers,
+            b.row.error.as_deref().unwrap_or("converged")
+        );
+    }
+}
+
+#[test]
+fn pin_slides_over_every_element_off_the_tip_and_back_on() {
+    for f in BOTH {
+        let r = stress::slide_across(50, f);
+        assert!(r.row.converged, "{f:?}: {:?}", r.row.error);
+        // From element 0 to 49: one transfer per inner element boundary (49), plus none back.
+        assert!(
+            r.row.transfers >= 49,
+            "{f:?}: {} transfers",
+            r.row.transfers
+        );
+        assert!(
+            r.row.releases >= 1 && r.row.activations >= 2,
+            "{f:?}: {:?}",
+            r.row
+        );
+        let last = r.records.last().unwrap();
+        assert_eq!(
+            last.contacts.len(),
+            1,
+            "{f:?}: pressed on again at mid-span"
+        );
+        assert!((last.contacts[0].element as f64 + last.contacts[0].xi) / 50.0 > 0.4);
+        assert!(r.records.iter().all(|x| x.max_penetration < 1e-6));
+    }
+}
+
+#[test]
+fn beam_pressed_flat_releases_completely_and_recontacts_along_the_same_path() {
+    for f in BOTH {
+        let r = stress::pressed_flat(f, 10);
+        assert!(r.row.converged, "{f:?}: {:?}", r.row.error);
+        assert!(
+            r.row.max_contacts >= 10,
+            "{f:?}: {} contacts",
+            r.row.max_contacts
+        );
+        // Unloaded: no contact left, stress-free.
+        let peak_force = r
+            .records
+            .iter()
+            .flat_map(|x| x.element_forces.iter().flatten())
+            .fold(0.0f64, |a, v| a.max(v.abs()));
+        let unloaded = r
+            .records
+            .iter()
+            .find(|x| x.load_factor == 0.0)
+            .expect("the unloaded state");
+        assert!(unloaded.contacts.is_empty());
+        let rest = unloaded
+            .element_forces
+            .iter()
+            .flatten()
+            .fold(0.0f64, |a, v| a.max(v.abs()));
+        assert!(rest < 1e-9 * peak_force, "{f:?}: {rest} vs {peak_force}");
+        // Elastic and frictionless: loaded again, the same state as the first time.
+        let first = r.records.iter().find(|x| x.load_factor == 0.5).unwrap();
+        let again = r.records.last().unwrap();
+        assert_eq!(again.load_factor, 0.5);
+        let diff = first
+            .nodes
+            .iter()
+            .zip(&again.nodes)
+            .map(|(a, b)| (a[0] - b[0]).hypot(a[1] - b[1]))
+            .fold(0.0f64, f64::max);
+        assert!(diff < 1e-9, "{f:?}: states differ by {diff} m");
+        assert_eq!(first.contacts.len(), again.contacts.len());
+    }
+}
+
+#[test]
+fn slender_and_stubby_members_match_their_references() {
+    for f in BOTH {
+        for s in [1e3, 1e4] {
+            let r = stress::slender(s, f);
+            let (_, w, w_ref) = r.row.measure.clone().expect("converged");
+            // 32 elements: the discretisation error of the Mattiasson scene (about 1e-4).
+            assert!(
+                (w - w_ref).abs() < 2e-4,
+                "{f:?} L/h {s}: w/L {w} vs {w_ref}"
+            );
+        }
+        for s in [1.0, 2.0, 5.0] {
+            let r = stress::stubby(s, f);
+            let (_, w, exact) = r.row.measure.clone().expect("converged");
+            assert!(
+                ((w - exact) / exact).abs() < 1e-9,
+                "{f:?} L/h {s}: {w} vs {exact}"
+            );
+        }
+        for ratio in [1e1, 1e2, 1e3] {
+            let r = stress::short_next_to_long(ratio, f);
+            let (_, w, w_ref) = r.row.measure.clone().expect("converged");
+            assert!(
+                (w - w_ref).abs() < 3e-3,
+                "{f:?} ratio {ratio}: w/L {w} vs {w_ref}"
+            );
+        }
+    }
+}
+
+#[test]
+fn cantilever_rolls_up_more_than_twice_onto_the_exact_circle() {
+    for f in BOTH {
+        // Two full turns: the tip is back at the clamp exactly (any mesh).
+        let two = stress::roll_up(2.0, 32, 20, f);
+        let tip = two.records.last().expect("converged").nodes[32];
+        assert!(tip[0].hypot(tip[1]) < 1e-10, "{f:?}: tip at {tip:?}");
+        assert!((tip[2] - 2.0 * std::f64::consts::TAU).abs() < 1e-9);
+        // 2.25 turns: the error against the exact circle falls as O(h^2).
+        let e32 = stress::roll_up(2.25, 32, 20, f).row.measure.unwrap().1;
+        let e64 = stress::roll_up(2.25, 64, 20, f).row.measure.unwrap().1;
+        assert!(
+            e32 < 1e-3 && (3.5..4.5).contains(&(e32 / e64)),
+            "{f:?}: {e32} {e64}"
+        );
     }
 }

@@ -24,6 +24,10 @@ pub const BUILTIN: &[(&str, &str)] = &[
         "williams_toggle.ron",
         include_str!("../../assets/scenes/williams_toggle.ron"),
     ),
+    (
+        "lee_frame.ron",
+        include_str!("../../assets/scenes/lee_frame.ron"),
+    ),
 ];
 
 /// Parse a built-in scene by file name (with or without `.ron`).

@@ -176,6 +176,9 @@ pub struct ControlDef {
     pub tolerance: Option<f64>,
     /// Largest displacement correction per Newton iteration (m), if any.
     pub max_step: Option<f64>,
+    /// Arc-length control (load-driven scenes): length of one increment along the equilibrium
+    /// path as the root-mean-square change of the free dofs (m, rad). Each step is one arc; the load factor is solved for.
+    pub arc_length: Option<f64>,
 }
 
 impl Default for ControlDef {
@@ -185,6 +188,7 @@ impl Default for ControlDef {
             load_per_step: None,
             tolerance: None,
             max_step: None,
+            arc_length: None,
         }
     }
 }

@@ -417,6 +417,29 @@ fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
         positive(&ctx, "control.max_step".into(), Some("max_step".into()), s)?;
         params.max_step = s;
     }
+    if let Some(s) = c.arc_length {
+        positive(
+            &ctx,
+            "control.arc_length".into(),
+            Some("arc_length".into()),
+            s,
+        )?;
+        if loads.is_empty() {
+            return Err(ctx.err(
+                "control.arc_length",
+                Some("arc_length".into()),
+                "arc-length control needs at least one load (the load factor is what it solves for)",
+            ));
+        }
+        if let Some(k) = prescribed.iter().position(|p| p.per_step != 0.0) {
+            return Err(ctx.err(
+                format!("prescribed[{k}].per_step"),
+                Some("per_step".into()),
+                "with control.arc_length, prescribed displacements are held: per_step must be 0",
+            ));
+        }
+        params.arc_length = Some(s);
+    }
     let steps = c.steps.max(1);
     let load_per_step = match c.load_per_step {
         Some(v) if v.is_finite() => v,

@@ -512,9 +512,21 @@ impl ContactSet {
     ) -> usize {
         let forces = &asm.elements.contact_forces;
         let before = self.active.len();
+        // Contacts on one element are coupled (one contact element carries them all): releasing
+        // them together can cycle (A tensile with B, B tensile with A). Per element, only the
+        // most tensile is released; the others are judged again after the next converged pass.
+        let mut worst: HashMap<usize, f64> = HashMap::new();
+        for (a, &(yc, _)) in self.active.iter().zip(forces) {
+            let t = a.side * yc;
+            if t > 0.0 {
+                let w = worst.entry(a.beam).or_insert(0.0);
+                *w = w.max(t);
+            }
+        }
         let mut keep = Vec::with_capacity(before);
         for (a, &(yc, xi)) in self.active.iter().zip(forces) {
-            if -a.side * yc < 0.0 {
+            let t = a.side * yc;
+            if t > 0.0 && worst.get(&a.beam) == Some(&t) {
                 events.push(Self::event(
                     solver,
                     a,

@@ -4,6 +4,7 @@
 
 use std::time::Instant;
 
+use super::arc_length::ArcState;
 use super::assembly::{assemble, current, AssemblyContext, DofKind, DofMap, Ordering};
 use super::beam::BeamElement;
 use super::contact::ContactSet;
@@ -15,6 +16,9 @@ use super::report::{Event, Flow, IncrementRecord, Observer, Reaction, SolveError
 /// Up to this many equations a singular structure gets every dof of its null space named (dense
 /// symmetric eigen-decomposition); above, the first vanishing pivot of the band LU.
 const DENSE_MECHANISM_CHECK: usize = 200;
+
+/// A sub-increment that converged in at most this many iterations lets the next one double.
+const GROW_ITERATIONS: usize = 6;
 
 /// The TSM solver for one model: converged state plus everything needed to advance it.
 #[derive(Clone, Debug)]
@@ -32,6 +36,7 @@ pub struct Solver {
     pub(crate) force_floor: f64,
     ordering_cache: std::cell::RefCell<Option<Ordering>>,
     increment: usize,
+    pub(crate) arc: ArcState,
 }
 
 impl Solver {
@@ -59,6 +64,7 @@ impl Solver {
             force_floor: params.force_floor * max_ea.max(f64::MIN_POSITIVE),
             ordering_cache: std::cell::RefCell::new(None),
             increment: 0,
+            arc: ArcState::default(),
             elements,
             dofs,
             params,
@@ -207,8 +213,12 @@ impl Solver {
         &self.dofs
     }
 
-    /// Advance by one scene step (prescribed values += per_step, load factor += load_per_step).
+    /// Advance by one scene step (prescribed values += per_step, load factor += load_per_step),
+    /// or by one arc length if `params.arc_length` is set.
     pub fn step(&mut self, obs: &mut dyn Observer) -> Result<Vec<IncrementRecord>, SolveError> {
+        if self.params.arc_length.is_some() {
+            return self.arc_length_step(obs);
+        }
         let targets: Vec<f64> = self
             .model
             .prescribed
@@ -256,6 +266,12 @@ impl Solver {
             let number = self.increment + 1;
             match self.attempt(&tp, tl, number, obs) {
                 Ok(conv) => {
+                    // After a cut-back the sub-increment grows again (doubles) once Newton has
+                    // it easy, so one hard moment does not leave the rest of the step in
+                    // tiny pieces.
+                    if conv.iterations <= GROW_ITERATIONS && h < 1.0 {
+                        h *= 2.0;
+                    }
                     let rec = self.commit(conv, tp, tl, cutbacks, clock.elapsed().as_secs_f64());
                     clock = Instant::now();
                     done = next;
@@ -270,14 +286,15 @@ impl Solver {
                 }
                 Err(AttemptError::Stopped) => return Err(SolveError::Stopped),
                 Err(AttemptError::Failed(reason)) => {
-                    cutbacks += 1;
-                    if cutbacks > self.params.max_cutbacks {
+                    // Halved at most `max_cutbacks` times below the full step.
+                    if h <= 0.5f64.powi(self.params.max_cutbacks as i32) {
                         return Err(SolveError::NoConvergence {
                             increment: number,
-                            cutbacks: cutbacks - 1,
+                            cutbacks,
                             reason,
                         });
                     }
+                    cutbacks += 1;
                     h *= 0.5;
                     obs.event(&Event::CutBack {
                         increment: number,
@@ -290,7 +307,7 @@ impl Solver {
         Ok(out)
     }
 
-    fn commit(
+    pub(crate) fn commit(
         &mut self,
         c: Converged,
         tp: Vec<f64>,

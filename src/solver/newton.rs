@@ -11,6 +11,13 @@ use super::report::{ContactChange, Event, Flow, IterationRecord, Observer};
 /// A residual within this factor of the round-off floor counts as stagnated.
 const STAGNATION: f64 = 10.0;
 
+/// Iterations without halving the best residual, below the round-off floor estimate, after
+/// which an attempt counts as converged to round-off.
+pub(crate) const STALL_ITERATIONS: usize = 3;
+
+/// ... and once the displacement correction has shrunk below this fraction of the coordinates.
+pub(crate) const STALL_STEP: f64 = 1e-10;
+
 /// The converged outcome of one attempt, before it is committed.
 pub struct Converged {
     /// Displacements.
@@ -58,7 +65,12 @@ impl Solver {
     }
 
     /// Reference force and residual norm for a given assembly.
-    fn residual(&self, asm: &Assembled, fext: &[f64], ord: &Ordering) -> (Vec<f64>, f64, f64) {
+    pub(crate) fn residual(
+        &self,
+        asm: &Assembled,
+        fext: &[f64],
+        ord: &Ordering,
+    ) -> (Vec<f64>, f64, f64) {
         let mut r = vec![0.0; ord.n_eq];
         let (mut ext2, mut reac2) = (0.0, 0.0);
         for (g, kind) in self.dofs.kind.iter().enumerate() {
@@ -103,6 +115,8 @@ impl Solver {
         let mut pass_iter = 0;
         let mut last_step = 0.0;
         let mut springback = false;
+        let mut best = f64::INFINITY;
+        let mut stalled = 0;
         loop {
             let ctx = AssemblyContext {
                 model: &self.model,
@@ -160,7 +174,20 @@ impl Solver {
                 if it8.is_none() && r0.is_some_and(|r0| norm <= 1e-8 * r0) {
                     it8 = Some(iterations);
                 }
-                let accepted = rel <= p.tolerance.max(p.roundoff_factor * floor);
+                // Round-off: once the residual is below the floor estimate and has stopped
+                // falling (no halving of the best value for `STALL_ITERATIONS` iterations) while
+                // the corrections have vanished, Newton cannot get closer: the state is accepted
+                // and its residual reported.
+                if rel < 0.5 * best {
+                    stalled = 0;
+                } else {
+                    stalled += 1;
+                }
+                best = best.min(rel);
+                let at_floor = stalled >= STALL_ITERATIONS
+                    && rel <= floor
+                    && last_step <= STALL_STEP * self.coordinate_scale(&d);
+                let accepted = rel <= p.tolerance.max(p.roundoff_factor * floor) || at_floor;
                 // At the round-off floor the state is as converged as it can be: let the contact
                 // state settle there too (e.g. a node that must slide off a tip), even if the
                 // tolerance itself is out of reach for this contact set.
@@ -206,6 +233,8 @@ impl Solver {
                         changes = self.count_changes(changes, changed)?;
                         ordering = self.ordering_for(&contacts);
                         pass_iter = 0;
+                        best = f64::INFINITY;
+                        stalled = 0;
                         continue;
                     }
                 }
@@ -261,7 +290,7 @@ impl Solver {
     }
 
     /// Add `more` contact state changes to `so_far`; too many in one increment is chattering.
-    fn count_changes(&self, so_far: usize, more: usize) -> Result<usize, AttemptError> {
+    pub(crate) fn count_changes(&self, so_far: usize, more: usize) -> Result<usize, AttemptError> {
         let total = so_far + more;
         if total > self.params.max_active_set_changes {
             return Err(AttemptError::Failed(format!(
@@ -271,7 +300,7 @@ impl Solver {
         Ok(total)
     }
 
-    fn coordinate_scale(&self, d: &[f64]) -> f64 {
+    pub(crate) fn coordinate_scale(&self, d: &[f64]) -> f64 {
         let mut s: f64 = 0.0;
         for n in 0..self.model.nodes.len() {
             let p = self.model.position(n);

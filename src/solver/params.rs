@@ -41,6 +41,10 @@ pub struct SolverParams {
     /// A node found this far through a body (in element lengths) at the end of an increment
     /// makes the increment be cut back instead of activating the contact from so deep.
     pub max_penetration: f64,
+    /// Arc-length control: the length of one increment along the equilibrium path, measured as
+    /// the root-mean-square change of the free dofs (m, rad). `None`: load and prescribed displacements advance in equal
+    /// steps (Newton with cut-backs). Only for load-driven scenes.
+    pub arc_length: Option<f64>,
 }
 
 impl Default for SolverParams {
@@ -59,6 +63,7 @@ impl Default for SolverParams {
             free_end_margin: 1e-3,
             roundoff_factor: 0.0,
             max_penetration: 0.25,
+            arc_length: None,
         }
     }
 }

@@ -193,4 +193,10 @@ pub enum SolveError {
     /// The observer asked the run to stop.
     #[error("stopped by the caller")]
     Stopped,
+    /// The request does not fit the model (e.g. arc-length control without loads).
+    #[error("invalid request: {reason}")]
+    Invalid {
+        /// What is wrong.
+        reason: String,
+    },
 }
