@@ -10,7 +10,7 @@ use std::time::Instant;
 
 use super::assembly::{assemble, AssemblyContext, DofKind};
 use super::control::Solver;
-use super::newton::{AttemptError, Converged, STALL_ITERATIONS, STALL_STEP};
+use super::newton::{AttemptError, Converged, STAGNATION, STALL_ITERATIONS, STALL_STEP};
 use super::report::{Event, Flow, IncrementRecord, IterationRecord, Observer, SolveError};
 
 /// Where the arc-length control stands between increments.
@@ -168,7 +168,7 @@ impl Solver {
                 }
                 best = best.min(rel);
                 let at_floor = stalled >= STALL_ITERATIONS
-                    && rel <= floor
+                    && rel <= STAGNATION * floor
                     && last_step <= STALL_STEP * self.coordinate_scale(&d);
                 if rel <= p.tolerance.max(p.roundoff_factor * floor) || at_floor {
                     let changed = contacts.after_convergence(

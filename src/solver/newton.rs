@@ -9,7 +9,7 @@ use super::control::Solver;
 use super::report::{ContactChange, Event, Flow, IterationRecord, Observer};
 
 /// A residual within this factor of the round-off floor counts as stagnated.
-const STAGNATION: f64 = 10.0;
+pub(crate) const STAGNATION: f64 = 10.0;
 
 /// Iterations without halving the best residual, below the round-off floor estimate, after
 /// which an attempt counts as converged to round-off.
@@ -185,7 +185,7 @@ impl Solver {
                 }
                 best = best.min(rel);
                 let at_floor = stalled >= STALL_ITERATIONS
-                    && rel <= floor
+                    && rel <= STAGNATION * floor
                     && last_step <= STALL_STEP * self.coordinate_scale(&d);
                 let accepted = rel <= p.tolerance.max(p.roundoff_factor * floor) || at_floor;
                 // At the round-off floor the state is as converged as it can be: let the contact
