@@ -338,3 +338,82 @@ fn a_node_starting_on_a_beam_takes_the_side_of_its_own_beam() {
         "pressure {f0} vs {f1}"
     );
 }
+
+/// The comb (50 teeth of 20 elements, 50 pins, every pin a candidate on every tooth): 50 contacts
+/// carry load at once, every increment converges, every pin slides off its tooth and reaches the
+/// next one. The broad phase must not change anything: a 10-tooth comb solved with and without
+/// it gives the same contacts and positions (to round-off).
+#[test]
+fn comb_brushes_fifty_teeth_and_broad_phase_changes_nothing() {
+    use tsm_contact::scene::builtin::builtin;
+    let sc = builtin("comb").unwrap().unwrap();
+    let mut solver = sc.solver().unwrap();
+    let mut most = 0;
+    let mut slid_off = 0;
+    for _ in 0..sc.steps {
+        for r in solver.step(&mut Silent).expect("comb step") {
+            assert!(r.relative_residual <= 1e-8);
+            most = most.max(r.contacts.iter().filter(|c| c.pressure > 0.0).count());
+            slid_off += r
+                .events
+                .iter()
+                .filter(|e| matches!(e, Event::Contact(c) if c.change == ContactChange::SlidOff))
+                .count();
+        }
+    }
+    assert_eq!(most, 50);
+    assert_eq!(slid_off, 50);
+    // At the end, 49 pins press on the next tooth (the last pin has none).
+    assert_eq!(solver.contacts().active.len(), 49);
+
+    let text = tsm_contact::scene::builtin::BUILTIN
+        .iter()
+        .find(|(f, _)| *f == "comb.ron")
+        .unwrap()
+        .1;
+    // Ten teeth: drop teeth 11-50 and their pins from every list.
+    let keep = |line: &str| {
+        let big = (11..=50).any(|k| {
+            line.contains(&format!("\"tooth {k}\", section"))
+                || line.contains(&format!("(node: {}, u: true", 1 + 21 * (k - 1)))
+                || line.contains(&format!("id: {}", 5000 + k))
+                || line.contains(&format!("(node: {}, dof: U", 5000 + k))
+        });
+        !big
+    };
+    let mut small: String = text
+        .lines()
+        .filter(|l| keep(l))
+        .collect::<Vec<_>>()
+        .join("\n");
+    let pins: Vec<String> = (1..=10).map(|k| (5000 + k).to_string()).collect();
+    let teeth: Vec<String> = (1..=10).map(|k| format!("\"tooth {k}\"")).collect();
+    let start = small.find("contacts: [").unwrap();
+    let end = start + small[start..].find("\n").unwrap();
+    small.replace_range(
+        start..end,
+        &format!(
+            "contacts: [(nodes: [{}], bodies: [{}])],",
+            pins.join(", "),
+            teeth.join(", ")
+        ),
+    );
+    let run = |broad: bool| {
+        let sc = tsm_contact::scene::parse(&small, "comb10").unwrap();
+        let mut s = sc.solver().unwrap();
+        s.params.broad_phase = broad;
+        let mut out = Vec::new();
+        for _ in 0..sc.steps {
+            out.extend(s.step(&mut Silent).unwrap());
+        }
+        out
+    };
+    let (with, without) = (run(true), run(false));
+    assert_eq!(with.len(), without.len());
+    for (a, b) in with.iter().zip(&without) {
+        assert_eq!(a.contacts.len(), b.contacts.len());
+        for (p, q) in a.nodes.iter().zip(&b.nodes) {
+            assert!((p[0] - q[0]).abs() < 1e-12 && (p[1] - q[1]).abs() < 1e-12);
+        }
+    }
+}

@@ -28,6 +28,7 @@ pub const BUILTIN: &[(&str, &str)] = &[
         "lee_frame.ron",
         include_str!("../../assets/scenes/lee_frame.ron"),
     ),
+    ("comb.ron", include_str!("../../assets/scenes/comb.ron")),
 ];
 
 /// Parse a built-in scene by file name (with or without `.ron`).

@@ -8,6 +8,11 @@ use std::collections::HashMap;
 use super::assembly::{current, Assembled, ContactLink};
 use super::contact_element::{contact_response, deflection};
 use super::control::Solver;
+use super::model::Model;
+
+/// Beyond this many element lengths from an element's chord, a node's gap is its distance
+/// from the chord (the deflected shape lies well within it).
+const FAR: f64 = 2.0;
 use super::report::{ContactChange, ContactEvent, ContactState, Event};
 
 /// A node found through a body by less than this (in element lengths) is taken as a crossing
@@ -147,25 +152,35 @@ impl ContactSet {
         self.active.iter().any(|a| a.node == node && a.body == body)
     }
 
-    /// Candidate (node, body) pairs of the model.
-    pub fn candidates(solver: &Solver) -> Vec<(usize, usize)> {
-        let m = &solver.model;
+    /// Candidate (node, body) pairs of the model (a node never touches its own body), in the
+    /// order the scene lists them, each once.
+    pub fn candidates_of(m: &Model) -> Vec<(usize, usize)> {
         let mut out = Vec::new();
+        let mut seen = std::collections::HashSet::new();
+        let mut own = vec![usize::MAX; m.nodes.len()];
         for pair in &m.contacts {
             for &b in &pair.bodies {
-                let own: Vec<usize> = m.bodies[b]
-                    .elements
-                    .iter()
-                    .flat_map(|&e| [m.beams[e].i, m.beams[e].j])
-                    .collect();
+                for &e in &m.bodies[b].elements {
+                    own[m.beams[e].i] = b;
+                    own[m.beams[e].j] = b;
+                }
                 for &n in &pair.nodes {
-                    if !own.contains(&n) && !out.contains(&(n, b)) {
+                    let on_body = m.bodies[b]
+                        .elements
+                        .iter()
+                        .any(|&e| m.beams[e].i == n || m.beams[e].j == n);
+                    if own[n] != b && !on_body && seen.insert((n, b)) {
                         out.push((n, b));
                     }
                 }
             }
         }
         out
+    }
+
+    /// Candidate (node, body) pairs of the solver's model (computed once).
+    pub fn candidates(solver: &Solver) -> &[(usize, usize)] {
+        &solver.candidates
     }
 
     fn shape(&self, solver: &Solver, d: &[f64], e: usize) -> Shape {
@@ -215,9 +230,14 @@ impl ContactSet {
                 continue;
             }
             let off = (-a[0] * dy + a[1] * dx) / l;
-            let sh = self.shape(solver, d, e);
-            let w = deflection(&solver.elements[e], &sh.bending, &sh.xis, t);
-            let gap = off - w;
+            // Far from the chord (more than two element lengths) the deflected shape cannot
+            // change the side: skip the element's shape (the costly part of a probe).
+            let gap = if off.abs() > FAR * l {
+                off
+            } else {
+                let sh = self.shape(solver, d, e);
+                off - deflection(&solver.elements[e], &sh.bending, &sh.xis, t)
+            };
             if best.is_none_or(|bp| gap.abs() < bp.gap.abs()) {
                 best = Some(Probe {
                     beam: e,
@@ -235,9 +255,16 @@ impl ContactSet {
     /// states only: a beam that curls can bring a node to the other side of an element's
     /// extension without the node ever crossing the element.
     pub fn remember_sides(&mut self, solver: &Solver, d: &[f64]) {
-        for (n, b) in Self::candidates(solver) {
+        let boxes = BodyBoxes::new(solver, &[d]);
+        for &(n, b) in Self::candidates(solver) {
             if let Some(a) = self.active.iter().find(|a| a.node == n && a.body == b) {
                 self.sides.insert((n, b), (a.side, a.beam));
+                continue;
+            }
+            // Broad phase: far from the body, the side is worked out when the node comes near
+            // (`side_of`, from this converged state).
+            if !boxes.near(solver, &[d], n, b) {
+                self.sides.remove(&(n, b));
                 continue;
             }
             match self.probe(solver, d, n, b) {
@@ -260,6 +287,17 @@ impl ContactSet {
                 }
             }
         }
+    }
+
+    /// The side of body `b` node `n` was on at the last converged state, and the element it
+    /// projected onto: remembered if the node was near the body, else worked out now from that
+    /// state (far away, the node's side is plain geometry).
+    fn side_of(&self, solver: &Solver, n: usize, b: usize) -> Option<(f64, usize)> {
+        if let Some(&s) = self.sides.get(&(n, b)) {
+            return Some(s);
+        }
+        let p = self.probe(solver, &solver.d, n, b)?;
+        (p.gap.abs() > 1e-12 * p.length).then(|| (p.gap.signum(), p.beam))
     }
 
     /// The side of body `b` on which the beam neighbours of node `n` lie, if they agree and are
@@ -461,11 +499,13 @@ impl ContactSet {
             return changes;
         }
         changes += self.release_tensile(solver, asm, increment, iteration, events);
-        for (n, b) in Self::candidates(solver) {
-            if self.is_active(n, b) {
+        let states = [solver.d.as_slice(), d];
+        let boxes = BodyBoxes::new(solver, &states);
+        for &(n, b) in Self::candidates(solver) {
+            if self.is_active(n, b) || !boxes.near(solver, &states, n, b) {
                 continue;
             }
-            let Some(&(side, was)) = self.sides.get(&(n, b)) else {
+            let Some((side, was)) = self.side_of(solver, n, b) else {
                 continue;
             };
             if let Some(p) = self.probe(solver, d, n, b) {
@@ -566,12 +606,14 @@ impl ContactSet {
     /// converged state (the sides are those of that state).
     pub fn max_penetration(&self, solver: &Solver, d: &[f64]) -> f64 {
         let mut worst: f64 = 0.0;
-        for (n, b) in Self::candidates(solver) {
-            if self.is_active(n, b) {
+        let states = [solver.d.as_slice(), d];
+        let boxes = BodyBoxes::new(solver, &states);
+        for &(n, b) in Self::candidates(solver) {
+            if self.is_active(n, b) || !boxes.near(solver, &states, n, b) {
                 continue;
             }
-            if let (Some(&(side, was)), Some(p)) =
-                (self.sides.get(&(n, b)), self.probe(solver, d, n, b))
+            if let (Some((side, was)), Some(p)) =
+                (self.side_of(solver, n, b), self.probe(solver, d, n, b))
             {
                 let crossed = Self::adjacent(solver, b, was, p.beam)
                     && (-p.gap * side < SHAPE_MARGIN * p.length
@@ -599,5 +641,60 @@ impl ContactSet {
                 (off - deflection(&solver.elements[a.beam], &sh.bending, &sh.xis, t)) / sh.l
             })
             .collect()
+    }
+}
+
+/// Broad phase: each body's bounding box over one or more states, grown by `FAR + 1` of its
+/// longest element. A node whose own box over the same states misses it cannot touch the body,
+/// and its distance from every element exceeds `FAR` element lengths.
+struct BodyBoxes(Vec<[f64; 4]>);
+
+impl BodyBoxes {
+    fn new(solver: &Solver, states: &[&[f64]]) -> BodyBoxes {
+        let m = &solver.model;
+        let boxes = m
+            .bodies
+            .iter()
+            .map(|body| {
+                let mut bx = [f64::MAX, f64::MAX, f64::MIN, f64::MIN];
+                let mut longest: f64 = 0.0;
+                for &e in &body.elements {
+                    longest = longest.max(m.beam_length(e));
+                    for n in [m.beams[e].i, m.beams[e].j] {
+                        for d in states {
+                            let p = current(m, &solver.dofs, d, n).0;
+                            bx = [
+                                bx[0].min(p[0]),
+                                bx[1].min(p[1]),
+                                bx[2].max(p[0]),
+                                bx[3].max(p[1]),
+                            ];
+                        }
+                    }
+                }
+                let g = (FAR + 1.0) * longest;
+                [bx[0] - g, bx[1] - g, bx[2] + g, bx[3] + g]
+            })
+            .collect();
+        BodyBoxes(boxes)
+    }
+
+    fn near(&self, solver: &Solver, states: &[&[f64]], n: usize, b: usize) -> bool {
+        if !solver.params.broad_phase {
+            return true;
+        }
+        let bx = self.0[b];
+        let m = &solver.model;
+        let mut nb = [f64::MAX, f64::MAX, f64::MIN, f64::MIN];
+        for d in states {
+            let p = current(m, &solver.dofs, d, n).0;
+            nb = [
+                nb[0].min(p[0]),
+                nb[1].min(p[1]),
+                nb[2].max(p[0]),
+                nb[3].max(p[1]),
+            ];
+        }
+        nb[0] <= bx[2] && nb[2] >= bx[0] && nb[1] <= bx[3] && nb[3] >= bx[1]
     }
 }

@@ -37,6 +37,10 @@ pub struct Solver {
     ordering_cache: std::cell::RefCell<Option<Ordering>>,
     increment: usize,
     pub(crate) arc: ArcState,
+    /// Contact candidate (node, body) pairs.
+    pub(crate) candidates: Vec<(usize, usize)>,
+    /// Distinct candidate nodes.
+    pub(crate) candidate_nodes: usize,
 }
 
 impl Solver {
@@ -65,11 +69,17 @@ impl Solver {
             ordering_cache: std::cell::RefCell::new(None),
             increment: 0,
             arc: ArcState::default(),
+            candidates: ContactSet::candidates_of(&model),
+            candidate_nodes: 0,
             elements,
             dofs,
             params,
             model,
         };
+        let mut nodes: Vec<usize> = solver.candidates.iter().map(|c| c.0).collect();
+        nodes.sort_unstable();
+        nodes.dedup();
+        solver.candidate_nodes = nodes.len();
         let free = solver.mechanism_dofs();
         if !free.is_empty() {
             return Err(SolveError::Mechanism { dofs: free });

@@ -292,7 +292,8 @@ impl Solver {
     /// Add `more` contact state changes to `so_far`; too many in one increment is chattering.
     pub(crate) fn count_changes(&self, so_far: usize, more: usize) -> Result<usize, AttemptError> {
         let total = so_far + more;
-        if total > self.params.max_active_set_changes {
+        // Every candidate node may touch once; beyond that, the allowance is for chattering.
+        if total > self.params.max_active_set_changes + self.candidate_nodes {
             return Err(AttemptError::Failed(format!(
                 "{total} contact state changes in one increment (chattering)"
             )));

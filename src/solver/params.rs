@@ -23,7 +23,8 @@ pub struct SolverParams {
     /// Largest displacement correction per iteration (m); larger ones are scaled down.
     /// Guards spring-back after a release. `f64::MAX` (the default) disables it.
     pub max_step: f64,
-    /// Contact state changes allowed within one increment before it is cut back (chattering).
+    /// Contact state changes allowed within one increment, beyond one per candidate node, before
+    /// it is cut back (chattering).
     pub max_active_set_changes: usize,
     /// The contact element's unsymmetric tangent term is used from this iteration on (1 = always).
     pub unsymmetric_from: usize,
@@ -45,6 +46,9 @@ pub struct SolverParams {
     /// the root-mean-square change of the free dofs (m, rad). `None`: load and prescribed displacements advance in equal
     /// steps (Newton with cut-backs). Only for load-driven scenes.
     pub arc_length: Option<f64>,
+    /// Contact detection skips (node, body) pairs whose bounding boxes are far apart. Off:
+    /// every pair is probed (for checks).
+    pub broad_phase: bool,
 }
 
 impl Default for SolverParams {
@@ -64,6 +68,7 @@ impl Default for SolverParams {
             roundoff_factor: 0.0,
             max_penetration: 0.25,
             arc_length: None,
+            broad_phase: true,
         }
     }
 }
