@@ -62,6 +62,13 @@ enum Command {
         #[arg(long, default_value = "docs")]
         out: PathBuf,
     },
+    /// Scaling report: one Newton increment of a cantilever of 10 to 10^5 elements (time per
+    /// element per iteration, peak memory).
+    Scale {
+        /// Largest size (default 100000).
+        #[arg(long, default_value_t = 100_000)]
+        max: usize,
+    },
     /// Stability suite: hard cases for both formulations; prints a Markdown table and writes
     /// stress.md into --out.
     Stress {
@@ -117,6 +124,17 @@ pub fn run() -> i32 {
         }) => solve(&scene, steps, formulation, json, verbose, unsymmetric_from),
         Some(Command::Bench { quick, out }) => bench(quick, &out),
         Some(Command::Stress { long, out }) => stress(long, &out),
+        Some(Command::Scale { max }) => {
+            let sizes: Vec<usize> = [10, 100, 1_000, 10_000, 100_000]
+                .into_iter()
+                .filter(|&n| n <= max)
+                .collect();
+            println!(
+                "{}",
+                tsm_contact::scaling::table(&tsm_contact::scaling::measure(&sizes))
+            );
+            0
+        }
         Some(Command::Scenes) => {
             for (f, _) in scene::builtin::BUILTIN {
                 println!("{}", f.trim_end_matches(".ron"));

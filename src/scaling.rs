@@ -1,0 +1,124 @@
+//! Scaling report: one Newton increment (tip load P L^2/EI = 0.1) of a long cantilever of 10 to
+//! 10^5 elements of 1 m, timed in release builds (median of repeats), as time per element per iteration, with
+//! the process's peak resident memory after each size (Linux `VmHWM`).
+
+use std::time::Instant;
+
+use crate::scene::{builtin::BUILTIN, parse};
+use crate::solver::{Flow, IterationRecord, Observer};
+
+/// Counts every Newton iteration, failed attempts included.
+struct Count(usize);
+
+impl Observer for Count {
+    fn iteration(&mut self, _r: &IterationRecord) -> Flow {
+        self.0 += 1;
+        Flow::Continue
+    }
+}
+
+/// One size of the report.
+#[derive(Clone, Debug)]
+pub struct ScaleRow {
+    /// Beam elements.
+    pub elements: usize,
+    /// Newton iterations of the increment (failed attempts included).
+    pub iterations: usize,
+    /// Median wall time of the increment (s).
+    pub seconds: f64,
+    /// Median time per element per iteration (microseconds).
+    pub per_element_iteration_us: f64,
+    /// Peak resident memory of the process so far (MiB), if known.
+    pub peak_mib: Option<f64>,
+}
+
+/// A long beam of `n` elements 1 m long (the Mattiasson section: EI = 1, EA = 1e6), clamped at
+/// one end, on roller supports every 100 elements and free at the other end, loaded at its tip
+/// (P L^2 / EI = 0.1 over the last span). A plain cantilever's stiffness matrix has a condition
+/// number growing like n^4 (1e20 at 1e5 elements: numerically a mechanism); the spans keep every
+/// size equally well conditioned, so the timing measures the solver, not round-off trouble.
+fn cantilever(n: usize) -> crate::scene::Scene {
+    let len = n as f64;
+    let span = n.min(100);
+    let rollers: String = (1..n / span)
+        .map(|k| format!(", (node: {}, v: true)", 1 + k * span))
+        .collect();
+    let text = BUILTIN
+        .iter()
+        .find(|(f, _)| *f == "mattiasson.ron")
+        .expect("built-in")
+        .1
+        .replace(
+            "(1.0, 0.0)], elements: 32",
+            &format!("({len:?}, 0.0)], elements: {n}"),
+        )
+        .replace("phi: true)]", &format!("phi: true){rollers}]"))
+        .replace("loads: [(node: 33,", &format!("loads: [(node: {},", n + 1));
+    let mut sc = parse(&text, "scaling").expect("valid");
+    sc.model.load_per_step = 0.1 / (span * span) as f64;
+    sc.params.tolerance = 1e-5;
+    sc
+}
+
+/// Peak resident set size of this process (MiB), from /proc/self/status.
+pub fn peak_memory_mib() -> Option<f64> {
+    let s = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = s.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib / 1024.0)
+}
+
+/// Run the sizes (ascending, so the peak memory belongs to the largest so far).
+pub fn measure(sizes: &[usize]) -> Vec<ScaleRow> {
+    sizes
+        .iter()
+        .map(|&n| {
+            let sc = cantilever(n);
+            let fresh = sc.solver().expect("stable");
+            let repeats = if n >= 100_000 {
+                3
+            } else if n >= 10_000 {
+                5
+            } else {
+                11
+            };
+            let mut times = Vec::new();
+            let mut iterations = 0;
+            for _ in 0..repeats {
+                let mut s = fresh.clone();
+                let t = Instant::now();
+                let mut count = Count(0);
+                s.step(&mut count).expect("the increment converges");
+                times.push(t.elapsed().as_secs_f64());
+                iterations = count.0;
+            }
+            times.sort_by(f64::total_cmp);
+            let seconds = times[times.len() / 2];
+            ScaleRow {
+                elements: n,
+                iterations,
+                seconds,
+                per_element_iteration_us: seconds * 1e6 / (n * iterations.max(1)) as f64,
+                peak_mib: peak_memory_mib(),
+            }
+        })
+        .collect()
+}
+
+/// The report as a Markdown table.
+pub fn table(rows: &[ScaleRow]) -> String {
+    let mut s = String::from(
+        "| elements | iterations | increment (ms, median) | per element per iteration (us) | peak memory (MiB) |\n|---|---|---|---|---|\n",
+    );
+    for r in rows {
+        s.push_str(&format!(
+            "| {} | {} | {:.3} | {:.3} | {} |\n",
+            r.elements,
+            r.iterations,
+            r.seconds * 1e3,
+            r.per_element_iteration_us,
+            r.peak_mib.map(|m| format!("{m:.0}")).unwrap_or_default()
+        ));
+    }
+    s
+}
