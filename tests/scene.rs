@@ -97,3 +97,20 @@ fn garbage_never_panics() {
         assert!(parse(text, "garbage.ron").is_err(), "{text:?} accepted");
     }
 }
+
+/// Inputs the parser fuzzer found (fuzz/artifacts): an id overflow that panicked and element
+/// counts that exhausted memory. Each is now a typed error naming the field.
+#[test]
+fn fuzzer_findings_are_typed_errors() {
+    let base = r#"(name:"",sections:[(name:"s",E:1,A:1,I:1)],bodies:[(name:"b",section:"s",path:[(0,0),(1,0)],elements:ELEMENTS,first_node:FIRST)])"#;
+    let cases = [
+        ("1", "4294967295", "first_node"),
+        ("2342949672952", "1", "elements"),
+        ("18446744073709551615", "1", "elements"),
+    ];
+    for (elements, first, field) in cases {
+        let text = base.replace("ELEMENTS", elements).replace("FIRST", first);
+        let err = tsm_contact::scene::parse(&text, "fuzz.ron").expect_err("must be rejected");
+        assert!(err.field.contains(field), "{err}");
+    }
+}

@@ -13,6 +13,9 @@ use crate::solver::{
 };
 
 /// A problem with a scene, located as precisely as possible.
+/// The most beam elements a scene may generate (bad input must not exhaust memory).
+pub const MAX_ELEMENTS: usize = 2_000_000;
+
 #[derive(Clone, Debug, PartialEq)]
 pub struct SceneError {
     /// File name (or "<memory>").
@@ -191,6 +194,7 @@ fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
     let mut beams = Vec::new();
     let mut bodies = Vec::new();
     let mut body_index: HashMap<&str, usize> = HashMap::new();
+    let mut total_elements: usize = 0;
     for (b, body) in sf.bodies.iter().enumerate() {
         let nd = Some(format!("name:\"{}\"", body.name));
         let field = |n: &str| format!("bodies[{b}].{n} (body \"{}\")", body.name);
@@ -206,6 +210,31 @@ fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
         }
         if body.elements == 0 {
             return Err(ctx.err(field("elements"), nd, "must be at least 1"));
+        }
+        // Bounded before anything is allocated (a typo of a few digits must not exhaust memory).
+        let count = body.elements.saturating_mul(body.path.len() - 1);
+        total_elements = total_elements.saturating_add(count);
+        if total_elements > MAX_ELEMENTS {
+            return Err(ctx.err(
+                field("elements"),
+                nd,
+                format!("the scene would have more than {MAX_ELEMENTS} beam elements"),
+            ));
+        }
+        if u32::try_from(count)
+            .ok()
+            .and_then(|c| body.first_node.checked_add(c))
+            .is_none()
+        {
+            return Err(ctx.err(
+                field("first_node"),
+                nd,
+                format!(
+                    "node ids {} + {count} run past the largest id {}",
+                    body.first_node,
+                    u32::MAX
+                ),
+            ));
         }
         if body_index.insert(&body.name, b).is_some() {
             return Err(ctx.err(field("name"), nd, "duplicate body name"));
