@@ -150,7 +150,9 @@ fn cancel_stops_promptly() {
         }
     }
     let took = sent.elapsed();
-    assert!(took < Duration::from_secs(2), "cancel took {took:?}");
+    eprintln!("cancel took effect after {took:?}");
+    // The issue asks for 50 ms; the solver thread checks the flag at every Newton iteration.
+    assert!(took < Duration::from_millis(50), "cancel took {took:?}");
     assert!(last < 100_000, "ran on to increment {last}");
     // Nothing more arrives once idle.
     std::thread::sleep(Duration::from_millis(200));
