@@ -12,10 +12,10 @@ use crate::solver::{
     SolverParams, Support,
 };
 
-/// A problem with a scene, located as precisely as possible.
 /// The most beam elements a scene may generate (bad input must not exhaust memory).
 pub const MAX_ELEMENTS: usize = 2_000_000;
 
+/// A problem with a scene, located as precisely as possible.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SceneError {
     /// File name (or "<memory>").
