@@ -545,7 +545,53 @@ impl ContactSet {
                 changes += 1;
             }
         }
+        if self.too_deep.is_none() {
+            self.too_deep = self.passed_out_of_reach(solver, d);
+        }
         changes
+    }
+
+    /// A node that passed through a chord of a body since the last converged state but now
+    /// projects onto no element of it (the chord swept past it right at an end node, e.g. a
+    /// clamped end coming down past the other beam's tip): the contact cannot be placed, so the
+    /// increment is cut back until the node is caught while it still projects onto the body.
+    /// Returns (node, body, distance from the body's end node in element lengths).
+    fn passed_out_of_reach(&self, solver: &Solver, d: &[f64]) -> Option<(usize, usize, f64)> {
+        let m = &solver.model;
+        for (n, b) in Self::candidates(solver) {
+            if self.is_active(n, b) {
+                continue;
+            }
+            let Some(&(_, was)) = self.sides.get(&(n, b)) else {
+                continue;
+            };
+            if self.probe(solver, d, n, b).is_some() {
+                continue;
+            }
+            let Some(e) = Self::swept_crossing(solver, d, n, b, 0.0) else {
+                continue;
+            };
+            let (ei, ej) = (m.beams[e].i, m.beams[e].j);
+            // A node of that element resting on the node's own beam keeps them apart there.
+            let explained = self.active.iter().any(|a| {
+                (a.node == ei || a.node == ej)
+                    && m.beams.iter().any(|x| x.body == a.body && (x.i == n || x.j == n))
+            });
+            if explained || !Self::adjacent(solver, b, was, e) {
+                continue;
+            }
+            let p = current(m, &solver.dofs, d, n).0;
+            let (xi, xj) = (
+                current(m, &solver.dofs, d, ei).0,
+                current(m, &solver.dofs, d, ej).0,
+            );
+            let l = (xj[0] - xi[0]).hypot(xj[1] - xi[1]);
+            let dist = (p[0] - xi[0])
+                .hypot(p[1] - xi[1])
+                .min((p[0] - xj[0]).hypot(p[1] - xj[1]));
+            return Some((n, b, dist / l));
+        }
+        None
     }
 
     /// Release every contact whose force (from `asm`, assembled with the current contacts) is
