@@ -76,10 +76,16 @@ impl ContactSet {
     /// root where the node projects inside the chord is a crossing. Tells a node that went
     /// through a beam from one that went round its end while the beam swung.
     fn swept_through(solver: &Solver, d: &[f64], n: usize, b: usize) -> bool {
+        Self::swept_crossing(solver, d, n, b, 0.0).is_some()
+    }
+
+    /// The element of body `b` whose chord node `n` passed through (see `swept_through`) at an
+    /// interpolation parameter in [`t_min`, 1], if any.
+    fn swept_crossing(solver: &Solver, d: &[f64], n: usize, b: usize, t_min: f64) -> Option<usize> {
         let m = &solver.model;
         let at = |dd: &[f64], k: usize| current(m, &solver.dofs, dd, k).0;
         let (c0, c1) = (at(&solver.d, n), at(d, n));
-        m.bodies[b].elements.iter().any(|&e| {
+        m.bodies[b].elements.iter().copied().find(|&e| {
             let (i, j) = (m.beams[e].i, m.beams[e].j);
             let (p0, p1, q0, q1) = (at(&solver.d, i), at(d, i), at(&solver.d, j), at(d, j));
             // u(t) = q - p, v(t) = c - p, both linear in t: u = u0 + t du, v = v0 + t dv.
@@ -103,7 +109,7 @@ impl ContactSet {
             }
             roots
                 .into_iter()
-                .filter(|t| (0.0..=1.0).contains(t))
+                .filter(|t| (t_min..=1.0).contains(t))
                 .any(|t| {
                     let u = [u0[0] + t * du[0], u0[1] + t * du[1]];
                     let v = [v0[0] + t * dv[0], v0[1] + t * dv[1]];
@@ -483,6 +489,59 @@ impl ContactSet {
         changes
     }
 
+    /// Whether the inactive candidate node `n` crossed body `b` between the last converged state
+    /// and `d`: the probe now and the side the node came from.
+    ///
+    /// With a remembered side, a crossing is a node now on the other side of an element next to
+    /// the one the side was measured against, found either shallow or with a swept path through
+    /// a chord. Without one, because at the last converged state the node projected onto no
+    /// element (it lay past an end node of the body: beyond a free tip, or beyond a clamped
+    /// end), a crossing is a swept path through a chord: a node that passes the body right at
+    /// an end node (li/l = 0 or 1) goes from the region no element covers straight to the other
+    /// side, and a comparison of sides cannot see it. A node that merely goes round the end has
+    /// no such path.
+    fn crossing(&self, solver: &Solver, d: &[f64], n: usize, b: usize) -> Option<(Probe, f64)> {
+        let p = self.probe(solver, d, n, b)?;
+        if let Some((side, was)) = self.side_of(solver, n, b) {
+            let crossed = p.gap * side < -1e-10 * p.length
+                && Self::adjacent(solver, b, was, p.beam)
+                && (-p.gap * side < SHAPE_MARGIN * p.length
+                    || Self::swept_through(solver, d, n, b));
+            return crossed.then_some((p, side));
+        }
+        if p.gap.abs() <= 1e-10 * p.length {
+            return None;
+        }
+        let e = Self::swept_crossing(solver, d, n, b, 0.0)?;
+        if self.probe(solver, &solver.d, n, b).is_some() {
+            // It projected onto the body before: touching then, so no side was recorded, or a
+            // contact that slid off a tip in this increment.
+            return None;
+        }
+        let m = &solver.model;
+        // A node of the crossed element resting on the node's own beam: the two chords meet at
+        // that contact (e.g. a tip resting on a beam as one of the beam's nodes passes under
+        // it), and the contact there is what keeps the bodies apart.
+        let (ei, ej) = (m.beams[e].i, m.beams[e].j);
+        if self.active.iter().any(|a| {
+            (a.node == ei || a.node == ej)
+                && m.beams
+                    .iter()
+                    .any(|x| x.body == a.body && (x.i == n || x.j == n))
+        }) {
+            return None;
+        }
+        // It must have started clear of the chord it passed through (not exactly on its end).
+        let at = |k: usize| current(m, &solver.dofs, &solver.d, k).0;
+        let (c, xi, xj) = (at(n), at(m.beams[e].i), at(m.beams[e].j));
+        let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
+        let l2 = dx * dx + dy * dy;
+        let t = (((c[0] - xi[0]) * dx + (c[1] - xi[1]) * dy) / l2).clamp(0.0, 1.0);
+        let clear = (c[0] - xi[0] - t * dx).hypot(c[1] - xi[1] - t * dy);
+        (clear > 1e-10 * l2.sqrt() && Self::adjacent(solver, b, e, p.beam))
+            .then_some((p, -p.gap.signum()))
+    }
+
     /// At a converged pass: transfers, releases of tensile contacts and activation of crossing
     /// nodes. Returns the number of changes (0 means the increment is done).
     pub fn after_convergence(
@@ -505,39 +564,80 @@ impl ContactSet {
             if self.is_active(n, b) || !boxes.near(solver, &states, n, b) {
                 continue;
             }
-            let Some((side, was)) = self.side_of(solver, n, b) else {
-                continue;
-            };
-            if let Some(p) = self.probe(solver, d, n, b) {
-                if p.gap * side < -1e-10 * p.length
-                    && Self::adjacent(solver, b, was, p.beam)
-                    && (-p.gap * side < SHAPE_MARGIN * p.length
-                        || Self::swept_through(solver, d, n, b))
-                {
-                    if -p.gap * side > solver.params.max_penetration * p.length {
-                        self.too_deep = Some((n, b, -p.gap * side / p.length));
-                    }
-                    let a = ActiveContact {
-                        node: n,
-                        beam: p.beam,
-                        body: b,
-                        side,
-                    };
-                    events.push(Self::event(
-                        solver,
-                        &a,
-                        ContactChange::Activated,
-                        increment,
-                        iteration,
-                        p.xi,
-                        0.0,
-                    ));
-                    self.active.push(a);
-                    changes += 1;
+            if let Some((p, side)) = self.crossing(solver, d, n, b) {
+                if -p.gap * side > solver.params.max_penetration * p.length {
+                    self.too_deep = Some((n, b, -p.gap * side / p.length));
                 }
+                let a = ActiveContact {
+                    node: n,
+                    beam: p.beam,
+                    body: b,
+                    side,
+                };
+                events.push(Self::event(
+                    solver,
+                    &a,
+                    ContactChange::Activated,
+                    increment,
+                    iteration,
+                    p.xi,
+                    0.0,
+                ));
+                self.active.push(a);
+                changes += 1;
             }
         }
+        if self.too_deep.is_none() {
+            self.too_deep = self.passed_out_of_reach(solver, d);
+        }
         changes
+    }
+
+    /// A node that passed through a chord of a body since the last converged state but now
+    /// projects onto no element of it (the chord swept past it right at an end node, e.g. a
+    /// clamped end coming down past the other beam's tip): the contact cannot be placed, so the
+    /// increment is cut back until the node is caught while it still projects onto the body.
+    /// Returns (node, body, distance from the body's end node in element lengths).
+    fn passed_out_of_reach(&self, solver: &Solver, d: &[f64]) -> Option<(usize, usize, f64)> {
+        let m = &solver.model;
+        let states = [solver.d.as_slice(), d];
+        let boxes = BodyBoxes::new(solver, &states);
+        for &(n, b) in Self::candidates(solver) {
+            if self.is_active(n, b) || !boxes.near(solver, &states, n, b) {
+                continue;
+            }
+            let Some((_, was)) = self.side_of(solver, n, b) else {
+                continue;
+            };
+            if self.probe(solver, d, n, b).is_some() {
+                continue;
+            }
+            let Some(e) = Self::swept_crossing(solver, d, n, b, 0.0) else {
+                continue;
+            };
+            let (ei, ej) = (m.beams[e].i, m.beams[e].j);
+            // A node of that element resting on the node's own beam keeps them apart there.
+            let explained = self.active.iter().any(|a| {
+                (a.node == ei || a.node == ej)
+                    && m.beams
+                        .iter()
+                        .any(|x| x.body == a.body && (x.i == n || x.j == n))
+            });
+            if explained || !Self::adjacent(solver, b, was, e) {
+                continue;
+            }
+            let p = current(m, &solver.dofs, d, n).0;
+            let (xi, xj) = (
+                current(m, &solver.dofs, d, ei).0,
+                current(m, &solver.dofs, d, ej).0,
+            );
+            let l = (xj[0] - xi[0]).hypot(xj[1] - xi[1]);
+            let dist = (p[0] - xi[0])
+                .hypot(p[1] - xi[1])
+                .min((p[0] - xj[0]).hypot(p[1] - xj[1]));
+            return Some((n, b, dist / l));
+        }
+        None
     }
 
     /// Release every contact whose force (from `asm`, assembled with the current contacts) is
@@ -612,15 +712,7 @@ impl ContactSet {
             if self.is_active(n, b) || !boxes.near(solver, &states, n, b) {
                 continue;
             }
-            if let (Some((side, was)), Some(p)) =
-                (self.side_of(solver, n, b), self.probe(solver, d, n, b))
-            {
-                let crossed = Self::adjacent(solver, b, was, p.beam)
-                    && (-p.gap * side < SHAPE_MARGIN * p.length
-                        || Self::swept_through(solver, d, n, b));
-                if !crossed {
-                    continue;
-                }
+            if let Some((p, side)) = self.crossing(solver, d, n, b) {
                 worst = worst.max(-p.gap * side / p.length);
             }
         }
