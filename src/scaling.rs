@@ -4,7 +4,7 @@
 
 use std::time::Instant;
 
-use crate::scene::{builtin::BUILTIN, parse};
+use crate::scene::parse;
 use crate::solver::{Flow, IterationRecord, Observer};
 
 /// Counts every Newton iteration, failed attempts included.
@@ -43,11 +43,8 @@ fn cantilever(n: usize) -> crate::scene::Scene {
     let rollers: String = (1..n / span)
         .map(|k| format!(", (node: {}, v: true)", 1 + k * span))
         .collect();
-    let text = BUILTIN
-        .iter()
-        .find(|(f, _)| *f == "mattiasson.ron")
+    let text = crate::scene::builtin::text("mattiasson")
         .expect("built-in")
-        .1
         .replace(
             "(1.0, 0.0)], elements: 32",
             &format!("({len:?}, 0.0)], elements: {n}"),

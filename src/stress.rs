@@ -4,7 +4,7 @@
 //! one). `tsm-contact stress` prints the table and writes `docs/stress.md`; the tests in
 //! `tests/stability.rs` check the numbers.
 
-use crate::scene::{builtin::BUILTIN, parse};
+use crate::scene::parse;
 use crate::solver::{
     ContactChange, Event, Formulation, IncrementRecord, IterationRecord, Observer, Solver,
 };
@@ -475,11 +475,7 @@ pub fn first_peak(curve: &[(f64, f64)]) -> Option<f64> {
 }
 
 fn builtin_text(file: &str) -> &'static str {
-    BUILTIN
-        .iter()
-        .find(|(f, _)| *f == file)
-        .map(|(_, t)| *t)
-        .expect("built-in scene")
+    crate::scene::builtin::text(file).expect("built-in scene")
 }
 
 /// Every case of the suite, both formulations. `long` adds the expensive variants.

@@ -6,7 +6,7 @@
 use std::fmt::Write as _;
 use std::time::Instant;
 
-use crate::scene::{builtin::BUILTIN, parse, Scene};
+use crate::scene::{parse, Scene};
 use crate::solver::{Formulation, IncrementRecord, Silent};
 
 /// One measured point.
@@ -39,11 +39,7 @@ pub const MATTIASSON: [(f64, f64, f64); 3] = [
 ];
 
 fn builtin_text(file: &str) -> &'static str {
-    BUILTIN
-        .iter()
-        .find(|(f, _)| *f == file)
-        .map(|(_, t)| *t)
-        .expect("built-in scene")
+    crate::scene::builtin::text(file).expect("built-in scene")
 }
 
 fn cantilever(

@@ -57,15 +57,7 @@ fn first_max(curve: &[(f64, f64)]) -> usize {
 
 /// The first local maximum of the load, refined by a parabola through its neighbours.
 fn peak(curve: &[(f64, f64)]) -> f64 {
-    let k = first_max(curve);
-    let ((x0, y0), (x1, y1), (x2, y2)) = (curve[k - 1], curve[k], curve[k + 1]);
-    // Parabola through three points: its maximum.
-    let d = (x0 - x1) * (x0 - x2) * (x1 - x2);
-    let a = (x2 * (y1 - y0) + x1 * (y0 - y2) + x0 * (y2 - y1)) / d;
-    let b = (x2 * x2 * (y0 - y1) + x1 * x1 * (y2 - y0) + x0 * x0 * (y1 - y2)) / d;
-    let c = y1 - a * x1 * x1 - b * x1;
-    let xm = -b / (2.0 * a);
-    a * xm * xm + b * xm + c
+    stress::first_peak(curve).expect("a limit point")
 }
 
 #[test]

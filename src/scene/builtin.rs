@@ -31,6 +31,15 @@ pub const BUILTIN: &[(&str, &str)] = &[
     ("comb.ron", include_str!("../../assets/scenes/comb.ron")),
 ];
 
+/// The RON text of a built-in scene by file name (with or without `.ron`).
+pub fn text(name: &str) -> Option<&'static str> {
+    let want = name.trim_end_matches(".ron");
+    BUILTIN
+        .iter()
+        .find(|(f, _)| f.trim_end_matches(".ron") == want)
+        .map(|(_, t)| *t)
+}
+
 /// Parse a built-in scene by file name (with or without `.ron`).
 pub fn builtin(name: &str) -> Option<Result<Scene, SceneError>> {
     let want = name.trim_end_matches(".ron");

@@ -10,7 +10,7 @@ use std::time::Instant;
 
 use super::assembly::{assemble, AssemblyContext, DofKind};
 use super::control::Solver;
-use super::newton::{AttemptError, Converged, STAGNATION, STALL_ITERATIONS, STALL_STEP};
+use super::newton::{AttemptError, Converged, Stall};
 use super::report::{Event, Flow, IncrementRecord, IterationRecord, Observer, SolveError};
 
 /// Where the arc-length control stands between increments.
@@ -18,9 +18,9 @@ use super::report::{Event, Flow, IncrementRecord, IterationRecord, Observer, Sol
 pub struct ArcState {
     /// Arc length of the next increment (shrinks on failure, regrows to the nominal length).
     pub ds: Option<f64>,
-    /// The last converged increment (displacements over all dofs, load factor), for the sign of
-    /// the next predictor (the path keeps its direction through limit points).
-    pub last: Option<(Vec<f64>, f64)>,
+    /// The last converged increment of the displacements (all dofs), for the sign of the next
+    /// predictor (the path keeps its direction through limit points).
+    pub last: Option<Vec<f64>>,
 }
 
 /// Dot product.
@@ -52,12 +52,11 @@ impl Solver {
             match self.arc_attempt(ds, number, obs) {
                 Ok((conv, lambda)) => {
                     let before = self.displacements().to_vec();
-                    let lambda0 = self.load_factor();
                     let easy = conv.iterations <= 6;
                     let p = self.prescribed_values().to_vec();
                     let rec = self.commit(conv, p, lambda, cutbacks, clock.elapsed().as_secs_f64());
                     let dd: Vec<f64> = self.d.iter().zip(&before).map(|(a, b)| a - b).collect();
-                    self.arc.last = Some((dd, lambda - lambda0));
+                    self.arc.last = Some(dd);
                     self.arc.ds = Some(if easy { (2.0 * ds).min(nominal) } else { ds });
                     for e in &rec.events {
                         obs.event(e);
@@ -121,8 +120,7 @@ impl Solver {
         let mut it8 = None;
         let mut r0 = None;
         let mut predictor = true;
-        let mut best = f64::INFINITY;
-        let mut stalled = 0;
+        let mut stall = Stall::new();
         let mut last_step = f64::INFINITY;
         loop {
             let ctx = AssemblyContext {
@@ -136,8 +134,8 @@ impl Solver {
             let fext = self.external_force(lambda);
             let (rhs, norm, reference) = self.residual(&asm, &fext, &ordering);
             let mut tangent = asm.tangent.take().expect("tangent requested");
-            let floor =
-                f64::EPSILON * tangent.max_diagonal() * self.coordinate_scale(&d) / reference;
+            let scale = self.coordinate_scale(&d);
+            let floor = f64::EPSILON * tangent.max_diagonal() * scale / reference;
             if !predictor {
                 let rel = norm / reference;
                 let rec = IterationRecord {
@@ -161,15 +159,7 @@ impl Solver {
                 if it8.is_none() && r0.is_some_and(|r0: f64| norm <= 1e-8 * r0) {
                     it8 = Some(iterations);
                 }
-                if rel < 0.5 * best {
-                    stalled = 0;
-                } else {
-                    stalled += 1;
-                }
-                best = best.min(rel);
-                let at_floor = stalled >= STALL_ITERATIONS
-                    && rel <= STAGNATION * floor
-                    && last_step <= STALL_STEP * self.coordinate_scale(&d);
+                let at_floor = stall.at_floor(rel, floor, last_step, scale);
                 if rel <= p.tolerance.max(p.roundoff_factor * floor) || at_floor {
                     let changed = contacts.after_convergence(
                         self,
@@ -204,8 +194,7 @@ impl Solver {
                     changes = self.count_changes(changes, changed)?;
                     ordering = self.ordering_for(&contacts);
                     pass_iter = 0;
-                    best = f64::INFINITY;
-                    stalled = 0;
+                    stall = Stall::new();
                     continue;
                 }
                 if rel > p.divergence {
@@ -256,7 +245,7 @@ impl Solver {
                     ));
                 }
                 let sign = match &self.arc.last {
-                    Some((last_d, _)) if dot(last_d, &qf) < 0.0 => -1.0,
+                    Some(last_d) if dot(last_d, &qf) < 0.0 => -1.0,
                     _ => 1.0,
                 };
                 r0 = Some((ds / size) * dot(&fref, &fref).sqrt());

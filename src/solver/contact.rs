@@ -295,6 +295,22 @@ impl ContactSet {
         }
     }
 
+    /// Candidate pairs not in contact whose node came near the body between the last converged
+    /// state and `d` (the broad phase).
+    fn near_inactive(&self, solver: &Solver, d: &[f64]) -> Vec<(usize, usize)> {
+        let pairs = Self::candidates(solver);
+        if pairs.is_empty() {
+            return Vec::new();
+        }
+        let states = [solver.d.as_slice(), d];
+        let boxes = BodyBoxes::new(solver, &states);
+        pairs
+            .iter()
+            .copied()
+            .filter(|&(n, b)| !self.is_active(n, b) && boxes.near(solver, &states, n, b))
+            .collect()
+    }
+
     /// The side of body `b` node `n` was on at the last converged state, and the element it
     /// projected onto: remembered if the node was near the body, else worked out now from that
     /// state (far away, the node's side is plain geometry).
@@ -558,12 +574,7 @@ impl ContactSet {
             return changes;
         }
         changes += self.release_tensile(solver, asm, increment, iteration, events);
-        let states = [solver.d.as_slice(), d];
-        let boxes = BodyBoxes::new(solver, &states);
-        for &(n, b) in Self::candidates(solver) {
-            if self.is_active(n, b) || !boxes.near(solver, &states, n, b) {
-                continue;
-            }
+        for (n, b) in self.near_inactive(solver, d) {
             if let Some((p, side)) = self.crossing(solver, d, n, b) {
                 if -p.gap * side > solver.params.max_penetration * p.length {
                     self.too_deep = Some((n, b, -p.gap * side / p.length));
@@ -600,12 +611,7 @@ impl ContactSet {
     /// Returns (node, body, distance from the body's end node in element lengths).
     fn passed_out_of_reach(&self, solver: &Solver, d: &[f64]) -> Option<(usize, usize, f64)> {
         let m = &solver.model;
-        let states = [solver.d.as_slice(), d];
-        let boxes = BodyBoxes::new(solver, &states);
-        for &(n, b) in Self::candidates(solver) {
-            if self.is_active(n, b) || !boxes.near(solver, &states, n, b) {
-                continue;
-            }
+        for (n, b) in self.near_inactive(solver, d) {
             let Some((_, was)) = self.side_of(solver, n, b) else {
                 continue;
             };
@@ -706,12 +712,7 @@ impl ContactSet {
     /// converged state (the sides are those of that state).
     pub fn max_penetration(&self, solver: &Solver, d: &[f64]) -> f64 {
         let mut worst: f64 = 0.0;
-        let states = [solver.d.as_slice(), d];
-        let boxes = BodyBoxes::new(solver, &states);
-        for &(n, b) in Self::candidates(solver) {
-            if self.is_active(n, b) || !boxes.near(solver, &states, n, b) {
-                continue;
-            }
+        for (n, b) in self.near_inactive(solver, d) {
             if let Some((p, side)) = self.crossing(solver, d, n, b) {
                 worst = worst.max(-p.gap * side / p.length);
             }

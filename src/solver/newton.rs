@@ -9,14 +9,44 @@ use super::control::Solver;
 use super::report::{ContactChange, Event, Flow, IterationRecord, Observer};
 
 /// A residual within this factor of the round-off floor counts as stagnated.
-pub(crate) const STAGNATION: f64 = 10.0;
+const STAGNATION: f64 = 10.0;
 
 /// Iterations without halving the best residual, below the round-off floor estimate, after
 /// which an attempt counts as converged to round-off.
-pub(crate) const STALL_ITERATIONS: usize = 3;
+const STALL_ITERATIONS: usize = 3;
 
 /// ... and once the displacement correction has shrunk below this fraction of the coordinates.
-pub(crate) const STALL_STEP: f64 = 1e-10;
+const STALL_STEP: f64 = 1e-10;
+
+/// Round-off stagnation of one Newton pass: once the residual is below the floor estimate and
+/// has stopped falling (no halving of the best value for `STALL_ITERATIONS` iterations) while the
+/// corrections have vanished, Newton cannot get closer: the state is accepted and its residual
+/// reported.
+pub(crate) struct Stall {
+    best: f64,
+    count: usize,
+}
+
+impl Stall {
+    pub(crate) fn new() -> Stall {
+        Stall {
+            best: f64::INFINITY,
+            count: 0,
+        }
+    }
+
+    /// Record the relative residual `rel` of an iteration; true if the pass has stalled at the
+    /// round-off floor `floor`, with a last correction `step` against coordinates of size `scale`.
+    pub(crate) fn at_floor(&mut self, rel: f64, floor: f64, step: f64, scale: f64) -> bool {
+        if rel < 0.5 * self.best {
+            self.count = 0;
+        } else {
+            self.count += 1;
+        }
+        self.best = self.best.min(rel);
+        self.count >= STALL_ITERATIONS && rel <= STAGNATION * floor && step <= STALL_STEP * scale
+    }
+}
 
 /// The converged outcome of one attempt, before it is committed.
 pub struct Converged {
@@ -115,8 +145,7 @@ impl Solver {
         let mut pass_iter = 0;
         let mut last_step = 0.0;
         let mut springback = false;
-        let mut best = f64::INFINITY;
-        let mut stalled = 0;
+        let mut stall = Stall::new();
         loop {
             let ctx = AssemblyContext {
                 model: &self.model,
@@ -138,8 +167,8 @@ impl Solver {
             }
             let mut asm = asm;
             let mut tangent = asm.tangent.take().expect("tangent requested");
-            let floor =
-                f64::EPSILON * tangent.max_diagonal() * self.coordinate_scale(&d) / reference;
+            let scale = self.coordinate_scale(&d);
+            let floor = f64::EPSILON * tangent.max_diagonal() * scale / reference;
             if predictor {
                 for (e, c) in rhs.iter_mut().zip(&asm.coupling) {
                     *e -= c;
@@ -174,19 +203,7 @@ impl Solver {
                 if it8.is_none() && r0.is_some_and(|r0| norm <= 1e-8 * r0) {
                     it8 = Some(iterations);
                 }
-                // Round-off: once the residual is below the floor estimate and has stopped
-                // falling (no halving of the best value for `STALL_ITERATIONS` iterations) while
-                // the corrections have vanished, Newton cannot get closer: the state is accepted
-                // and its residual reported.
-                if rel < 0.5 * best {
-                    stalled = 0;
-                } else {
-                    stalled += 1;
-                }
-                best = best.min(rel);
-                let at_floor = stalled >= STALL_ITERATIONS
-                    && rel <= STAGNATION * floor
-                    && last_step <= STALL_STEP * self.coordinate_scale(&d);
+                let at_floor = stall.at_floor(rel, floor, last_step, scale);
                 let accepted = rel <= p.tolerance.max(p.roundoff_factor * floor) || at_floor;
                 // At the round-off floor the state is as converged as it can be: let the contact
                 // state settle there too (e.g. a node that must slide off a tip), even if the
@@ -233,8 +250,7 @@ impl Solver {
                         changes = self.count_changes(changes, changed)?;
                         ordering = self.ordering_for(&contacts);
                         pass_iter = 0;
-                        best = f64::INFINITY;
-                        stalled = 0;
+                        stall = Stall::new();
                         continue;
                     }
                 }
