@@ -346,6 +346,8 @@ impl Thread {
                 return;
             }
         };
+        // Scene steps of an arc-length scene are arcs: the solver picks the load factor.
+        let arc = matches!(self.mode, Mode::Running(_)) && solver.params.arc_length.is_some();
         let next = next_target(&solver, &goal);
         let mut obs = Relay {
             rx: &self.rx,
@@ -355,7 +357,11 @@ impl Thread {
             closed: false,
         };
         let result = catch_unwind(AssertUnwindSafe(|| {
-            solver.advance_to(&next, lambda, &mut obs)
+            if arc {
+                solver.step(&mut obs)
+            } else {
+                solver.advance_to(&next, lambda, &mut obs)
+            }
         }));
         if obs.closed {
             self.alive = false;

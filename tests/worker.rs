@@ -187,3 +187,38 @@ fn errors_do_not_kill_the_worker() {
     }
     assert!(reloaded);
 }
+
+/// An arc-length scene run from the worker follows the same path as the solver stepped directly
+/// (the worker must not turn its steps into equal load steps): Lee's frame past its limit point.
+#[test]
+fn arc_length_scene_runs_as_arcs() {
+    use tsm_contact::solver::Silent;
+    let steps = 60;
+    let mut direct = scene("lee_frame").solver().unwrap();
+    let mut lambdas = Vec::new();
+    for _ in 0..steps {
+        lambdas.extend(
+            direct
+                .step(&mut Silent)
+                .unwrap()
+                .iter()
+                .map(|r| r.load_factor),
+        );
+    }
+    let w = Worker::spawn(None);
+    load(&w, "lee_frame");
+    w.send(Command::RunSteps(steps));
+    let (incs, errors) = until_idle(&w, Duration::from_secs(120));
+    assert!(errors.is_empty(), "{errors:?}");
+    assert_eq!(incs.len(), lambdas.len());
+    for (r, l) in incs.iter().zip(&lambdas) {
+        assert!(
+            (r.load_factor - l).abs() < 1e-12,
+            "{} vs {l}",
+            r.load_factor
+        );
+    }
+    // Past the limit point: the load factor has come down from its maximum.
+    let max = lambdas.iter().cloned().fold(f64::MIN, f64::max);
+    assert!(max > 1.8 && *lambdas.last().unwrap() < max);
+}
