@@ -23,8 +23,9 @@ pub struct SolverParams {
     /// Largest displacement correction per iteration (m); larger ones are scaled down.
     /// Guards spring-back after a release. `f64::MAX` (the default) disables it.
     pub max_step: f64,
-    /// Contact state changes allowed within one increment, beyond one per candidate node, before
-    /// it is cut back (chattering).
+    /// Contact state changes allowed within one increment, beyond four per candidate node, before
+    /// it is cut back (chattering). Cycling itself is caught earlier: a repeated active set
+    /// switches the attempt to one change per pass.
     pub max_active_set_changes: usize,
     /// The contact element's unsymmetric tangent term is used from this iteration on (1 = always).
     pub unsymmetric_from: usize,
