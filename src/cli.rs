@@ -68,6 +68,10 @@ enum Command {
         /// Largest size (default 100000).
         #[arg(long, default_value_t = 100_000)]
         max: usize,
+        /// Instead: contact scaling, a bed of 100 to 10^5 elements pressed by a pin in every
+        /// span (up to --max), with and without the broad phase.
+        #[arg(long)]
+        contact: bool,
     },
     /// Stability suite: hard cases for both formulations; prints a Markdown table and writes
     /// stress.md into --out.
@@ -124,7 +128,23 @@ pub fn run() -> i32 {
         }) => solve(&scene, steps, formulation, json, verbose, unsymmetric_from),
         Some(Command::Bench { quick, out }) => bench(quick, &out),
         Some(Command::Stress { long, out }) => stress(long, &out),
-        Some(Command::Scale { max }) => {
+        Some(Command::Scale { max, contact: true }) => {
+            let sizes: Vec<usize> = [100, 1_000, 10_000, 100_000]
+                .into_iter()
+                .filter(|&n| n <= max)
+                .collect();
+            println!(
+                "{}",
+                tsm_contact::contact_scaling::table(&tsm_contact::contact_scaling::measure(
+                    &sizes, 10_000
+                ))
+            );
+            0
+        }
+        Some(Command::Scale {
+            max,
+            contact: false,
+        }) => {
             let sizes: Vec<usize> = [10, 100, 1_000, 10_000, 100_000]
                 .into_iter()
                 .filter(|&n| n <= max)

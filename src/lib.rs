@@ -4,6 +4,7 @@
 
 #[cfg(feature = "gui")]
 pub mod app;
+pub mod contact_scaling;
 pub mod history;
 pub mod scaling;
 pub mod scene;

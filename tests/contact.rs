@@ -478,3 +478,33 @@ fn stacked_beams_touch_at_one_point_with_the_closed_form_force() {
         }
     }
 }
+
+/// Pins pressing and sliding on one long bed (`tsm-contact scale --contact`): the element grid
+/// hands each probe only the elements near the pin, and must find exactly what probing every
+/// element of the bed finds. Reference: the same run with the broad phase off, to 1e-12 m.
+#[test]
+fn element_grid_finds_what_probing_every_element_finds() {
+    let mut runs = [true, false].map(|bp| {
+        let mut s = tsm_contact::contact_scaling::pins_on_bed(200, bp);
+        let mut recs = Vec::new();
+        for _ in 0..3 {
+            recs.extend(s.step(&mut Silent).expect("converges"));
+        }
+        recs
+    });
+    let (off, on) = (runs[1].split_off(0), runs[0].split_off(0));
+    assert_eq!(on.len(), off.len());
+    let last = on.last().unwrap();
+    assert_eq!(
+        last.contacts.iter().filter(|c| c.pressure > 0.0).count(),
+        20
+    );
+    for (a, b) in on.iter().zip(&off) {
+        let ca: Vec<_> = a.contacts.iter().map(|c| (c.node, c.element)).collect();
+        let cb: Vec<_> = b.contacts.iter().map(|c| (c.node, c.element)).collect();
+        assert_eq!(ca, cb, "increment {}", a.increment);
+        for (p, q) in a.nodes.iter().zip(&b.nodes) {
+            assert!((p[0] - q[0]).abs() < 1e-12 && (p[1] - q[1]).abs() < 1e-12);
+        }
+    }
+}

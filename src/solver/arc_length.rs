@@ -299,8 +299,8 @@ impl Solver {
             iterations += 1;
             pass_iter += 1;
             let moved = contacts.transfer(self, &d, increment, iterations, false, &mut events);
+            // A transfer during the iterations follows the iterate: not counted as chattering.
             if moved > 0 {
-                changes = self.count_changes(changes, moved)?;
                 ordering = self.ordering_for(&contacts);
             }
         }

@@ -3,9 +3,12 @@
 //! when a node crosses a body, transfer to the neighbouring element when li/l leaves (0, 1),
 //! release when the contact force turns tensile or the node slides off a free end.
 
+use std::cell::{OnceCell, RefCell};
 use std::collections::{HashMap, HashSet};
+use std::rc::Rc;
 
 use super::assembly::{current, Assembled, ContactLink};
+use super::broad_phase::{BodyBoxes, ElementGrid};
 use super::contact_element::{contact_response, deflection};
 use super::control::Solver;
 use super::model::Model;
@@ -67,6 +70,29 @@ pub struct ContactSet {
     /// Set once an active set repeats within an attempt: from then on each converged pass fixes
     /// one violation only (see `after_convergence`).
     pub(crate) one_at_a_time: bool,
+}
+
+/// Whether node `n` is a node of body `body`.
+fn on_body(solver: &Solver, n: usize, body: usize) -> bool {
+    solver.node_beams[n]
+        .iter()
+        .any(|&e| solver.model.beams[e].body == body)
+}
+
+/// What the probes of one pass know about one state, built as they need it: the element grid
+/// (None with the broad phase off) and the deformed shapes (with the pass's active set). A view
+/// serves probes at its own state only.
+#[derive(Default)]
+struct StateView {
+    grid: OnceCell<Option<ElementGrid>>,
+    shapes: RefCell<HashMap<usize, Rc<Shape>>>,
+}
+
+/// Views of the iterate and of the last converged state, for one pass.
+#[derive(Default)]
+struct Grids {
+    now: StateView,
+    before: StateView,
 }
 
 /// Deformed shape of one element at a state: chord plus bending forces.
@@ -232,10 +258,53 @@ impl ContactSet {
     /// Where node `n` lies relative to body `b` at displacements `d` (None if it projects onto no
     /// element of the body).
     pub fn probe(&self, solver: &Solver, d: &[f64], n: usize, b: usize) -> Option<Probe> {
+        self.probe_near(solver, d, n, b, None)
+    }
+
+    /// `probe`, with what `view` (of state `d`) knows: the elements its grid finds near the
+    /// node are tried first. The closest found there is the closest of all when its gap is
+    /// within the grid's reach: every element outside is farther than that from the node, and
+    /// far enough from it (more than `FAR` element lengths) that its gap is its plain distance.
+    /// Otherwise every element of the body is tried. Shapes are kept in the view.
+    fn probe_near(
+        &self,
+        solver: &Solver,
+        d: &[f64],
+        n: usize,
+        b: usize,
+        view: Option<&StateView>,
+    ) -> Option<Probe> {
         let m = &solver.model;
         let p = current(m, &solver.dofs, d, n).0;
+        let grid = view.and_then(|v| {
+            v.grid
+                .get_or_init(|| ElementGrid::new(solver, d, FAR + 1.0))
+                .as_ref()
+                .map(|g| (g, v))
+        });
+        if let Some((g, v)) = grid {
+            let near = g.near(p).filter(|&e| m.beams[e].body == b);
+            let best = self.closest(solver, d, p, near, Some(v));
+            if best.is_some_and(|bp| bp.gap.abs() <= g.reach) {
+                return best;
+            }
+        }
+        self.closest(solver, d, p, m.bodies[b].elements.iter().copied(), view)
+    }
+
+    /// The element among `elements` whose deformed shape is closest to point `p` along the
+    /// chord normal, among those `p` projects onto (the lowest index on a tie).
+    fn closest(
+        &self,
+        solver: &Solver,
+        d: &[f64],
+        p: [f64; 2],
+        elements: impl Iterator<Item = usize>,
+        view: Option<&StateView>,
+    ) -> Option<Probe> {
+        let m = &solver.model;
         let mut best: Option<Probe> = None;
-        for &e in &m.bodies[b].elements {
+        for e in elements {
             let (xi, _) = current(m, &solver.dofs, d, m.beams[e].i);
             let (xj, _) = current(m, &solver.dofs, d, m.beams[e].j);
             let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
@@ -251,10 +320,20 @@ impl ContactSet {
             let gap = if off.abs() > FAR * l {
                 off
             } else {
-                let sh = self.shape(solver, d, e);
+                let sh = match view {
+                    Some(v) => Rc::clone(
+                        v.shapes
+                            .borrow_mut()
+                            .entry(e)
+                            .or_insert_with(|| Rc::new(self.shape(solver, d, e))),
+                    ),
+                    None => Rc::new(self.shape(solver, d, e)),
+                };
                 off - deflection(&solver.elements[e], &sh.bending, &sh.xis, t)
             };
-            if best.is_none_or(|bp| gap.abs() < bp.gap.abs()) {
+            if best.is_none_or(|bp| {
+                gap.abs() < bp.gap.abs() || (gap.abs() == bp.gap.abs() && e < bp.beam)
+            }) {
                 best = Some(Probe {
                     beam: e,
                     xi: t,
@@ -271,8 +350,10 @@ impl ContactSet {
     /// states only: a beam that curls can bring a node to the other side of an element's
     /// extension without the node ever crossing the element.
     pub fn remember_sides(&mut self, solver: &Solver, d: &[f64]) {
-        let boxes = BodyBoxes::new(solver, &[d]);
-        for &(n, b) in Self::candidates(solver) {
+        let boxes = BodyBoxes::new(solver, &[d], FAR + 1.0);
+        let pairs = Self::candidates(solver);
+        let view = StateView::default();
+        for &(n, b) in pairs {
             if let Some(a) = self.active.iter().find(|a| a.node == n && a.body == b) {
                 self.sides.insert((n, b), (a.side, a.beam));
                 continue;
@@ -283,7 +364,7 @@ impl ContactSet {
                 self.sides.remove(&(n, b));
                 continue;
             }
-            match self.probe(solver, d, n, b) {
+            match self.probe_near(solver, d, n, b, Some(&view)) {
                 Some(p) if p.gap.abs() > 1e-12 * p.length => {
                     // Every crossing since the last converged state was caught by
                     // `after_convergence`, so the side now is the side to keep.
@@ -293,7 +374,7 @@ impl ContactSet {
                 // node of a beam touches from the side its own beam lies on: take the side of
                 // its neighbouring nodes (a pin has none and must start with a gap).
                 Some(p) if !self.sides.contains_key(&(n, b)) => {
-                    if let Some(side) = self.neighbour_side(solver, d, n, b) {
+                    if let Some(side) = self.neighbour_side(solver, d, n, b, Some(&view)) {
                         self.sides.insert((n, b), (side, p.beam));
                     }
                 }
@@ -313,37 +394,52 @@ impl ContactSet {
             return Vec::new();
         }
         let states = [solver.d.as_slice(), d];
-        let boxes = BodyBoxes::new(solver, &states);
+        let boxes = BodyBoxes::new(solver, &states, FAR + 1.0);
+        let active: std::collections::HashSet<(usize, usize)> =
+            self.active.iter().map(|a| (a.node, a.body)).collect();
         pairs
             .iter()
             .copied()
-            .filter(|&(n, b)| !self.is_active(n, b) && boxes.near(solver, &states, n, b))
+            .filter(|&(n, b)| !active.contains(&(n, b)) && boxes.near(solver, &states, n, b))
             .collect()
     }
 
     /// The side of body `b` node `n` was on at the last converged state, and the element it
     /// projected onto: remembered if the node was near the body, else worked out now from that
     /// state (far away, the node's side is plain geometry).
-    fn side_of(&self, solver: &Solver, n: usize, b: usize) -> Option<(f64, usize)> {
+    fn side_of(
+        &self,
+        solver: &Solver,
+        n: usize,
+        b: usize,
+        view: Option<&StateView>,
+    ) -> Option<(f64, usize)> {
         if let Some(&s) = self.sides.get(&(n, b)) {
             return Some(s);
         }
-        let p = self.probe(solver, &solver.d, n, b)?;
+        let p = self.probe_near(solver, &solver.d, n, b, view)?;
         (p.gap.abs() > 1e-12 * p.length).then(|| (p.gap.signum(), p.beam))
     }
 
     /// The side of body `b` on which the beam neighbours of node `n` lie, if they agree and are
     /// clear of it.
-    fn neighbour_side(&self, solver: &Solver, d: &[f64], n: usize, b: usize) -> Option<f64> {
+    fn neighbour_side(
+        &self,
+        solver: &Solver,
+        d: &[f64],
+        n: usize,
+        b: usize,
+        view: Option<&StateView>,
+    ) -> Option<f64> {
         let m = &solver.model;
         let mut side = None;
-        for beam in m
-            .beams
+        for beam in solver.node_beams[n]
             .iter()
-            .filter(|e| (e.i == n || e.j == n) && e.body != b)
+            .map(|&e| &m.beams[e])
+            .filter(|e| e.body != b)
         {
             let other = if beam.i == n { beam.j } else { beam.i };
-            let p = self.probe(solver, d, other, b)?;
+            let p = self.probe_near(solver, d, other, b, view)?;
             if p.gap.abs() <= 1e-12 * p.length {
                 return None;
             }
@@ -418,16 +514,14 @@ impl ContactSet {
                 let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
                 let t = ((p[0] - xi[0]) * dx + (p[1] - xi[1]) * dy) / (dx * dx + dy * dy);
                 xi_now = t;
-                let before = m.bodies[a.body]
-                    .elements
+                let before = solver.node_beams[beam.i]
                     .iter()
                     .copied()
-                    .find(|&e| m.beams[e].j == beam.i);
-                let after = m.bodies[a.body]
-                    .elements
+                    .find(|&e| m.beams[e].body == a.body && m.beams[e].j == beam.i);
+                let after = solver.node_beams[beam.j]
                     .iter()
                     .copied()
-                    .find(|&e| m.beams[e].i == beam.j);
+                    .find(|&e| m.beams[e].body == a.body && m.beams[e].i == beam.j);
                 let next = if t < -tol || (before.is_none() && t < margin) {
                     before
                 } else if t > 1.0 + tol || (after.is_none() && t > 1.0 - margin) {
@@ -526,9 +620,16 @@ impl ContactSet {
     /// an end node (li/l = 0 or 1) goes from the region no element covers straight to the other
     /// side, and a comparison of sides cannot see it. A node that merely goes round the end has
     /// no such path.
-    fn crossing(&self, solver: &Solver, d: &[f64], n: usize, b: usize) -> Option<(Probe, f64)> {
-        let p = self.probe(solver, d, n, b)?;
-        if let Some((side, was)) = self.side_of(solver, n, b) {
+    fn crossing(
+        &self,
+        solver: &Solver,
+        d: &[f64],
+        n: usize,
+        b: usize,
+        grids: &Grids,
+    ) -> Option<(Probe, f64)> {
+        let p = self.probe_near(solver, d, n, b, Some(&grids.now))?;
+        if let Some((side, was)) = self.side_of(solver, n, b, Some(&grids.before)) {
             let crossed = p.gap * side < -1e-10 * p.length
                 && Self::adjacent(solver, b, was, p.beam)
                 && (-p.gap * side < SHAPE_MARGIN * p.length
@@ -539,7 +640,10 @@ impl ContactSet {
             return None;
         }
         let e = Self::swept_crossing(solver, d, n, b, 0.0)?;
-        if self.probe(solver, &solver.d, n, b).is_some() {
+        if self
+            .probe_near(solver, &solver.d, n, b, Some(&grids.before))
+            .is_some()
+        {
             // It projected onto the body before: touching then, so no side was recorded, or a
             // contact that slid off a tip in this increment.
             return None;
@@ -549,12 +653,11 @@ impl ContactSet {
         // that contact (e.g. a tip resting on a beam as one of the beam's nodes passes under
         // it), and the contact there is what keeps the bodies apart.
         let (ei, ej) = (m.beams[e].i, m.beams[e].j);
-        if self.active.iter().any(|a| {
-            (a.node == ei || a.node == ej)
-                && m.beams
-                    .iter()
-                    .any(|x| x.body == a.body && (x.i == n || x.j == n))
-        }) {
+        if self
+            .active
+            .iter()
+            .any(|a| (a.node == ei || a.node == ej) && on_body(solver, n, a.body))
+        {
             return None;
         }
         // It must have started clear of the chord it passed through (not exactly on its end).
@@ -596,14 +699,16 @@ impl ContactSet {
             return changes;
         }
         let mut crossings = Vec::new();
-        for (n, b) in self.near_inactive(solver, d) {
-            if let Some((p, side)) = self.crossing(solver, d, n, b) {
+        let near = self.near_inactive(solver, d);
+        let grids = Grids::default();
+        for (n, b) in near {
+            if let Some((p, side)) = self.crossing(solver, d, n, b, &grids) {
                 if -p.gap * side > solver.params.max_penetration * p.length {
                     self.too_deep = Some((n, b, -p.gap * side / p.length));
                     if std::env::var_os("TSM_DEBUG").is_some() {
                         eprintln!(
                             "DEBUG too deep: node {n} body {b} {p:?} side {side} was {:?}",
-                            self.side_of(solver, n, b)
+                            self.side_of(solver, n, b, Some(&grids.before))
                         );
                     }
                 }
@@ -639,7 +744,7 @@ impl ContactSet {
             changes += self.activate(solver, &crossings, increment, iteration, events);
         }
         if self.too_deep.is_none() {
-            self.too_deep = self.passed_out_of_reach(solver, d);
+            self.too_deep = self.passed_out_of_reach(solver, d, &grids);
         }
         if changes > 0 {
             let mut set: Vec<(usize, usize)> =
@@ -665,11 +770,7 @@ impl ContactSet {
         let m = &solver.model;
         let (n, _, p, _) = crossings[k];
         let xn = current(m, &solver.dofs, d, n).0;
-        let own = |body: usize| {
-            m.beams
-                .iter()
-                .any(|x| x.body == body && (x.i == n || x.j == n))
-        };
+        let own = |body: usize| on_body(solver, n, body);
         [m.beams[p.beam].i, m.beams[p.beam].j].iter().any(|&o| {
             let xo = current(m, &solver.dofs, d, o).0;
             (xn[0] - xo[0]).hypot(xn[1] - xo[1]) < NODE_ON_NODE * p.length
@@ -713,13 +814,18 @@ impl ContactSet {
     /// clamped end coming down past the other beam's tip): the contact cannot be placed, so the
     /// increment is cut back until the node is caught while it still projects onto the body.
     /// Returns (node, body, distance from the body's end node in element lengths).
-    fn passed_out_of_reach(&self, solver: &Solver, d: &[f64]) -> Option<(usize, usize, f64)> {
+    fn passed_out_of_reach(
+        &self,
+        solver: &Solver,
+        d: &[f64],
+        grids: &Grids,
+    ) -> Option<(usize, usize, f64)> {
         let m = &solver.model;
         for (n, b) in self.near_inactive(solver, d) {
-            let Some((_, was)) = self.side_of(solver, n, b) else {
+            let Some((_, was)) = self.side_of(solver, n, b, Some(&grids.before)) else {
                 continue;
             };
-            if self.probe(solver, d, n, b).is_some() {
+            if self.probe_near(solver, d, n, b, Some(&grids.now)).is_some() {
                 continue;
             }
             let Some(e) = Self::swept_crossing(solver, d, n, b, 0.0) else {
@@ -727,12 +833,10 @@ impl ContactSet {
             };
             let (ei, ej) = (m.beams[e].i, m.beams[e].j);
             // A node of that element resting on the node's own beam keeps them apart there.
-            let explained = self.active.iter().any(|a| {
-                (a.node == ei || a.node == ej)
-                    && m.beams
-                        .iter()
-                        .any(|x| x.body == a.body && (x.i == n || x.j == n))
-            });
+            let explained = self
+                .active
+                .iter()
+                .any(|a| (a.node == ei || a.node == ej) && on_body(solver, n, a.body));
             if explained || !Self::adjacent(solver, b, was, e) {
                 continue;
             }
@@ -838,8 +942,13 @@ impl ContactSet {
     /// converged state (the sides are those of that state).
     pub fn max_penetration(&self, solver: &Solver, d: &[f64]) -> f64 {
         let mut worst: f64 = 0.0;
-        for (n, b) in self.near_inactive(solver, d) {
-            if let Some((p, side)) = self.crossing(solver, d, n, b) {
+        let near = self.near_inactive(solver, d);
+        if near.is_empty() {
+            return worst;
+        }
+        let grids = Grids::default();
+        for (n, b) in near {
+            if let Some((p, side)) = self.crossing(solver, d, n, b, &grids) {
                 worst = worst.max(-p.gap * side / p.length);
             }
         }
@@ -860,60 +969,5 @@ impl ContactSet {
                 (off - deflection(&solver.elements[a.beam], &sh.bending, &sh.xis, t)) / sh.l
             })
             .collect()
-    }
-}
-
-/// Broad phase: each body's bounding box over one or more states, grown by `FAR + 1` of its
-/// longest element. A node whose own box over the same states misses it cannot touch the body,
-/// and its distance from every element exceeds `FAR` element lengths.
-struct BodyBoxes(Vec<[f64; 4]>);
-
-impl BodyBoxes {
-    fn new(solver: &Solver, states: &[&[f64]]) -> BodyBoxes {
-        let m = &solver.model;
-        let boxes = m
-            .bodies
-            .iter()
-            .map(|body| {
-                let mut bx = [f64::MAX, f64::MAX, f64::MIN, f64::MIN];
-                let mut longest: f64 = 0.0;
-                for &e in &body.elements {
-                    longest = longest.max(m.beam_length(e));
-                    for n in [m.beams[e].i, m.beams[e].j] {
-                        for d in states {
-                            let p = current(m, &solver.dofs, d, n).0;
-                            bx = [
-                                bx[0].min(p[0]),
-                                bx[1].min(p[1]),
-                                bx[2].max(p[0]),
-                                bx[3].max(p[1]),
-                            ];
-                        }
-                    }
-                }
-                let g = (FAR + 1.0) * longest;
-                [bx[0] - g, bx[1] - g, bx[2] + g, bx[3] + g]
-            })
-            .collect();
-        BodyBoxes(boxes)
-    }
-
-    fn near(&self, solver: &Solver, states: &[&[f64]], n: usize, b: usize) -> bool {
-        if !solver.params.broad_phase {
-            return true;
-        }
-        let bx = self.0[b];
-        let m = &solver.model;
-        let mut nb = [f64::MAX, f64::MAX, f64::MIN, f64::MIN];
-        for d in states {
-            let p = current(m, &solver.dofs, d, n).0;
-            nb = [
-                nb[0].min(p[0]),
-                nb[1].min(p[1]),
-                nb[2].max(p[0]),
-                nb[3].max(p[1]),
-            ];
-        }
-        nb[0] <= bx[2] && nb[2] >= bx[0] && nb[1] <= bx[3] && nb[3] >= bx[1]
     }
 }

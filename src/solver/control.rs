@@ -41,6 +41,8 @@ pub struct Solver {
     pub(crate) candidates: Vec<(usize, usize)>,
     /// Distinct candidate nodes.
     pub(crate) candidate_nodes: usize,
+    /// The beam elements at each node.
+    pub(crate) node_beams: Vec<Vec<usize>>,
 }
 
 impl Solver {
@@ -71,6 +73,7 @@ impl Solver {
             arc: ArcState::default(),
             candidates: ContactSet::candidates_of(&model),
             candidate_nodes: 0,
+            node_beams: model.node_beams(),
             elements,
             dofs,
             params,

@@ -4,6 +4,7 @@
 pub mod arc_length;
 pub mod assembly;
 pub mod beam;
+pub mod broad_phase;
 pub mod contact;
 pub mod contact_element;
 pub mod control;

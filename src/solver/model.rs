@@ -161,6 +161,16 @@ pub struct Model {
 }
 
 impl Model {
+    /// The beam elements at each node (indices into `beams`).
+    pub fn node_beams(&self) -> Vec<Vec<usize>> {
+        let mut out = vec![Vec::new(); self.nodes.len()];
+        for (e, b) in self.beams.iter().enumerate() {
+            out[b.i].push(e);
+            out[b.j].push(e);
+        }
+        out
+    }
+
     /// Number of dofs of node `n` (2 or 3).
     pub fn node_dofs(&self, n: usize) -> usize {
         if self.nodes[n].rotation {

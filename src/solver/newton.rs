@@ -300,8 +300,9 @@ impl Solver {
             iterations += 1;
             pass_iter += 1;
             let moved = contacts.transfer(self, &d, increment, iterations, false, &mut events);
+            // A transfer during the iterations follows the iterate (the next iterate may move
+            // the contact back): not an active-set change, so not counted as chattering.
             if moved > 0 {
-                changes = self.count_changes(changes, moved)?;
                 ordering = self.ordering_for(&contacts);
             }
             last_step = scale * step;
