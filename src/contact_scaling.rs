@@ -1,5 +1,5 @@
-//! Contact scaling report: a bed of n beam elements (0.1 m each, clamped at both ends, on
-//! rollers every 10 elements) pressed by a row of n/10 pins, one in every span, each pin a
+//! Contact scaling report: a bed of n beam elements (0.1 m each, clamped at both ends, pinned
+//! every 10 elements) pressed by a row of n/10 pins, one in every span, each pin a
 //! contact candidate on the bed. Three steps: the pins come down 2 mm a step (closing a 1 mm gap
 //! in the first) while sliding 0.3 elements along. Every pin is near the one long body, so the
 //! body-level broad phase passes every pair, and without the element grid each probe tries all
@@ -47,7 +47,7 @@ pub fn pins_on_bed(n: usize, broad_phase: bool) -> crate::solver::Solver {
         prescribed.push(format!("(node: {id}, dof: U, per_step: 0.03)"));
         pins.push(id.to_string());
         if k > 0 {
-            supports.push(format!("(node: {}, v: true)", 1 + 10 * k));
+            supports.push(format!("(node: {}, u: true, v: true)", 1 + 10 * k));
         }
     }
     let text = format!(

@@ -137,7 +137,7 @@ impl Ordering {
         let mut band = 0;
         for (e, b) in model.beams.iter().enumerate() {
             let mut nodes = vec![b.i, b.j];
-            nodes.extend(links.iter().filter(|l| l.beam == e).map(|l| l.node));
+            nodes.extend(ord.on_beam[e].iter().map(|&k| links[k].node));
             let eqs: Vec<usize> = nodes
                 .iter()
                 .flat_map(|&n| (0..model.node_dofs(n)).map(move |o| (n, o)))
