@@ -111,9 +111,12 @@ pub fn sliders(app: &mut TsmApp, ui: &mut egui::Ui) {
     let model = &l.scene.model;
     if model.prescribed.is_empty() {
         let lambda = app.record().map_or(0.0, |r| r.load_factor);
-        ui.label(format!(
-            "load factor {lambda:.4} (load control; use Step / Run)"
-        ));
+        let control = if l.scene.params.arc_length.is_some() {
+            "arc-length control: each Step is one arc"
+        } else {
+            "load control; use Step / Run"
+        };
+        ui.label(format!("load factor {lambda:.4} ({control})"));
         return;
     }
     let mut sends = Vec::new();

@@ -103,7 +103,12 @@ pub(crate) fn contacts(
         .contacts
         .iter()
         .fold(1e-30f64, |a, c| a.max(c.force.abs()));
-    for c in &r.contacts {
+    // Labels are placed largest force first and skipped where they would overlap one already
+    // placed (the comb's 50 contacts side by side).
+    let mut order: Vec<&crate::solver::report::ContactState> = r.contacts.iter().collect();
+    order.sort_by(|a, b| b.force.abs().total_cmp(&a.force.abs()));
+    let mut placed: Vec<Rect> = Vec::new();
+    for c in order {
         let Some(n) = model.nodes.iter().position(|x| x.id == c.node) else {
             continue;
         };
@@ -123,10 +128,20 @@ pub(crate) fn contacts(
         let tail = at - dir * (len + 6.0);
         p.arrow(tail, dir * len, Stroke::new(2.5, ACTIVE));
         p.circle(at, 6.0, ACTIVE, Stroke::new(1.5, INK));
+        let label = format!("{} N", num(c.force.abs()));
+        let centre = tail - dir * 4.0;
+        let rect = Rect::from_center_size(
+            centre,
+            Vec2::new(6.5 * label.len() as f32, 13.0),
+        );
+        if placed.iter().any(|q| q.intersects(rect)) {
+            continue;
+        }
+        placed.push(rect);
         p.text(
-            tail - dir * 4.0,
+            centre,
             Align2::CENTER_CENTER,
-            format!("{} N", num(c.force.abs())),
+            label,
             FontId::proportional(11.0),
             INK,
         );
@@ -140,6 +155,7 @@ pub(crate) fn body_names(
     curves: &[super::shapes::BodyCurve],
     s: &dyn Fn([f64; 2]) -> Pos2,
 ) {
+    let mut placed: Vec<Rect> = Vec::new();
     for c in curves {
         let Some(body) = model.bodies.get(c.body) else {
             continue;
@@ -155,13 +171,19 @@ pub(crate) fn body_names(
                 v if v < -0.4 => egui::Align::Max,
                 _ => egui::Align::Center,
             };
-            p.text(
-                mid + off * 10.0,
-                Align2([side(off.x), side(off.y)]),
-                &body.name,
+            // Names that would overlap one already drawn are left out (the comb's 50 teeth).
+            let galley = p.layout_no_wrap(
+                body.name.clone(),
                 FontId::proportional(13.0),
                 Color32::from_gray(90),
             );
+            let anchor = Align2([side(off.x), side(off.y)]);
+            let rect = anchor.anchor_size(mid + off * 10.0, galley.size());
+            if placed.iter().any(|q: &Rect| q.intersects(rect)) {
+                continue;
+            }
+            placed.push(rect);
+            p.galley(rect.min, galley, Color32::from_gray(90));
         }
     }
 }
