@@ -114,3 +114,26 @@ fn fuzzer_findings_are_typed_errors() {
         assert!(err.field.contains(field), "{err}");
     }
 }
+
+/// Stiffnesses out of floating-point range, and elements too short to have distinct ends, are
+/// named as such (they used to reach the solver and come back as "a mechanism").
+#[test]
+fn out_of_range_stiffness_and_vanishing_elements_name_the_field() {
+    let base = r#"(name:"",sections:[(name:"s",E:EVAL,A:AVAL,I:1)],bodies:[(name:"b",section:"s",path:[(0,0),(LEN,0)],elements:4,first_node:1)],supports:[(node:1,u:true,v:true,phi:true)])"#;
+    let cases = [
+        ("1e300", "1e300", "1", "sections[0].E", "E A"),
+        ("1e-200", "1e-200", "1", "sections[0].E", "E A"),
+        ("1", "1", "5e-324", "bodies[0].path[1]", "too short"),
+    ];
+    for (e, a, len, field, says) in cases {
+        let text = base
+            .replace("EVAL", e)
+            .replace("AVAL", a)
+            .replace("LEN", len);
+        let err = tsm_contact::scene::parse(&text, "range.ron").expect_err("must be rejected");
+        assert!(
+            err.field.starts_with(field) && err.to_string().contains(says),
+            "{err}"
+        );
+    }
+}

@@ -130,10 +130,7 @@ pub(crate) fn contacts(
         p.circle(at, 6.0, ACTIVE, Stroke::new(1.5, INK));
         let label = format!("{} N", num(c.force.abs()));
         let centre = tail - dir * 4.0;
-        let rect = Rect::from_center_size(
-            centre,
-            Vec2::new(6.5 * label.len() as f32, 13.0),
-        );
+        let rect = Rect::from_center_size(centre, Vec2::new(6.5 * label.len() as f32, 13.0));
         if placed.iter().any(|q| q.intersects(rect)) {
             continue;
         }

@@ -149,6 +149,20 @@ fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
         positive(&ctx, f("G"), nd.clone(), g)?;
         let ae = s.ae.unwrap_or(s.a);
         positive(&ctx, f("Ae"), nd.clone(), ae)?;
+        // Each factor may be fine and the stiffness still overflow or underflow.
+        for (field, what, v) in [
+            ("E", "E A", s.e * s.a),
+            ("E", "E I", s.e * s.i),
+            ("G", "G Ae", g * ae),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(ctx.err(
+                    f(field),
+                    nd,
+                    format!("the stiffness {what} = {v} is out of range (overflows or underflows)"),
+                ));
+            }
+        }
         if sections
             .insert(
                 &s.name,
@@ -252,7 +266,18 @@ fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
             }
             for t in 1..=body.elements {
                 let f = t as f64 / body.elements as f64;
-                pts.push((p.0 + f * (q.0 - p.0), p.1 + f * (q.1 - p.1)));
+                let next = (p.0 + f * (q.0 - p.0), p.1 + f * (q.1 - p.1));
+                if pts.last() == Some(&next) {
+                    return Err(ctx.err(
+                        format!("bodies[{b}].path[{}] (body \"{}\")", s + 1, body.name),
+                        nd,
+                        format!(
+                            "segment {s} ({len:e} m) is too short for {} elements: element ends coincide in floating point",
+                            body.elements
+                        ),
+                    ));
+                }
+                pts.push(next);
             }
         }
         let mut ids = Vec::with_capacity(pts.len());
