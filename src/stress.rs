@@ -357,6 +357,56 @@ pub fn stubby(l_over_h: f64, f: Formulation) -> Run {
     r
 }
 
+/// Two equal strips stacked face to face on [0, 4] m, 1e-4 m apart, clamps at opposite ends,
+/// every node a candidate on the other strip; A's clamp driven down 1 mm in 4 steps. With
+/// `b_elements` = 16 B's nodes lie right under A's (node on node), with 17 between them. Nearly
+/// every node touches in the first increment and nearly all must let go. Measure: the total
+/// contact force against the closed form (they touch at x = L/2 only; each strip is a cantilever
+/// loaded there).
+pub fn stacked(b_elements: usize, f: Formulation) -> Run {
+    let (d, gap, a) = (1e-3, 1e-4, 2.0);
+    let text = format!(
+        r#"(
+        name: "stacked strips", formulation: {fm},
+        sections: [{STRIP}],
+        bodies: [
+            (name: "A", section: "strip", path: [(0.0, 0.0), (4.0, 0.0)], elements: 16, first_node: 1),
+            (name: "B", section: "strip", path: [(0.0, {y}), (4.0, {y})], elements: {b_elements}, first_node: 101),
+        ],
+        supports: [(node: 1, u: true, phi: true), (node: {clamp}, u: true, v: true, phi: true)],
+        prescribed: [(node: 1, dof: V, per_step: {step})],
+        contacts: [(node_bodies: ["A"], bodies: ["B"]), (node_bodies: ["B"], bodies: ["A"])],
+        control: (steps: 4),
+    )"#,
+        fm = ron_name(f),
+        y = -gap,
+        clamp = 101 + b_elements,
+        step = -d / 4.0,
+    );
+    let layout = if b_elements == 16 {
+        "node on node"
+    } else {
+        "nodes interleaved"
+    };
+    let mut r = run(
+        &format!("strips stacked face to face, {layout}"),
+        &text,
+        &Path::Steps(4),
+    );
+    let (ei, gae) = (2.0e7 * 2.2e-8, 7.142e6 * 3.0e-4);
+    let shear = match f {
+        Formulation::Timoshenko => a / gae,
+        Formulation::BernoulliEuler => 0.0,
+    };
+    let exact = (d - gap) / (2.0 * (a * a * a / (3.0 * ei) + shear));
+    if r.row.converged {
+        let last = r.records.last().expect("increment");
+        let total: f64 = last.contacts.iter().map(|c| c.pressure.max(0.0)).sum();
+        r.row.measure = Some(("contact force (N)".into(), total, exact));
+    }
+    r
+}
+
 /// Mattiasson k = 5 on a graded mesh: 16 elements whose lengths alternate in the ratio
 /// `ratio` : 1 (very short elements next to long ones). Measure: w/L against the elastica.
 pub fn short_next_to_long(ratio: f64, f: Formulation) -> Run {
@@ -487,6 +537,8 @@ pub fn suite(long: bool) -> Vec<StressRow> {
         }
         rows.push(slide_across(50, f).row);
         rows.push(pressed_flat(f, if long { 40 } else { 10 }).row);
+        rows.push(stacked(16, f).row);
+        rows.push(stacked(17, f).row);
         for s in [1e1, 1e2, 1e3, 1e4] {
             rows.push(slender(s, f).row);
         }
