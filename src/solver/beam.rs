@@ -137,10 +137,8 @@ impl BeamElement {
         bj[5] += 1.0;
         let nodal = ch.r * n + bi * mi + bj * mj;
         let tangent = with_tangent.then(|| {
-            let mut k = ch.r * ch.r.transpose() * ka;
-            k += (bi * bi.transpose() + bj * bj.transpose()) * k11;
-            k += (bi * bj.transpose() + bj * bi.transpose()) * k12;
-            k + ch.geometric_stiffness(n, mi + mj)
+            let g = [n / ch.l, (mi + mj) / (ch.l * ch.l)];
+            tangent(&ch, &bi, &bj, [ka, k11, k12], g)
         });
         BeamResponse {
             deformation: [dl, ti, tj],
@@ -149,4 +147,37 @@ impl BeamElement {
             tangent,
         }
     }
+}
+
+/// The tangent `ka r r^T + k11 (bi bi^T + bj bj^T) + k12 (bi bj^T + bj bi^T)` plus the geometric
+/// stiffness `N/l z z^T + (Mi + Mj)/l^2 (r z^T + z r^T)`, entry by entry in closed form.
+///
+/// `k = [ka, k11, k12]`, `g = [N/l, (Mi + Mj)/l^2]`. Every entry is summed in the same order as
+/// the outer-product form (`Chord::geometric_stiffness`), so the two agree to the last bit; only
+/// the distinct entries are evaluated. The vectors r, z, bi, bj all have `v[3] = -v[0]` and
+/// `v[4] = -v[1]`, so the translational blocks of node j are exact negatives (or copies) of
+/// node i's, and the matrix is symmetric.
+fn tangent(ch: &Chord, bi: &Vec6, bj: &Vec6, k: [f64; 3], g: [f64; 2]) -> Mat6 {
+    let (r, z) = (&ch.r, &ch.z);
+    let [ka, k11, k12] = k;
+    let [nl, ml2] = g;
+    let e = |a: usize, b: usize| {
+        ((r[a] * r[b]) * ka + (bi[a] * bi[b] + bj[a] * bj[b]) * k11)
+            + (bi[a] * bj[b] + bj[a] * bi[b]) * k12
+            + ((z[a] * z[b]) * nl + (r[a] * z[b] + r[b] * z[a]) * ml2)
+    };
+    // Translational block of node i, and the couplings with the two rotations.
+    let (t00, t01, t11) = (e(0, 0), e(0, 1), e(1, 1));
+    let (c02, c12, c05, c15) = (e(0, 2), e(1, 2), e(0, 5), e(1, 5));
+    let (c22, c25, c55) = (e(2, 2), e(2, 5), e(5, 5));
+    #[rustfmt::skip]
+    let rows = [
+        t00, t01, c02, -t00, -t01, c05,
+        t01, t11, c12, -t01, -t11, c15,
+        c02, c12, c22, -c02, -c12, c25,
+        -t00, -t01, -c02, t00, t01, -c05,
+        -t01, -t11, -c12, t01, t11, -c15,
+        c05, c15, c25, -c05, -c15, c55,
+    ];
+    Mat6::from_row_slice(&rows)
 }
