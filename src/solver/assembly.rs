@@ -279,11 +279,20 @@ pub fn assemble_into(
         gdofs.extend((0..3).map(|o| dofs.dof(beam.j, o)));
         let on_this = &ord.on_beam[e];
         if on_this.is_empty() {
-            let r = ctx.elements[e].response(xi, xj, phi_i, phi_j, with_tangent);
+            // A plain beam: its closed-form tangent goes straight into the band.
+            let mut k = [[0.0; 6]; 6];
+            let r = ctx.elements[e].evaluate(xi, xj, phi_i, phi_j, with_tangent.then_some(&mut k));
             results.beam_forces[e] = r.forces;
-            let k = r.tangent.map(|k| move |a: usize, b: usize| k[(a, b)]);
-            let sink = (&mut *internal, tangent.as_mut(), &mut *coupling);
-            add_element(&gdofs, r.nodal.as_slice(), k, ord, dp, sink);
+            for (&g, f) in gdofs.iter().zip(r.nodal.iter()) {
+                internal[g] += f;
+            }
+            if let Some(band) = tangent.as_mut() {
+                let eqs: [Option<usize>; 6] = std::array::from_fn(|a| ord.eq[gdofs[a]]);
+                band.add_element(&eqs, &k);
+                if let Some(dp) = dp {
+                    add_coupling(&gdofs, &eqs, |a, b| k[a][b], dp, coupling);
+                }
+            }
         } else {
             let xc: Vec<[f64; 2]> = on_this
                 .iter()
@@ -314,6 +323,10 @@ pub fn assemble_into(
             let sink = (&mut *internal, tangent.as_mut(), &mut *coupling);
             add_element(&gdofs, r.nodal.as_slice(), k, ord, dp, sink);
         }
+    }
+    if let Some(t) = tangent.as_mut() {
+        // Beam tangents are exactly symmetric (entry by entry); contact elements' are not.
+        t.set_symmetric(ord.links.is_empty());
     }
     out.tangent = tangent;
 }
@@ -351,31 +364,34 @@ fn add_matrix(
     coupling: &mut [f64],
 ) {
     let Some(band) = band else { return };
-    // Equation numbers looked up once (at most 6 beam dofs plus 2 per contact node).
-    let mut small = [None; 32];
-    let long: Vec<Option<usize>>;
-    let eqs: &[Option<usize>] = if gdofs.len() <= small.len() {
-        for (q, &g) in small.iter_mut().zip(gdofs) {
-            *q = ord.eq[g];
-        }
-        &small[..gdofs.len()]
-    } else {
-        long = gdofs.iter().map(|&g| ord.eq[g]).collect();
-        &long
-    };
+    let eqs: Vec<Option<usize>> = gdofs.iter().map(|&g| ord.eq[g]).collect();
     for (a, &ea) in eqs.iter().enumerate() {
         let Some(ea) = ea else { continue };
         for (b, &eb) in eqs.iter().enumerate() {
-            match eb {
-                Some(eb) => band.add(ea, eb, k(a, b)),
-                None => {
-                    if let Some(dp) = dp {
-                        let gb = gdofs[b];
-                        if dp[gb] != 0.0 {
-                            coupling[ea] += k(a, b) * dp[gb];
-                        }
-                    }
-                }
+            if let Some(eb) = eb {
+                band.add(ea, eb, k(a, b));
+            }
+        }
+    }
+    if let Some(dp) = dp {
+        add_coupling(gdofs, &eqs, k, dp, coupling);
+    }
+}
+
+/// Add an element's `K_fp dp` over the global dofs `gdofs` (with equations `eqs`).
+fn add_coupling(
+    gdofs: &[usize],
+    eqs: &[Option<usize>],
+    k: impl Fn(usize, usize) -> f64,
+    dp: &[f64],
+    coupling: &mut [f64],
+) {
+    for (a, &ea) in eqs.iter().enumerate() {
+        let Some(ea) = ea else { continue };
+        for (b, &eb) in eqs.iter().enumerate() {
+            let gb = gdofs[b];
+            if eb.is_none() && dp[gb] != 0.0 {
+                coupling[ea] += k(a, b) * dp[gb];
             }
         }
     }

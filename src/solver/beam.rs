@@ -122,6 +122,23 @@ impl BeamElement {
         phi_j: f64,
         with_tangent: bool,
     ) -> BeamResponse {
+        let mut k = [[0.0; 6]; 6];
+        let mut r = self.evaluate(xi, xj, phi_i, phi_j, with_tangent.then_some(&mut k));
+        r.tangent = with_tangent.then(|| Mat6::from_fn(|a, b| k[a][b]));
+        r
+    }
+
+    /// `response` for the assembly: the tangent, if wanted, is written row by row into `k`
+    /// (the returned `tangent` is `None`), with no 6x6 temporaries.
+    #[inline]
+    pub fn evaluate(
+        &self,
+        xi: [f64; 2],
+        xj: [f64; 2],
+        phi_i: f64,
+        phi_j: f64,
+        k: Option<&mut [[f64; 6]; 6]>,
+    ) -> BeamResponse {
         let ch = Chord::new(xi, xj, self.alpha0, 0.5 * (phi_i + phi_j));
         let dl = ch.l - self.length;
         let (ti, tj) = (phi_i - ch.beta, phi_j - ch.beta);
@@ -136,15 +153,15 @@ impl BeamElement {
         let mut bj = -ch.z / ch.l;
         bj[5] += 1.0;
         let nodal = ch.r * n + bi * mi + bj * mj;
-        let tangent = with_tangent.then(|| {
+        if let Some(k) = k {
             let g = [n / ch.l, (mi + mj) / (ch.l * ch.l)];
-            tangent(&ch, &bi, &bj, [ka, k11, k12], g)
-        });
+            tangent(&ch, &bi, &bj, [ka, k11, k12], g, k);
+        }
         BeamResponse {
             deformation: [dl, ti, tj],
             forces: [n, mi, mj],
             nodal,
-            tangent,
+            tangent: None,
         }
     }
 }
@@ -157,7 +174,7 @@ impl BeamElement {
 /// the distinct entries are evaluated. The vectors r, z, bi, bj all have `v[3] = -v[0]` and
 /// `v[4] = -v[1]`, so the translational blocks of node j are exact negatives (or copies) of
 /// node i's, and the matrix is symmetric.
-fn tangent(ch: &Chord, bi: &Vec6, bj: &Vec6, k: [f64; 3], g: [f64; 2]) -> Mat6 {
+fn tangent(ch: &Chord, bi: &Vec6, bj: &Vec6, k: [f64; 3], g: [f64; 2], out: &mut [[f64; 6]; 6]) {
     let (r, z) = (&ch.r, &ch.z);
     let [ka, k11, k12] = k;
     let [nl, ml2] = g;
@@ -170,14 +187,12 @@ fn tangent(ch: &Chord, bi: &Vec6, bj: &Vec6, k: [f64; 3], g: [f64; 2]) -> Mat6 {
     let (t00, t01, t11) = (e(0, 0), e(0, 1), e(1, 1));
     let (c02, c12, c05, c15) = (e(0, 2), e(1, 2), e(0, 5), e(1, 5));
     let (c22, c25, c55) = (e(2, 2), e(2, 5), e(5, 5));
-    #[rustfmt::skip]
-    let rows = [
-        t00, t01, c02, -t00, -t01, c05,
-        t01, t11, c12, -t01, -t11, c15,
-        c02, c12, c22, -c02, -c12, c25,
-        -t00, -t01, -c02, t00, t01, -c05,
-        -t01, -t11, -c12, t01, t11, -c15,
-        c05, c15, c25, -c05, -c15, c55,
+    *out = [
+        [t00, t01, c02, -t00, -t01, c05],
+        [t01, t11, c12, -t01, -t11, c15],
+        [c02, c12, c22, -c02, -c12, c25],
+        [-t00, -t01, -c02, t00, t01, -c05],
+        [-t01, -t11, -c12, t01, t11, -c15],
+        [c05, c15, c25, -c05, -c15, c55],
     ];
-    Mat6::from_row_slice(&rows)
 }

@@ -8,7 +8,9 @@
 /// Stored column by column (LAPACK band layout). The storage starts compact, `kl + ku + 1` rows
 /// per column; the factorisation widens it to `2 kl + ku + 1` rows (room for the `kl` extra
 /// super-diagonals that row interchanges fill in) only when a pivot actually needs a row swap.
-/// A well-ordered frame tangent usually needs none, so it is factored without the extra traffic.
+/// A frame tangent usually needs none, so it is factored without the extra traffic. Once
+/// widened, a matrix stays wide when it is `reset` (the next tangent of the same model will
+/// likely need the room again).
 #[derive(Clone, Debug)]
 pub struct BandMatrix {
     n: usize,
@@ -22,6 +24,8 @@ pub struct BandMatrix {
     pivots: Vec<usize>,
     /// Upper bandwidth of U after factorisation: `ku` plus the largest row interchange distance.
     uw: usize,
+    /// Declared exactly symmetric by whoever filled it (see `set_symmetric`).
+    symmetric: bool,
 }
 
 /// Why a factorisation failed.
@@ -43,6 +47,7 @@ impl BandMatrix {
             ab: Vec::new(),
             pivots: Vec::new(),
             uw: 0,
+            symmetric: false,
         };
         m.reset(n, kl, ku);
         m
@@ -51,12 +56,14 @@ impl BandMatrix {
     /// Make this a zero n x n band matrix with the given bandwidths, reusing the storage (no
     /// allocation when it is large enough: Newton iterations refill the same matrix).
     pub fn reset(&mut self, n: usize, kl: usize, ku: usize) {
+        let wide = self.kl > 0 && self.off == self.kl + self.ku;
         self.n = n;
         self.kl = kl;
         self.ku = ku;
-        self.ld = kl + ku + 1;
-        self.off = ku;
+        self.ld = if wide { 2 * kl + ku + 1 } else { kl + ku + 1 };
+        self.off = if wide { kl + ku } else { ku };
         self.uw = ku;
+        self.symmetric = false;
         self.ab.clear();
         self.ab.resize(self.ld * n, 0.0);
         self.pivots.clear();
@@ -87,6 +94,26 @@ impl BandMatrix {
         );
         let k = self.idx(i, j);
         self.ab[k] += v;
+    }
+
+    /// Add a dense element matrix `k` (row-major) over the equations `eqs` (`None`: a dof that
+    /// is not free, skipped). Panics in debug builds if an entry lies outside the band.
+    #[inline]
+    pub fn add_element<const N: usize>(&mut self, eqs: &[Option<usize>; N], k: &[[f64; N]; N]) {
+        let (ld, off) = (self.ld, self.off);
+        for (b, eb) in eqs.iter().enumerate() {
+            let Some(eb) = *eb else { continue };
+            // Storage index of (i, eb) is base + i.
+            let base = eb * (ld - 1) + off;
+            for (a, ea) in eqs.iter().enumerate() {
+                let Some(ea) = *ea else { continue };
+                debug_assert!(
+                    ea <= eb + self.kl && eb <= ea + self.ku,
+                    "({ea},{eb}) outside band"
+                );
+                self.ab[base + ea] += k[a][b];
+            }
+        }
     }
 
     /// Entry (i, j) (zero outside the band). Valid before factorisation.
@@ -123,22 +150,50 @@ impl BandMatrix {
         self.off = self.kl + self.ku;
     }
 
-    /// In-place LU factorisation with partial pivoting. A pivot below `tiny` (absolute) is
-    /// reported as singular.
+    /// Declare the matrix exactly symmetric (as assembled), which lets `factor` keep diagonal
+    /// pivots that dominate their 2x2 minors. `reset` clears it.
+    pub fn set_symmetric(&mut self, symmetric: bool) {
+        self.symmetric = symmetric;
+    }
+
+    /// True if pivot j of a symmetric trailing matrix dominates every 2x2 principal minor it is
+    /// part of: `a_ij^2 <= |a_jj a_ii|` for the rows i below it.
+    fn diagonal_dominates(&self, j: usize, km: usize, tiny: f64) -> bool {
+        let dj = self.idx(j, j);
+        let d = self.ab[dj].abs();
+        d > tiny
+            && (1..=km).all(|t| {
+                let a = self.ab[dj + t];
+                a * a <= d * self.ab[self.idx(j + t, j + t)].abs()
+            })
+    }
+
+    /// In-place LU factorisation. A pivot below `tiny` (absolute) is reported as singular.
+    ///
+    /// Pivoting: strict partial pivoting (the largest entry of the column), except for a matrix
+    /// declared symmetric (`set_symmetric`), whose diagonal stays the pivot as long as it
+    /// dominates its 2x2 minors (always so for a positive definite matrix, where elimination
+    /// without interchanges is stable). That saves the row interchanges partial pivoting makes
+    /// on mere scaling differences (EA/L against EI/L^3) and the fill they bring. From the first
+    /// pivot that fails the test on, the factorisation is strict partial pivoting.
     pub fn factor(&mut self, tiny: f64) -> Result<(), SingularPivot> {
         let (n, kl, ku) = (self.n, self.kl, self.ku);
+        let mut symmetric = self.symmetric && kl == ku;
         let mut ju = 0usize;
         let mut max_p = 0usize;
         for j in 0..n {
             let km = kl.min(n - 1 - j);
             // Column j from the diagonal down is contiguous.
             let dj = self.idx(j, j);
+            let diagonal = self.ab[dj].abs();
             let mut p = 0;
-            let mut best = self.ab[dj].abs();
-            for (t, v) in self.ab[dj + 1..dj + 1 + km].iter().enumerate() {
-                if v.abs() > best {
-                    best = v.abs();
-                    p = t + 1;
+            let mut best = diagonal;
+            if !(symmetric && self.diagonal_dominates(j, km, tiny)) {
+                for (t, v) in self.ab[dj + 1..dj + 1 + km].iter().enumerate() {
+                    if v.abs() > best {
+                        best = v.abs();
+                        p = t + 1;
+                    }
                 }
             }
             self.pivots[j] = j + p;
@@ -147,6 +202,8 @@ impl BandMatrix {
             }
             ju = ju.max((j + ku + p).min(n - 1));
             if p != 0 {
+                // Rows j and j + p swap: the trailing matrix is no longer symmetric.
+                symmetric = false;
                 self.widen();
                 max_p = max_p.max(p);
                 for c in j..=ju {
@@ -162,15 +219,17 @@ impl BandMatrix {
             let lstart = j * ld + off + 1;
             let lcol = &mut head[lstart..lstart + km];
             lcol.iter_mut().for_each(|v| *v /= d);
-            for c in (j + 1)..=ju {
-                // Storage index of (j, c), relative to the start of column j + 1.
-                let base = (c - j - 1) * ld + off + j - c;
-                let a = tail[base];
-                if a != 0.0 {
-                    for (x, l) in tail[base + 1..base + 1 + km].iter_mut().zip(lcol.iter()) {
-                        *x -= l * a;
-                    }
-                }
+            let (lcol, count) = (&*lcol, ju - j);
+            match km {
+                1 => rank_one::<1>(tail, lcol, ld, off, count),
+                2 => rank_one::<2>(tail, lcol, ld, off, count),
+                3 => rank_one::<3>(tail, lcol, ld, off, count),
+                4 => rank_one::<4>(tail, lcol, ld, off, count),
+                5 => rank_one::<5>(tail, lcol, ld, off, count),
+                6 => rank_one::<6>(tail, lcol, ld, off, count),
+                7 => rank_one::<7>(tail, lcol, ld, off, count),
+                8 => rank_one::<8>(tail, lcol, ld, off, count),
+                _ => rank_one_any(tail, lcol, ld, off, count),
             }
         }
         self.uw = (ku + max_p).min(kl + ku);
@@ -203,6 +262,38 @@ impl BandMatrix {
             let col = &self.ab[top - (j - lo)..top];
             for (x, u) in b[lo..j].iter_mut().zip(col) {
                 *x -= u * bj;
+            }
+        }
+    }
+}
+
+/// The elimination step of column j: for each of the `count` columns after it, subtract the
+/// multipliers `l` (rows j+1..=j+K) times the column's row-j entry. `tail` starts at column
+/// j + 1; there the row-j entry of the m-th column sits at `off - 1 + m (ld - 1)`, directly
+/// above its rows j+1..=j+K. The bandwidth K is a constant here, so the inner loop unrolls.
+#[inline(always)]
+fn rank_one<const K: usize>(tail: &mut [f64], l: &[f64], ld: usize, off: usize, count: usize) {
+    let l: &[f64; K] = l.try_into().expect("K multipliers");
+    for m in 0..count {
+        let b = m * (ld - 1) + off - 1;
+        let a = tail[b];
+        if a != 0.0 {
+            let x: &mut [f64; K] = (&mut tail[b + 1..b + 1 + K]).try_into().expect("K rows");
+            for t in 0..K {
+                x[t] -= l[t] * a;
+            }
+        }
+    }
+}
+
+/// `rank_one` for any bandwidth.
+fn rank_one_any(tail: &mut [f64], l: &[f64], ld: usize, off: usize, count: usize) {
+    for m in 0..count {
+        let b = m * (ld - 1) + off - 1;
+        let a = tail[b];
+        if a != 0.0 {
+            for (x, l) in tail[b + 1..b + 1 + l.len()].iter_mut().zip(l) {
+                *x -= l * a;
             }
         }
     }
