@@ -161,11 +161,13 @@ impl BandMatrix {
     fn diagonal_dominates(&self, j: usize, km: usize, tiny: f64) -> bool {
         let dj = self.idx(j, j);
         let d = self.ab[dj].abs();
+        // Diagonal entry i = j + t + 1 lies (t + 1) columns on, at the same storage row.
+        let column = &self.ab[dj + 1..dj + 1 + km];
         d > tiny
-            && (1..=km).all(|t| {
-                let a = self.ab[dj + t];
-                a * a <= d * self.ab[self.idx(j + t, j + t)].abs()
-            })
+            && column
+                .iter()
+                .enumerate()
+                .all(|(t, &a)| a * a <= d * self.ab[dj + (t + 1) * self.ld].abs())
     }
 
     /// In-place LU factorisation. A pivot below `tiny` (absolute) is reported as singular.
