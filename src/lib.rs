@@ -5,6 +5,7 @@
 #[cfg(feature = "gui")]
 pub mod app;
 pub mod history;
+pub mod interactive;
 pub mod scaling;
 pub mod scene;
 pub mod solver;
