@@ -220,7 +220,9 @@ impl BandMatrix {
             let (head, tail) = self.ab.split_at_mut((j + 1) * ld);
             let lstart = j * ld + off + 1;
             let lcol = &mut head[lstart..lstart + km];
-            lcol.iter_mut().for_each(|v| *v /= d);
+            // Multipliers by the reciprocal pivot, as LAPACK's dgbtf2 does: one division.
+            let inv = 1.0 / d;
+            lcol.iter_mut().for_each(|v| *v *= inv);
             let (lcol, count) = (&*lcol, ju - j);
             match km {
                 1 => rank_one::<1>(tail, lcol, ld, off, count),
@@ -250,9 +252,7 @@ impl BandMatrix {
             let km = kl.min(n - 1 - j);
             let bj = b[j];
             let col = &self.ab[j * ld + off + 1..j * ld + off + 1 + km];
-            for (x, l) in b[j + 1..j + 1 + km].iter_mut().zip(col) {
-                *x -= l * bj;
-            }
+            axpy(&mut b[j + 1..j + 1 + km], col, bj);
         }
         // U has `uw` super-diagonals: entries further out are structurally zero.
         let w = self.uw;
@@ -262,8 +262,29 @@ impl BandMatrix {
             let bj = b[j];
             let lo = j.saturating_sub(w);
             let col = &self.ab[top - (j - lo)..top];
-            for (x, u) in b[lo..j].iter_mut().zip(col) {
-                *x -= u * bj;
+            axpy(&mut b[lo..j], col, bj);
+        }
+    }
+}
+
+/// `x -= a v`, unrolled for the short lengths of a band.
+#[inline(always)]
+fn axpy(x: &mut [f64], v: &[f64], a: f64) {
+    fn fixed<const K: usize>(x: &mut [f64], v: &[f64], a: f64) {
+        let x: &mut [f64; K] = x.try_into().expect("K entries");
+        let v: &[f64; K] = v.try_into().expect("K entries");
+        for t in 0..K {
+            x[t] -= v[t] * a;
+        }
+    }
+    match x.len() {
+        3 => fixed::<3>(x, v, a),
+        4 => fixed::<4>(x, v, a),
+        5 => fixed::<5>(x, v, a),
+        6 => fixed::<6>(x, v, a),
+        _ => {
+            for (x, v) in x.iter_mut().zip(v) {
+                *x -= v * a;
             }
         }
     }
