@@ -185,6 +185,23 @@ impl BandMatrix {
         let mut max_p = 0usize;
         for j in 0..n {
             let km = kl.min(n - 1 - j);
+            // The common case first: a symmetric trailing matrix, a full band below and after the
+            // diagonal, and a diagonal pivot that passes the test (unrolled for the bandwidth).
+            if symmetric && km == kl {
+                let (ab, ld, off) = (&mut self.ab[..], self.ld, self.off);
+                let done = match kl {
+                    3 => symmetric_step::<3>(ab, j, ld, off, tiny),
+                    4 => symmetric_step::<4>(ab, j, ld, off, tiny),
+                    5 => symmetric_step::<5>(ab, j, ld, off, tiny),
+                    6 => symmetric_step::<6>(ab, j, ld, off, tiny),
+                    _ => false,
+                };
+                if done {
+                    self.pivots[j] = j;
+                    ju = ju.max(j + ku);
+                    continue;
+                }
+            }
             // Column j from the diagonal down is contiguous.
             let dj = self.idx(j, j);
             let diagonal = self.ab[dj].abs();
@@ -307,6 +324,39 @@ fn rank_one<const K: usize>(tail: &mut [f64], l: &[f64], ld: usize, off: usize, 
             }
         }
     }
+}
+
+/// Column j of a symmetric trailing matrix with K = kl = ku and a full band (K rows below, K
+/// columns after): if its diagonal dominates every 2x2 minor and is above `tiny`, scale the
+/// multipliers and update the K columns after it, and return true; otherwise touch nothing.
+#[inline(always)]
+fn symmetric_step<const K: usize>(
+    ab: &mut [f64],
+    j: usize,
+    ld: usize,
+    off: usize,
+    tiny: f64,
+) -> bool {
+    let dj = j * ld + off;
+    let d = ab[dj];
+    let ad = d.abs();
+    if ad <= tiny || !ad.is_finite() {
+        return false;
+    }
+    let mut dominates = true;
+    for t in 1..K + 1 {
+        let a = ab[dj + t];
+        dominates &= a * a <= ad * ab[dj + t * ld].abs();
+    }
+    if !dominates {
+        return false;
+    }
+    let inv = 1.0 / d;
+    let (head, tail) = ab.split_at_mut((j + 1) * ld);
+    let l = &mut head[dj + 1..dj + 1 + K];
+    l.iter_mut().for_each(|v| *v *= inv);
+    rank_one::<K>(tail, l, ld, off, K);
+    true
 }
 
 /// `rank_one` for any bandwidth.
