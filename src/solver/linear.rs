@@ -101,6 +101,23 @@ impl BandMatrix {
     #[inline]
     pub fn add_element<const N: usize>(&mut self, eqs: &[Option<usize>; N], k: &[[f64; N]; N]) {
         let (ld, off) = (self.ld, self.off);
+        if eqs.iter().all(Option::is_some) {
+            // Every dof free (the usual case): each column's N entries lie in rows lo..=hi.
+            let e: [usize; N] = std::array::from_fn(|a| eqs[a].unwrap_or(0));
+            let (lo, hi) = (e.iter().min(), e.iter().max());
+            let (Some(&lo), Some(&hi)) = (lo, hi) else {
+                return;
+            };
+            debug_assert!(hi - lo <= self.kl.min(self.ku), "element outside band");
+            for (b, &eb) in e.iter().enumerate() {
+                let base = eb * (ld - 1) + off;
+                let column = &mut self.ab[base + lo..=base + hi];
+                for (a, &ea) in e.iter().enumerate() {
+                    column[ea - lo] += k[a][b];
+                }
+            }
+            return;
+        }
         for (b, eb) in eqs.iter().enumerate() {
             let Some(eb) = *eb else { continue };
             // Storage index of (i, eb) is base + i.
