@@ -1,5 +1,6 @@
 //! The global linear solve: a banded LU with partial pivoting (LAPACK gbtrf layout, widened only
-//! when a row interchange needs it) over equations numbered by a reverse Cuthill-McKee ordering,
+//! when a row interchange needs it; diagonal pivots kept for an exactly symmetric matrix while
+//! they dominate their 2x2 minors) over equations numbered by a reverse Cuthill-McKee ordering,
 //! so a chain of n elements costs O(n).
 //! A dense LU path exists for cross-checks and tiny systems.
 
