@@ -1,5 +1,6 @@
 //! Benchmarks: one Newton increment of an n-element cantilever (Mattiasson load k = 0.1), reported
-//! per element and per iteration, and the paper's Example 3.2, all 80 steps.
+//! per element and per iteration, the paper's Example 3.2, all 80 steps, and a slider-driven
+//! update of the paper scenes (Examples 3.1 and 3.2).
 //! Run with `cargo bench --no-default-features --bench solver`.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
@@ -65,9 +66,30 @@ fn example_3_2(c: &mut Criterion) {
     });
 }
 
+/// A slider drag in the GUI: from the converged state halfway through a paper scene, the
+/// prescribed displacement moves one step's worth and the solver converges there
+/// (`Solver::advance_to`, as the worker does for `SetTarget`). Target: within a 16 ms frame.
+fn slider_update(c: &mut Criterion) {
+    use tsm_contact::interactive::{converged_states, one_step_targets};
+    let mut g = c.benchmark_group("slider_update");
+    for scene in tsm_contact::interactive::SCENES {
+        let states = converged_states(scene);
+        let state = states[states.len() / 2].clone();
+        let (targets, lambda) = one_step_targets(&state);
+        g.bench_function(scene, |b| {
+            b.iter_batched(
+                || state.clone(),
+                |mut s| s.advance_to(&targets, lambda, &mut Silent).unwrap(),
+                criterion::BatchSize::LargeInput,
+            )
+        });
+    }
+    g.finish();
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(10);
-    targets = newton, example_3_2
+    targets = newton, example_3_2, slider_update
 }
 criterion_main!(benches);

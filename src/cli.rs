@@ -53,7 +53,8 @@ enum Command {
     /// List the built-in scenes.
     Scenes,
     /// Work-precision report: error against wall time for reference problems, formulations,
-    /// meshes and tolerances; writes work-precision.csv and .svg into --out and prints a table.
+    /// meshes and tolerances; writes work-precision.csv and .svg into --out and prints a table,
+    /// then the slider-update timings of the paper scenes (see `interactive`).
     Bench {
         /// Fewer meshes, one tolerance, one repeat.
         #[arg(long)]
@@ -344,6 +345,13 @@ fn bench(quick: bool, out: &Path) -> i32 {
         out.display(),
         points.len()
     );
+    use tsm_contact::interactive;
+    let repeats = if quick { 3 } else { 11 };
+    let rows: Vec<_> = interactive::SCENES
+        .iter()
+        .map(|s| interactive::measure(s, repeats))
+        .collect();
+    println!("\n{}", interactive::table(&rows));
     0
 }
 

@@ -6,6 +6,7 @@
 pub mod app;
 pub mod contact_scaling;
 pub mod history;
+pub mod interactive;
 pub mod scaling;
 pub mod scene;
 pub mod solver;

@@ -71,3 +71,94 @@ fn reverse_cuthill_mckee_orders_a_shuffled_chain_to_bandwidth_one() {
     sorted.sort();
     assert_eq!(sorted, (0..n).collect::<Vec<_>>(), "a permutation");
 }
+
+/// A symmetric band matrix (n, kl = ku = w) with entries of very different scales, positive
+/// definite or (with `shift`) indefinite, as a band and as a dense row-major copy.
+fn symmetric_band(rng: &mut Rng, n: usize, w: usize, shift: f64) -> (BandMatrix, Vec<f64>) {
+    let mut dense = vec![0.0; n * n];
+    // Row scales as far apart as EA/L and EI/L^3 in a frame.
+    let scale: Vec<f64> = (0..n).map(|i| [1e6, 1.0, 30.0][i % 3]).collect();
+    for i in 0..n {
+        for j in i..(i + w + 1).min(n) {
+            let v = if i == j {
+                w as f64 + 1.0 + rng.next().abs() - shift
+            } else {
+                rng.next()
+            };
+            let v = v * (scale[i] * scale[j]).sqrt();
+            dense[i * n + j] = v;
+            dense[j * n + i] = v;
+        }
+    }
+    let mut band = BandMatrix::zeros(n, w, w);
+    for i in 0..n {
+        for j in i.saturating_sub(w)..(i + w + 1).min(n) {
+            band.add(i, j, dense[i * n + j]);
+        }
+    }
+    band.set_symmetric(true);
+    (band, dense)
+}
+
+#[test]
+fn symmetric_band_lu_agrees_with_dense_lu_definite_or_not() {
+    let mut rng = Rng(0x2545_f491_4f6c_dd1d);
+    for &(n, w, shift) in &[
+        (3usize, 1usize, 0.0),
+        (60, 5, 0.0),
+        (300, 5, 0.0),
+        (90, 5, 4.0),
+        (301, 8, 6.0),
+        (90, 5, 6.5),
+    ] {
+        let (mut band, dense) = symmetric_band(&mut rng, n, w, shift);
+        let b: Vec<f64> = (0..n).map(|_| rng.next()).collect();
+        let reference = dense_solve(n, &dense, &b).expect("nonsingular");
+        band.factor(0.0).expect("nonsingular");
+        let mut x = b.clone();
+        band.solve(&mut x);
+        let scale = reference.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let err = x
+            .iter()
+            .zip(&reference)
+            .fold(0.0f64, |m, (a, r)| m.max((a - r).abs()));
+        assert!(
+            err < 1e-10 * scale,
+            "n {n} w {w} shift {shift}: {err:e} vs {scale:e}"
+        );
+    }
+}
+
+#[test]
+fn a_reset_band_matrix_is_a_fresh_one() {
+    let mut rng = Rng(0x1234_5678_9abc_def1);
+    // First a matrix that needs row interchanges (widened storage), then smaller and larger
+    // ones in the same storage.
+    let mut band = BandMatrix::zeros(50, 3, 3);
+    for i in 0..50usize {
+        for j in i.saturating_sub(3)..(i + 4).min(50) {
+            band.add(i, j, if i == j { 1e-6 } else { rng.next() });
+        }
+    }
+    band.factor(0.0).expect("nonsingular");
+    for &(n, w) in &[(20usize, 2usize), (80, 4)] {
+        band.reset(n, w, w);
+        let mut dense = vec![0.0; n * n];
+        for i in 0..n {
+            for j in i.saturating_sub(w)..(i + w + 1).min(n) {
+                let v = if i == j { 10.0 } else { rng.next() };
+                band.add(i, j, v);
+                dense[i * n + j] = v;
+                assert_eq!(band.get(i, j), v);
+            }
+        }
+        let b: Vec<f64> = (0..n).map(|_| rng.next()).collect();
+        let reference = dense_solve(n, &dense, &b).expect("nonsingular");
+        band.factor(0.0).expect("nonsingular");
+        let mut x = b.clone();
+        band.solve(&mut x);
+        for (a, r) in x.iter().zip(&reference) {
+            assert!((a - r).abs() < 1e-12 * (1.0 + r.abs()), "{a} vs {r}");
+        }
+    }
+}

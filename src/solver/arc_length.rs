@@ -8,7 +8,7 @@
 
 use std::time::Instant;
 
-use super::assembly::{assemble, AssemblyContext, DofKind};
+use super::assembly::{assemble_into, Assembled, AssemblyContext, DofKind};
 use super::control::Solver;
 use super::newton::{AttemptError, Converged, Stall};
 use super::report::{Event, Flow, IncrementRecord, IterationRecord, Observer, SolveError};
@@ -123,6 +123,8 @@ impl Solver {
         let mut predictor = true;
         let mut stall = Stall::new();
         let mut last_step = f64::INFINITY;
+        // The assembly buffers (band tangent included) are reused by every iteration.
+        let mut asm = Assembled::default();
         loop {
             let ctx = AssemblyContext {
                 model: &self.model,
@@ -131,7 +133,7 @@ impl Solver {
                 ordering: &ordering,
                 contact: p.contact_options(pass_iter + 1),
             };
-            let mut asm = assemble(&ctx, &d, true, None);
+            assemble_into(&ctx, &d, true, None, &mut asm);
             let fext = self.external_force(lambda);
             let (rhs, norm, reference) = self.residual(&asm, &fext, &ordering);
             let mut tangent = asm.tangent.take().expect("tangent requested");
@@ -228,6 +230,7 @@ impl Solver {
             tangent.solve(&mut qf);
             let mut qr = rhs;
             tangent.solve(&mut qr);
+            asm.tangent = Some(tangent);
             let scatter = |v: &[f64]| {
                 let mut out = vec![0.0; self.dofs.len()];
                 for (g, e) in ordering.eq.iter().enumerate() {

@@ -162,7 +162,7 @@ pub struct ElementResults {
 }
 
 /// The assembled global quantities at one state.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 pub struct Assembled {
     /// Internal nodal forces sum J S over every global dof.
     pub internal: Vec<f64>,
@@ -227,16 +227,46 @@ pub fn assemble(
     with_tangent: bool,
     dp: Option<&[f64]>,
 ) -> Assembled {
+    let mut out = Assembled::default();
+    assemble_into(ctx, d, with_tangent, dp, &mut out);
+    out
+}
+
+/// Refill `out` with `len` copies of `v`, keeping its allocation.
+fn refill<T: Clone>(out: &mut Vec<T>, len: usize, v: T) {
+    out.clear();
+    out.resize(len, v);
+}
+
+/// `assemble` into the buffers of a previous assembly (Newton iterations reuse them, so a
+/// large model allocates nothing per iteration). Every field of `out` is overwritten; the
+/// tangent is `None` unless requested.
+pub fn assemble_into(
+    ctx: &AssemblyContext,
+    d: &[f64],
+    with_tangent: bool,
+    dp: Option<&[f64]>,
+    out: &mut Assembled,
+) {
     let model = ctx.model;
     let dofs = ctx.dofs;
     let ord = ctx.ordering;
-    let mut internal = vec![0.0; dofs.len()];
-    let mut coupling = vec![0.0; ord.n_eq];
-    let mut tangent = with_tangent.then(|| BandMatrix::zeros(ord.n_eq, ord.band, ord.band));
-    let mut results = ElementResults {
-        beam_forces: vec![[0.0; 3]; model.beams.len()],
-        contact_forces: vec![(0.0, 0.0); ord.links.len()],
-    };
+    refill(&mut out.internal, dofs.len(), 0.0);
+    refill(&mut out.coupling, ord.n_eq, 0.0);
+    let mut tangent = out.tangent.take();
+    if with_tangent {
+        match tangent.as_mut() {
+            Some(t) => t.reset(ord.n_eq, ord.band, ord.band),
+            None => tangent = Some(BandMatrix::zeros(ord.n_eq, ord.band, ord.band)),
+        }
+    } else {
+        tangent = None;
+    }
+    let results = &mut out.elements;
+    refill(&mut results.beam_forces, model.beams.len(), [0.0; 3]);
+    refill(&mut results.contact_forces, ord.links.len(), (0.0, 0.0));
+    let internal = &mut out.internal;
+    let coupling = &mut out.coupling;
     let mut gdofs: Vec<usize> = Vec::with_capacity(12);
     for (e, beam) in model.beams.iter().enumerate() {
         // Positions relative to node i's initial position: the element only uses differences,
@@ -249,11 +279,20 @@ pub fn assemble(
         gdofs.extend((0..3).map(|o| dofs.dof(beam.j, o)));
         let on_this = &ord.on_beam[e];
         if on_this.is_empty() {
-            let r = ctx.elements[e].response(xi, xj, phi_i, phi_j, with_tangent);
+            // A plain beam: its closed-form tangent goes straight into the band.
+            let mut k = [[0.0; 6]; 6];
+            let r = ctx.elements[e].evaluate(xi, xj, phi_i, phi_j, with_tangent.then_some(&mut k));
             results.beam_forces[e] = r.forces;
-            let k = r.tangent.map(|k| move |a: usize, b: usize| k[(a, b)]);
-            let sink = (&mut internal, tangent.as_mut(), &mut coupling);
-            add_element(&gdofs, r.nodal.as_slice(), k, ord, dp, sink);
+            for (&g, f) in gdofs.iter().zip(r.nodal.iter()) {
+                internal[g] += f;
+            }
+            if let Some(band) = tangent.as_mut() {
+                let eqs: [Option<usize>; 6] = std::array::from_fn(|a| ord.eq[gdofs[a]]);
+                band.add_element(&eqs, &k);
+                if let Some(dp) = dp {
+                    add_coupling(&gdofs, &eqs, |a, b| k[a][b], dp, coupling);
+                }
+            }
         } else {
             let xc: Vec<[f64; 2]> = on_this
                 .iter()
@@ -281,16 +320,15 @@ pub fn assemble(
                 .tangent
                 .as_ref()
                 .map(|k| move |a: usize, b: usize| k[(a, b)]);
-            let sink = (&mut internal, tangent.as_mut(), &mut coupling);
+            let sink = (&mut *internal, tangent.as_mut(), &mut *coupling);
             add_element(&gdofs, r.nodal.as_slice(), k, ord, dp, sink);
         }
     }
-    Assembled {
-        internal,
-        tangent,
-        coupling,
-        elements: results,
+    if let Some(t) = tangent.as_mut() {
+        // Beam tangents are exactly symmetric (entry by entry); contact elements' are not.
+        t.set_symmetric(ord.links.is_empty());
     }
+    out.tangent = tangent;
 }
 
 /// Where element contributions go: internal forces, the band tangent, K_fp dp.
@@ -326,18 +364,34 @@ fn add_matrix(
     coupling: &mut [f64],
 ) {
     let Some(band) = band else { return };
-    for (a, &ga) in gdofs.iter().enumerate() {
-        let Some(ea) = ord.eq[ga] else { continue };
-        for (b, &gb) in gdofs.iter().enumerate() {
-            match ord.eq[gb] {
-                Some(eb) => band.add(ea, eb, k(a, b)),
-                None => {
-                    if let Some(dp) = dp {
-                        if dp[gb] != 0.0 {
-                            coupling[ea] += k(a, b) * dp[gb];
-                        }
-                    }
-                }
+    let eqs: Vec<Option<usize>> = gdofs.iter().map(|&g| ord.eq[g]).collect();
+    for (a, &ea) in eqs.iter().enumerate() {
+        let Some(ea) = ea else { continue };
+        for (b, &eb) in eqs.iter().enumerate() {
+            if let Some(eb) = eb {
+                band.add(ea, eb, k(a, b));
+            }
+        }
+    }
+    if let Some(dp) = dp {
+        add_coupling(gdofs, &eqs, k, dp, coupling);
+    }
+}
+
+/// Add an element's `K_fp dp` over the global dofs `gdofs` (with equations `eqs`).
+fn add_coupling(
+    gdofs: &[usize],
+    eqs: &[Option<usize>],
+    k: impl Fn(usize, usize) -> f64,
+    dp: &[f64],
+    coupling: &mut [f64],
+) {
+    for (a, &ea) in eqs.iter().enumerate() {
+        let Some(ea) = ea else { continue };
+        for (b, &eb) in eqs.iter().enumerate() {
+            let gb = gdofs[b];
+            if eb.is_none() && dp[gb] != 0.0 {
+                coupling[ea] += k(a, b) * dp[gb];
             }
         }
     }

@@ -122,6 +122,23 @@ impl BeamElement {
         phi_j: f64,
         with_tangent: bool,
     ) -> BeamResponse {
+        let mut k = [[0.0; 6]; 6];
+        let mut r = self.evaluate(xi, xj, phi_i, phi_j, with_tangent.then_some(&mut k));
+        r.tangent = with_tangent.then(|| Mat6::from_fn(|a, b| k[a][b]));
+        r
+    }
+
+    /// `response` for the assembly: the tangent, if wanted, is written row by row into `k`
+    /// (the returned `tangent` is `None`), with no 6x6 temporaries.
+    #[inline]
+    pub fn evaluate(
+        &self,
+        xi: [f64; 2],
+        xj: [f64; 2],
+        phi_i: f64,
+        phi_j: f64,
+        k: Option<&mut [[f64; 6]; 6]>,
+    ) -> BeamResponse {
         let ch = Chord::new(xi, xj, self.alpha0, 0.5 * (phi_i + phi_j));
         let dl = ch.l - self.length;
         let (ti, tj) = (phi_i - ch.beta, phi_j - ch.beta);
@@ -136,17 +153,95 @@ impl BeamElement {
         let mut bj = -ch.z / ch.l;
         bj[5] += 1.0;
         let nodal = ch.r * n + bi * mi + bj * mj;
-        let tangent = with_tangent.then(|| {
-            let mut k = ch.r * ch.r.transpose() * ka;
-            k += (bi * bi.transpose() + bj * bj.transpose()) * k11;
-            k += (bi * bj.transpose() + bj * bi.transpose()) * k12;
-            k + ch.geometric_stiffness(n, mi + mj)
-        });
+        if let Some(k) = k {
+            let g = [n / ch.l, (mi + mj) / (ch.l * ch.l)];
+            tangent(&ch, &bi, [ka, k11, k12], g, k);
+        }
         BeamResponse {
             deformation: [dl, ti, tj],
             forces: [n, mi, mj],
             nodal,
-            tangent,
+            tangent: None,
+        }
+    }
+}
+
+/// The tangent `ka r r^T + k11 (bi bi^T + bj bj^T) + k12 (bi bj^T + bj bi^T)` plus the geometric
+/// stiffness `N/l z z^T + (Mi + Mj)/l^2 (r z^T + z r^T)`, entry by entry in closed form.
+///
+/// `k = [ka, k11, k12]`, `g = [N/l, (Mi + Mj)/l^2]`. With r = (-c, -s, 0, c, s, 0),
+/// z = (s, -c, 0, -s, c, 0), bi = (w, 1, -w, 0) and bj = (w, 0, -w, 1) for w = -z[0..2]/l, only
+/// ten entries are distinct; the translational blocks of node j are exact negatives (or copies)
+/// of node i's. Every entry is summed in the same order as the outer-product form (terms that
+/// vanish identically left out), so the two agree to the last bit.
+fn tangent(ch: &Chord, bi: &Vec6, k: [f64; 3], g: [f64; 2], out: &mut [[f64; 6]; 6]) {
+    let (r, z) = (&ch.r, &ch.z);
+    let w = [bi[0], bi[1]];
+    let [ka, k11, k12] = k;
+    let [nl, ml2] = g;
+    // Translational block of node i: bi_a bi_b + bj_a bj_b = bi_a bj_b + bj_a bi_b = 2 w_a w_b.
+    let t = |a: usize, b: usize| {
+        let ww = w[a] * w[b] + w[a] * w[b];
+        (((r[a] * r[b]) * ka + ww * k11) + ww * k12)
+            + ((z[a] * z[b]) * nl + (r[a] * z[b] + r[b] * z[a]) * ml2)
+    };
+    let (t00, t01, t11) = (t(0, 0), t(0, 1), t(1, 1));
+    // Couplings of the translations with either rotation: w_a k11 + w_a k12.
+    let (c0, c1) = (w[0] * k11 + w[0] * k12, w[1] * k11 + w[1] * k12);
+    *out = [
+        [t00, t01, c0, -t00, -t01, c0],
+        [t01, t11, c1, -t01, -t11, c1],
+        [c0, c1, k11, -c0, -c1, k12],
+        [-t00, -t01, -c0, t00, t01, -c0],
+        [-t01, -t11, -c1, t01, t11, -c1],
+        [c0, c1, k12, -c0, -c1, k11],
+    ];
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The outer-product form of the tangent, as first written.
+    fn outer_product_tangent(el: &BeamElement, xi: [f64; 2], xj: [f64; 2], p: [f64; 2]) -> Mat6 {
+        let ch = Chord::new(xi, xj, el.alpha0, 0.5 * (p[0] + p[1]));
+        let (ti, tj) = (p[0] - ch.beta, p[1] - ch.beta);
+        let ka = el.section.ea / el.length;
+        let (k11, k12) = el.bending_stiffness();
+        let n = ka * (ch.l - el.length);
+        let (mi, mj) = (k11 * ti + k12 * tj, k12 * ti + k11 * tj);
+        let mut bi = -ch.z / ch.l;
+        bi[2] += 1.0;
+        let mut bj = -ch.z / ch.l;
+        bj[5] += 1.0;
+        let mut k = ch.r * ch.r.transpose() * ka;
+        k += (bi * bi.transpose() + bj * bj.transpose()) * k11;
+        k += (bi * bj.transpose() + bj * bi.transpose()) * k12;
+        k + ch.geometric_stiffness(n, mi + mj)
+    }
+
+    #[test]
+    fn closed_form_tangent_equals_the_outer_products_bit_for_bit() {
+        let section = Section {
+            ea: 3.0e6,
+            ei: 2.5,
+            gae: 1.0e5,
+        };
+        for (k, psi) in [0.0, 2.5e-5].into_iter().enumerate() {
+            let el = BeamElement::new([0.3, -0.2], [1.1, 0.4], section, psi);
+            for m in 0..20 {
+                let f = (m + 7 * k) as f64;
+                let xi = [0.3 + 0.01 * f.sin(), -0.2 + 0.02 * (1.3 * f).cos()];
+                let xj = [1.1 - 0.3 * (0.7 * f).sin(), 0.4 + 0.5 * (0.3 * f).sin()];
+                let p = [0.4 * (0.9 * f).sin(), -0.3 * (1.7 * f).cos()];
+                let fast = el.response(xi, xj, p[0], p[1], true).tangent.unwrap();
+                let reference = outer_product_tangent(&el, xi, xj, p);
+                for a in 0..6 {
+                    for b in 0..6 {
+                        assert_eq!(fast[(a, b)], reference[(a, b)], "({a},{b}) at {m}");
+                    }
+                }
+            }
         }
     }
 }

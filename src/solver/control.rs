@@ -2,6 +2,7 @@
 //! displacements and the load factor, halves the increment on failure (reported as events),
 //! and turns converged attempts into increment records.
 
+use std::sync::Arc;
 use std::time::Instant;
 
 use super::arc_length::ArcState;
@@ -34,7 +35,7 @@ pub struct Solver {
     pub(crate) load_factor: f64,
     pub(crate) contacts: ContactSet,
     pub(crate) force_floor: f64,
-    ordering_cache: std::cell::RefCell<Option<Ordering>>,
+    ordering_cache: std::cell::RefCell<Option<Arc<Ordering>>>,
     increment: usize,
     pub(crate) arc: ArcState,
     /// Contact candidate (node, body) pairs.
@@ -143,14 +144,15 @@ impl Solver {
     }
 
     /// The equation ordering for a contact topology; the last one built is kept, since the
-    /// topology rarely changes between iterations and increments.
-    pub(crate) fn ordering_for(&self, contacts: &ContactSet) -> Ordering {
+    /// topology rarely changes between iterations and increments. Shared, so handing it out copies
+    /// nothing.
+    pub(crate) fn ordering_for(&self, contacts: &ContactSet) -> Arc<Ordering> {
         let links = contacts.links();
         let mut cache = self.ordering_cache.borrow_mut();
         match cache.as_ref() {
             Some(o) if o.links == links => o.clone(),
             _ => {
-                let o = Ordering::new(&self.model, &self.dofs, &links);
+                let o = Arc::new(Ordering::new(&self.model, &self.dofs, &links));
                 *cache = Some(o.clone());
                 o
             }

@@ -3,7 +3,7 @@
 //! and the contact active-set passes (transfers during iterations, activation and release between
 //! converged passes).
 
-use super::assembly::{assemble, Assembled, AssemblyContext, DofKind, Ordering};
+use super::assembly::{assemble_into, Assembled, AssemblyContext, DofKind, Ordering};
 use super::contact::ContactSet;
 use super::control::Solver;
 use super::report::{ContactChange, Event, Flow, IterationRecord, Observer};
@@ -101,7 +101,21 @@ impl Solver {
         fext: &[f64],
         ord: &Ordering,
     ) -> (Vec<f64>, f64, f64) {
-        let mut r = vec![0.0; ord.n_eq];
+        let mut r = Vec::new();
+        let (norm, reference) = self.residual_into(asm, fext, ord, &mut r);
+        (r, norm, reference)
+    }
+
+    /// `residual` into a reused vector: returns the residual norm and the reference force.
+    pub(crate) fn residual_into(
+        &self,
+        asm: &Assembled,
+        fext: &[f64],
+        ord: &Ordering,
+        r: &mut Vec<f64>,
+    ) -> (f64, f64) {
+        r.clear();
+        r.resize(ord.n_eq, 0.0);
         let (mut ext2, mut reac2) = (0.0, 0.0);
         for (g, kind) in self.dofs.kind.iter().enumerate() {
             ext2 += fext[g] * fext[g];
@@ -115,7 +129,7 @@ impl Solver {
         }
         let norm = r.iter().map(|v| v * v).sum::<f64>().sqrt();
         let reference = ext2.sqrt().max(reac2.sqrt()).max(self.force_floor);
-        (r, norm, reference)
+        (norm, reference)
     }
 
     /// One attempt to reach (`target_p`, `target_lambda`) from the last converged state.
@@ -147,6 +161,10 @@ impl Solver {
         let mut last_step = 0.0;
         let mut springback = false;
         let mut stall = Stall::new();
+        // Buffers reused by every iteration: the assembly (band tangent included) and the
+        // right-hand side.
+        let mut asm = Assembled::default();
+        let mut rhs = Vec::new();
         loop {
             let ctx = AssemblyContext {
                 model: &self.model,
@@ -155,8 +173,8 @@ impl Solver {
                 ordering: &ordering,
                 contact: p.contact_options(pass_iter + 1),
             };
-            let asm = assemble(&ctx, &d, true, predictor.then_some(dp.as_slice()));
-            let (mut rhs, norm, reference) = self.residual(&asm, &fext, &ordering);
+            assemble_into(&ctx, &d, true, predictor.then_some(dp.as_slice()), &mut asm);
+            let (norm, reference) = self.residual_into(&asm, &fext, &ordering, &mut rhs);
             if springback && !predictor && !contacts.one_at_a_time {
                 let released =
                     contacts.release_tensile(self, &asm, increment, iterations, &mut events);
@@ -166,7 +184,6 @@ impl Solver {
                     continue;
                 }
             }
-            let mut asm = asm;
             let mut tangent = asm.tangent.take().expect("tangent requested");
             let scale = self.coordinate_scale(&d);
             let floor = f64::EPSILON * tangent.max_diagonal() * scale / reference;
@@ -276,6 +293,7 @@ impl Solver {
                 )));
             }
             tangent.solve(&mut rhs);
+            asm.tangent = Some(tangent);
             let mut step2: f64 = rhs.iter().map(|v| v * v).sum();
             if predictor {
                 step2 += dp.iter().map(|v| v * v).sum::<f64>();
