@@ -4,6 +4,7 @@
 //! elements near a node, so that a node near a long body does not test every element of it.
 
 use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
 
 use super::assembly::current;
 use super::control::Solver;
@@ -61,13 +62,41 @@ fn grow(bx: &mut [f64; 4], p: [f64; 2]) {
     ];
 }
 
+/// A fast hasher for small integer keys (cells, element indices): multiply and rotate, as in
+/// rustc's FxHasher. Not resistant to adversarial keys, which these are not.
+#[derive(Default, Clone, Copy)]
+pub(crate) struct IndexHasher(u64);
+
+impl Hasher for IndexHasher {
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.write_u64(u64::from(b));
+        }
+    }
+    fn write_u64(&mut self, v: u64) {
+        self.0 = (self.0.rotate_left(5) ^ v).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+    fn write_i64(&mut self, v: i64) {
+        self.write_u64(v as u64);
+    }
+    fn write_usize(&mut self, v: usize) {
+        self.write_u64(v as u64);
+    }
+    fn finish(&self) -> u64 {
+        self.0
+    }
+}
+
+/// A `HashMap` keyed by small integers, hashed with `IndexHasher`.
+pub(crate) type IndexMap<K, V> = HashMap<K, V, BuildHasherDefault<IndexHasher>>;
+
 /// A uniform grid over the elements' bounding boxes (chords) at one state. Cells are `reach`
 /// wide, `reach` at least `margin` times the longest current chord: every element within
 /// `reach` of a point has a cell among the 3 x 3 around the point's cell.
 pub(crate) struct ElementGrid {
     /// Cell size, and the distance within which `near` misses no element.
     pub(crate) reach: f64,
-    cells: HashMap<(i64, i64), Vec<usize>>,
+    cells: IndexMap<(i64, i64), Vec<usize>>,
 }
 
 impl ElementGrid {
@@ -95,7 +124,7 @@ impl ElementGrid {
         if !(reach > 0.0 && reach.is_finite()) {
             return None;
         }
-        let mut cells: HashMap<(i64, i64), Vec<usize>> = HashMap::new();
+        let mut cells: IndexMap<(i64, i64), Vec<usize>> = IndexMap::default();
         for (e, (a, b)) in ends.iter().enumerate() {
             let (x0, x1) = (cell(a[0].min(b[0]), reach), cell(a[0].max(b[0]), reach));
             let (y0, y1) = (cell(a[1].min(b[1]), reach), cell(a[1].max(b[1]), reach));

@@ -4,11 +4,11 @@
 //! release when the contact force turns tensile or the node slides off a free end.
 
 use std::cell::{OnceCell, RefCell};
-use std::collections::{HashMap, HashSet};
+use std::collections::HashSet;
 use std::rc::Rc;
 
 use super::assembly::{current, Assembled, ContactLink};
-use super::broad_phase::{BodyBoxes, ElementGrid};
+use super::broad_phase::{BodyBoxes, ElementGrid, IndexMap};
 use super::contact_element::{contact_response, deflection};
 use super::control::Solver;
 use super::model::Model;
@@ -26,6 +26,9 @@ const SHAPE_MARGIN: f64 = 0.05;
 /// contact between them is enough (a second, the other way round, would impose the same
 /// constraint twice and make the tangent singular).
 const NODE_ON_NODE: f64 = 0.01;
+
+/// Bodies of more elements than this are probed through the element grid.
+const GRID_MIN_ELEMENTS: usize = 32;
 
 /// A contact node resting on a beam element.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -60,7 +63,7 @@ pub struct ContactSet {
     pub active: Vec<ActiveContact>,
     /// Per (node, body): the side (+1/-1 along the chord normal) and the element it was
     /// measured against, at the last converged state.
-    sides: HashMap<(usize, usize), (f64, usize)>,
+    sides: IndexMap<(usize, usize), (f64, usize)>,
     /// Set by `after_convergence` when a node was found deeper through a body than
     /// `max_penetration` element lengths: (node, body, depth / length). The increment is then
     /// cut back so that the touch is caught close to where it happens.
@@ -85,7 +88,7 @@ fn on_body(solver: &Solver, n: usize, body: usize) -> bool {
 #[derive(Default)]
 struct StateView {
     grid: OnceCell<Option<ElementGrid>>,
-    shapes: RefCell<HashMap<usize, Rc<Shape>>>,
+    shapes: RefCell<IndexMap<usize, Rc<Shape>>>,
 }
 
 /// Views of the iterate and of the last converged state, for one pass.
@@ -276,7 +279,9 @@ impl ContactSet {
     ) -> Option<Probe> {
         let m = &solver.model;
         let p = current(m, &solver.dofs, d, n).0;
-        let grid = view.and_then(|v| {
+        // A short body is probed element by element: cheaper than building and asking a grid.
+        let long = m.bodies[b].elements.len() > GRID_MIN_ELEMENTS;
+        let grid = view.filter(|_| long).and_then(|v| {
             v.grid
                 .get_or_init(|| ElementGrid::new(solver, d, FAR + 1.0))
                 .as_ref()
@@ -395,12 +400,12 @@ impl ContactSet {
         }
         let states = [solver.d.as_slice(), d];
         let boxes = BodyBoxes::new(solver, &states, FAR + 1.0);
-        let active: std::collections::HashSet<(usize, usize)> =
-            self.active.iter().map(|a| (a.node, a.body)).collect();
+        let active: IndexMap<(usize, usize), ()> =
+            self.active.iter().map(|a| ((a.node, a.body), ())).collect();
         pairs
             .iter()
             .copied()
-            .filter(|&(n, b)| !active.contains(&(n, b)) && boxes.near(solver, &states, n, b))
+            .filter(|&(n, b)| !active.contains_key(&(n, b)) && boxes.near(solver, &states, n, b))
             .collect()
     }
 
@@ -906,7 +911,7 @@ impl ContactSet {
         // Contacts on one element are coupled (one contact element carries them all): releasing
         // them together can cycle (A tensile with B, B tensile with A). Per element, only the
         // most tensile is released; the others are judged again after the next converged pass.
-        let mut worst: HashMap<usize, (f64, usize)> = HashMap::new();
+        let mut worst: IndexMap<usize, (f64, usize)> = IndexMap::default();
         for k in self.tensile(asm) {
             let t = self.active[k].side * forces[k].0;
             let w = worst.entry(self.active[k].beam).or_insert((0.0, k));
