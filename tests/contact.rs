@@ -314,10 +314,16 @@ fn touching(gap: f64) -> IncrementRecord {
         control: (steps: 3),
     )"#
     );
-    let sc = parse(&text, "touching").unwrap();
+    last_of_steps(&text, 3)
+}
+
+/// Run `steps` steps of a scene, checking that no node is through a beam at any converged
+/// increment; the last increment.
+fn last_of_steps(text: &str, steps: usize) -> IncrementRecord {
+    let sc = parse(text, "scene").unwrap();
     let mut solver = sc.solver().unwrap();
     let mut last = None;
-    for _ in 0..3 {
+    for _ in 0..steps {
         let recs = solver.step(&mut Silent).expect("converges");
         assert!(recs.iter().all(|r| r.max_penetration < 1e-9));
         last = recs.last().cloned();
@@ -439,15 +445,7 @@ fn stacked(b_elements: usize, drive: f64, steps: usize) -> IncrementRecord {
         clamp = 101 + b_elements,
         per_step = drive / steps as f64,
     );
-    let sc = parse(&text, "stacked").unwrap();
-    let mut solver = sc.solver().unwrap();
-    let mut last = None;
-    for _ in 0..steps {
-        let recs = solver.step(&mut Silent).expect("converges");
-        assert!(recs.iter().all(|r| r.max_penetration < 1e-9));
-        last = recs.last().cloned();
-    }
-    last.unwrap()
+    last_of_steps(&text, steps)
 }
 
 /// Stacked beams: nearly every node touches at the first increment and nearly all must let go
