@@ -1,7 +1,8 @@
 //! The contact life cycle: which nodes rest on which beam elements, the side each candidate
-//! node is on relative to each candidate body (against the beam's deformed shape), activation
-//! when a node crosses a body, transfer to the neighbouring element when li/l leaves (0, 1),
-//! release when the contact force turns tensile or the node slides off a free end.
+//! node is on relative to each candidate body (against the beam's deformed shape), detection of
+//! a node crossing a body, transfer to the neighbouring element when li/l leaves (0, 1), and
+//! release when the node slides off a free end. Which crossings become contacts and which
+//! tensile contacts let go at a converged pass is `active_set.rs`.
 
 use std::cell::{OnceCell, RefCell};
 use std::collections::HashSet;
@@ -21,11 +22,6 @@ use super::report::{ContactChange, ContactEvent, ContactState, Event};
 /// A node found through a body by less than this (in element lengths) is taken as a crossing
 /// without the swept test: the chords used by that test miss the elements' own deflection.
 const SHAPE_MARGIN: f64 = 0.05;
-
-/// Two nodes of different bodies closer than this (in element lengths) touch node on node: one
-/// contact between them is enough (a second, the other way round, would impose the same
-/// constraint twice and make the tangent singular).
-const NODE_ON_NODE: f64 = 0.01;
 
 /// Bodies of more elements than this are probed through the element grid.
 const GRID_MIN_ELEMENTS: usize = 32;
@@ -69,14 +65,14 @@ pub struct ContactSet {
     /// cut back so that the touch is caught close to where it happens.
     pub(crate) too_deep: Option<(usize, usize, f64)>,
     /// Active sets met at the converged passes of the current attempt, to tell cycling.
-    seen: HashSet<Vec<(usize, usize)>>,
+    pub(super) seen: HashSet<Vec<(usize, usize)>>,
     /// Set once an active set repeats within an attempt: from then on each converged pass fixes
     /// one violation only (see `after_convergence`).
     pub(crate) one_at_a_time: bool,
 }
 
 /// Whether node `n` is a node of body `body`.
-fn on_body(solver: &Solver, n: usize, body: usize) -> bool {
+pub(super) fn on_body(solver: &Solver, n: usize, body: usize) -> bool {
     solver.node_beams[n]
         .iter()
         .any(|&e| solver.model.beams[e].body == body)
@@ -86,16 +82,16 @@ fn on_body(solver: &Solver, n: usize, body: usize) -> bool {
 /// (None with the broad phase off) and the deformed shapes (with the pass's active set). A view
 /// serves probes at its own state only.
 #[derive(Default)]
-struct StateView {
+pub(super) struct StateView {
     grid: OnceCell<Option<ElementGrid>>,
     shapes: RefCell<IndexMap<usize, Rc<Shape>>>,
 }
 
 /// Views of the iterate and of the last converged state, for one pass.
 #[derive(Default)]
-struct Grids {
-    now: StateView,
-    before: StateView,
+pub(super) struct Grids {
+    pub(super) now: StateView,
+    pub(super) before: StateView,
 }
 
 /// Deformed shape of one element at a state: chord plus bending forces.
@@ -393,7 +389,7 @@ impl ContactSet {
 
     /// Candidate pairs not in contact whose node came near the body between the last converged
     /// state and `d` (the broad phase).
-    fn near_inactive(&self, solver: &Solver, d: &[f64]) -> Vec<(usize, usize)> {
+    pub(super) fn near_inactive(&self, solver: &Solver, d: &[f64]) -> Vec<(usize, usize)> {
         let pairs = Self::candidates(solver);
         if pairs.is_empty() {
             return Vec::new();
@@ -412,7 +408,7 @@ impl ContactSet {
     /// The side of body `b` node `n` was on at the last converged state, and the element it
     /// projected onto: remembered if the node was near the body, else worked out now from that
     /// state (far away, the node's side is plain geometry).
-    fn side_of(
+    pub(super) fn side_of(
         &self,
         solver: &Solver,
         n: usize,
@@ -457,7 +453,7 @@ impl ContactSet {
         side
     }
 
-    fn event(
+    pub(super) fn event(
         solver: &Solver,
         a: &ActiveContact,
         change: ContactChange,
@@ -625,7 +621,7 @@ impl ContactSet {
     /// an end node (li/l = 0 or 1) goes from the region no element covers straight to the other
     /// side, and a comparison of sides cannot see it. A node that merely goes round the end has
     /// no such path.
-    fn crossing(
+    pub(super) fn crossing(
         &self,
         solver: &Solver,
         d: &[f64],
@@ -676,150 +672,12 @@ impl ContactSet {
             .then_some((p, -p.gap.signum()))
     }
 
-    /// Forget the passes of a previous attempt (call at the start of each attempt).
-    pub(crate) fn begin_attempt(&mut self) {
-        self.seen.clear();
-        self.one_at_a_time = false;
-    }
-
-    /// At a converged pass: transfers, releases of tensile contacts and activation of crossing
-    /// nodes. Returns the number of changes (0 means the increment is done).
-    ///
-    /// Every violation (tensile contact, crossing node) is fixed at once, with one release per
-    /// element. That can cycle when two beams lie along each other (most nodes touch, few carry
-    /// load): once an active set comes back within the attempt, each pass fixes only the
-    /// violation of least index (node, body), Murty's rule, which cannot cycle on a linear
-    /// complementarity problem with a P-matrix.
-    pub fn after_convergence(
-        &mut self,
-        solver: &Solver,
-        d: &[f64],
-        asm: &Assembled,
-        increment: usize,
-        iteration: usize,
-        events: &mut Vec<Event>,
-    ) -> usize {
-        let mut changes = self.transfer(solver, d, increment, iteration, true, events);
-        if changes > 0 {
-            return changes;
-        }
-        let mut crossings = Vec::new();
-        let near = self.near_inactive(solver, d);
-        let grids = Grids::default();
-        for (n, b) in near {
-            if let Some((p, side)) = self.crossing(solver, d, n, b, &grids) {
-                if -p.gap * side > solver.params.max_penetration * p.length {
-                    self.too_deep = Some((n, b, -p.gap * side / p.length));
-                    if std::env::var_os("TSM_DEBUG").is_some() {
-                        eprintln!(
-                            "DEBUG too deep: node {n} body {b} {p:?} side {side} was {:?}",
-                            self.side_of(solver, n, b, Some(&grids.before))
-                        );
-                    }
-                }
-                crossings.push((n, b, p, side));
-            }
-        }
-        let redundant: Vec<bool> = (0..crossings.len())
-            .map(|k| self.node_on_node(solver, d, &crossings, k))
-            .collect();
-        let mut k = 0;
-        crossings.retain(|_| {
-            k += 1;
-            !redundant[k - 1]
-        });
-        if self.one_at_a_time {
-            let tensile = self.tensile(asm).into_iter().map(|k| {
-                let a = self.active[k];
-                ((a.node, a.body), Some(k))
-            });
-            let crossing = crossings.iter().map(|&(n, b, ..)| ((n, b), None));
-            if let Some((key, release)) = tensile.chain(crossing).min_by_key(|&(key, _)| key) {
-                match release {
-                    Some(k) => self.release(solver, asm, &[k], increment, iteration, events),
-                    None => {
-                        crossings.retain(|c| (c.0, c.1) == key);
-                        self.activate(solver, &crossings, increment, iteration, events);
-                    }
-                }
-                changes = 1;
-            }
-        } else {
-            changes += self.release_tensile(solver, asm, increment, iteration, events);
-            changes += self.activate(solver, &crossings, increment, iteration, events);
-        }
-        if self.too_deep.is_none() {
-            self.too_deep = self.passed_out_of_reach(solver, d, &grids);
-        }
-        if changes > 0 {
-            let mut set: Vec<(usize, usize)> =
-                self.active.iter().map(|a| (a.node, a.body)).collect();
-            set.sort_unstable();
-            if !self.seen.insert(set) {
-                self.one_at_a_time = true;
-            }
-        }
-        changes
-    }
-
-    /// Whether crossing `k` (node n through an element of body b) lies on an end node m of that
-    /// element, and m already rests on (or, with a lower index, is about to rest on) a body n
-    /// belongs to: the two nodes touch node on node, and that contact keeps them apart.
-    fn node_on_node(
-        &self,
-        solver: &Solver,
-        d: &[f64],
-        crossings: &[(usize, usize, Probe, f64)],
-        k: usize,
-    ) -> bool {
-        let m = &solver.model;
-        let (n, _, p, _) = crossings[k];
-        let xn = current(m, &solver.dofs, d, n).0;
-        let own = |body: usize| on_body(solver, n, body);
-        [m.beams[p.beam].i, m.beams[p.beam].j].iter().any(|&o| {
-            let xo = current(m, &solver.dofs, d, o).0;
-            (xn[0] - xo[0]).hypot(xn[1] - xo[1]) < NODE_ON_NODE * p.length
-                && (self.active.iter().any(|a| a.node == o && own(a.body))
-                    || crossings[..k].iter().any(|c| c.0 == o && own(c.1)))
-        })
-    }
-
-    /// Make the crossing nodes active contacts. Returns how many.
-    fn activate(
-        &mut self,
-        solver: &Solver,
-        crossings: &[(usize, usize, Probe, f64)],
-        increment: usize,
-        iteration: usize,
-        events: &mut Vec<Event>,
-    ) -> usize {
-        for &(n, b, p, side) in crossings {
-            let a = ActiveContact {
-                node: n,
-                beam: p.beam,
-                body: b,
-                side,
-            };
-            events.push(Self::event(
-                solver,
-                &a,
-                ContactChange::Activated,
-                increment,
-                iteration,
-                p.xi,
-                0.0,
-            ));
-            self.active.push(a);
-        }
-        crossings.len()
-    }
-
     /// A node that passed through a chord of a body since the last converged state but now
     /// projects onto no element of it (the chord swept past it right at an end node, e.g. a
     /// clamped end coming down past the other beam's tip): the contact cannot be placed, so the
     /// increment is cut back until the node is caught while it still projects onto the body.
     /// Returns (node, body, distance from the body's end node in element lengths).
-    fn passed_out_of_reach(
+    pub(super) fn passed_out_of_reach(
         &self,
         solver: &Solver,
         d: &[f64],
@@ -857,72 +715,6 @@ impl ContactSet {
             return Some((n, b, dist / l));
         }
         None
-    }
-
-    /// Indices of the active contacts whose force (from `asm`) is tensile.
-    fn tensile(&self, asm: &Assembled) -> Vec<usize> {
-        let forces = &asm.elements.contact_forces;
-        (0..self.active.len())
-            .filter(|&k| self.active[k].side * forces[k].0 > 0.0)
-            .collect()
-    }
-
-    /// Release the active contacts with the given indices (from the `asm` they were judged on).
-    fn release(
-        &mut self,
-        solver: &Solver,
-        asm: &Assembled,
-        which: &[usize],
-        increment: usize,
-        iteration: usize,
-        events: &mut Vec<Event>,
-    ) {
-        let forces = &asm.elements.contact_forces;
-        for &k in which {
-            let (yc, xi) = forces[k];
-            events.push(Self::event(
-                solver,
-                &self.active[k],
-                ContactChange::Released,
-                increment,
-                iteration,
-                xi,
-                yc,
-            ));
-        }
-        let mut k = 0;
-        self.active.retain(|_| {
-            k += 1;
-            !which.contains(&(k - 1))
-        });
-    }
-
-    /// Release contacts whose force (from `asm`, assembled with the current contacts) is
-    /// tensile. Returns the number released.
-    pub fn release_tensile(
-        &mut self,
-        solver: &Solver,
-        asm: &Assembled,
-        increment: usize,
-        iteration: usize,
-        events: &mut Vec<Event>,
-    ) -> usize {
-        let forces = &asm.elements.contact_forces;
-        // Contacts on one element are coupled (one contact element carries them all): releasing
-        // them together can cycle (A tensile with B, B tensile with A). Per element, only the
-        // most tensile is released; the others are judged again after the next converged pass.
-        let mut worst: IndexMap<usize, (f64, usize)> = IndexMap::default();
-        for k in self.tensile(asm) {
-            let t = self.active[k].side * forces[k].0;
-            let w = worst.entry(self.active[k].beam).or_insert((0.0, k));
-            if t > w.0 {
-                *w = (t, k);
-            }
-        }
-        let mut which: Vec<usize> = worst.values().map(|&(_, k)| k).collect();
-        which.sort_unstable();
-        self.release(solver, asm, &which, increment, iteration, events);
-        which.len()
     }
 
     /// Report states of the active contacts from a converged assembly.

@@ -1,6 +1,7 @@
 //! The Tangent Stiffness Method solver for plane frames with node-to-beam contact.
 //! Knows nothing of scenes files or the GUI.
 
+pub mod active_set;
 pub mod arc_length;
 pub mod assembly;
 pub mod beam;
