@@ -2,6 +2,7 @@
 //! with the scene format, the run history, a worker thread and (feature `gui`) an interactive
 //! visualiser.
 
+#![warn(missing_docs)]
 #[cfg(feature = "gui")]
 pub mod app;
 pub mod contact_scaling;

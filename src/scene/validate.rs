@@ -18,7 +18,7 @@ pub const MAX_ELEMENTS: usize = 2_000_000;
 /// A problem with a scene, located as precisely as possible.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SceneError {
-    /// File name (or "<memory>").
+    /// File name (or `"<memory>"`).
     pub file: String,
     /// 1-based line, when known.
     pub line: Option<usize>,
