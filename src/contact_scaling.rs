@@ -6,10 +6,9 @@
 //! n elements (quadratic). Timed with the broad phase on (body boxes plus the element grid)
 //! and off, release build, median of repeats.
 
-use std::time::Instant;
-
 use crate::scene::parse;
 use crate::solver::Silent;
+use crate::work_precision::timed_on;
 
 /// One size of the report.
 #[derive(Clone, Debug)]
@@ -73,22 +72,21 @@ pub fn pins_on_bed(n: usize, broad_phase: bool) -> crate::solver::Solver {
 
 /// Median time of the three steps, with the loaded contacts at the end and the iterations.
 fn median_step(fresh: &crate::solver::Solver, repeats: usize) -> (f64, usize, usize) {
-    let mut times = Vec::new();
-    let (mut loaded, mut iterations) = (0, 0);
-    for _ in 0..repeats {
-        let mut s = fresh.clone();
-        let t = Instant::now();
-        iterations = 0;
-        for _ in 0..3 {
-            let recs = s.step(&mut Silent).expect("the step converges");
-            iterations += recs.iter().map(|r| r.iterations).sum::<usize>();
-            let last = recs.last().expect("one increment");
-            loaded = last.contacts.iter().filter(|c| c.pressure > 0.0).count();
-        }
-        times.push(t.elapsed().as_secs_f64());
-    }
-    times.sort_by(f64::total_cmp);
-    (times[times.len() / 2], loaded, iterations)
+    let (seconds, (loaded, iterations)) = timed_on(
+        repeats,
+        || fresh.clone(),
+        |mut s| {
+            let (mut loaded, mut iterations) = (0, 0);
+            for _ in 0..3 {
+                let recs = s.step(&mut Silent).expect("the step converges");
+                iterations += recs.iter().map(|r| r.iterations).sum::<usize>();
+                let last = recs.last().expect("one increment");
+                loaded = last.contacts.iter().filter(|c| c.pressure > 0.0).count();
+            }
+            (loaded, iterations)
+        },
+    );
+    (seconds, loaded, iterations)
 }
 
 /// Run the sizes; the broad phase off only up to `max_without` elements (it is quadratic).

@@ -2,10 +2,9 @@
 //! 10^5 elements of 1 m, timed in release builds (median of repeats), as time per element per iteration, with
 //! the process's peak resident memory after each size (Linux `VmHWM`).
 
-use std::time::Instant;
-
 use crate::scene::parse;
 use crate::solver::{Flow, IterationRecord, Observer};
+use crate::work_precision::timed_on;
 
 /// Counts every Newton iteration, failed attempts included.
 struct Count(usize);
@@ -79,18 +78,15 @@ pub fn measure(sizes: &[usize]) -> Vec<ScaleRow> {
             } else {
                 11
             };
-            let mut times = Vec::new();
-            let mut iterations = 0;
-            for _ in 0..repeats {
-                let mut s = fresh.clone();
-                let t = Instant::now();
-                let mut count = Count(0);
-                s.step(&mut count).expect("the increment converges");
-                times.push(t.elapsed().as_secs_f64());
-                iterations = count.0;
-            }
-            times.sort_by(f64::total_cmp);
-            let seconds = times[times.len() / 2];
+            let (seconds, iterations) = timed_on(
+                repeats,
+                || fresh.clone(),
+                |mut s| {
+                    let mut count = Count(0);
+                    s.step(&mut count).expect("the increment converges");
+                    count.0
+                },
+            );
             ScaleRow {
                 elements: n,
                 iterations,

@@ -79,11 +79,22 @@ fn run(sc: &Scene) -> Option<Vec<IncrementRecord>> {
 
 /// Time `f` `repeats` times; return the median (s) and the last result.
 fn timed<T>(repeats: usize, mut f: impl FnMut() -> T) -> (f64, T) {
+    timed_on(repeats, || (), |()| f())
+}
+
+/// Time `run` `repeats` times, each on a fresh value from `setup` (not timed); return the median
+/// (s) and the last result.
+pub(crate) fn timed_on<S, T>(
+    repeats: usize,
+    mut setup: impl FnMut() -> S,
+    mut run: impl FnMut(S) -> T,
+) -> (f64, T) {
     let mut times = Vec::with_capacity(repeats);
     let mut last = None;
     for _ in 0..repeats.max(1) {
+        let input = setup();
         let t = Instant::now();
-        last = Some(f());
+        last = Some(run(input));
         times.push(t.elapsed().as_secs_f64());
     }
     times.sort_by(f64::total_cmp);

@@ -424,30 +424,6 @@ fn comb_brushes_fifty_teeth_and_broad_phase_changes_nothing() {
     }
 }
 
-/// Two equal cantilevers stacked face to face on [0, 4] m, 1e-4 m apart, clamps at opposite
-/// ends (A's at x = 0, driven down; B's at x = 4); every node of each is a candidate on the
-/// other. `b_elements` = 16 puts B's nodes straight under A's (node on node), 17 puts them in
-/// between.
-fn stacked(b_elements: usize, drive: f64, steps: usize) -> IncrementRecord {
-    let text = format!(
-        r#"(
-        name: "stacked", formulation: Timoshenko,
-        sections: [(name: "s", E: 2.0e7, A: 3.0e-4, I: 2.2e-8, G: 7.142e6)],
-        bodies: [
-            (name: "A", section: "s", path: [(0.0, 0.0), (4.0, 0.0)], elements: 16, first_node: 1),
-            (name: "B", section: "s", path: [(0.0, -1e-4), (4.0, -1e-4)], elements: {b_elements}, first_node: 101),
-        ],
-        supports: [(node: 1, u: true, phi: true), (node: {clamp}, u: true, v: true, phi: true)],
-        prescribed: [(node: 1, dof: V, per_step: {per_step})],
-        contacts: [(node_bodies: ["A"], bodies: ["B"]), (node_bodies: ["B"], bodies: ["A"])],
-        control: (steps: {steps}),
-    )"#,
-        clamp = 101 + b_elements,
-        per_step = drive / steps as f64,
-    );
-    last_of_steps(&text, steps)
-}
-
 /// Stacked beams: nearly every node touches at the first increment and nearly all must let go
 /// again (the active set used to cycle there, and node-on-node pairs made the tangent
 /// singular). Small-deflection theory: by point symmetry the beams touch at x = L/2 only, where
@@ -459,7 +435,12 @@ fn stacked_beams_touch_at_one_point_with_the_closed_form_force() {
     let (d, gap, a) = (1e-3, 1e-4, 2.0);
     let exact = (d - gap) / (2.0 * (a * a * a / (3.0 * EI) + a / GAE));
     for b_elements in [16, 17] {
-        let last = stacked(b_elements, -d, 4);
+        // The scene of the stability suite: B with 16 elements puts its nodes straight under
+        // A's (node on node), 17 between them; A's clamp driven down d in 4 steps.
+        let run = tsm_contact::stress::stacked(b_elements, Formulation::Timoshenko);
+        assert!(run.row.converged, "{:?}", run.row.error);
+        assert!(run.records.iter().all(|r| r.max_penetration < 1e-9));
+        let last = run.records.last().unwrap();
         let loaded: Vec<_> = last.contacts.iter().filter(|c| c.pressure > 0.0).collect();
         let total: f64 = loaded.iter().map(|c| c.pressure).sum();
         assert!(

@@ -5,7 +5,7 @@
 
 use super::assembly::{current, Assembled};
 use super::broad_phase::IndexMap;
-use super::contact::{on_body, ActiveContact, ContactSet, Grids, Probe};
+use super::contact::{on_body, ActiveContact, ContactSet, PassViews, Probe};
 use super::control::Solver;
 use super::report::{ContactChange, Event};
 
@@ -44,15 +44,15 @@ impl ContactSet {
         }
         let mut crossings = Vec::new();
         let near = self.near_inactive(solver, d);
-        let grids = Grids::default();
+        let views = PassViews::default();
         for (n, b) in near {
-            if let Some((p, side)) = self.crossing(solver, d, n, b, &grids) {
+            if let Some((p, side)) = self.crossing(solver, d, n, b, &views) {
                 if -p.gap * side > solver.params.max_penetration * p.length {
                     self.too_deep = Some((n, b, -p.gap * side / p.length));
                     if std::env::var_os("TSM_DEBUG").is_some() {
                         eprintln!(
                             "DEBUG too deep: node {n} body {b} {p:?} side {side} was {:?}",
-                            self.side_of(solver, n, b, Some(&grids.before))
+                            self.side_of(solver, n, b, Some(&views.before))
                         );
                     }
                 }
@@ -88,7 +88,7 @@ impl ContactSet {
             changes += self.activate(solver, &crossings, increment, iteration, events);
         }
         if self.too_deep.is_none() {
-            self.too_deep = self.passed_out_of_reach(solver, d, &grids);
+            self.too_deep = self.passed_out_of_reach(solver, d, &views);
         }
         if changes > 0 {
             let mut set: Vec<(usize, usize)> =
@@ -161,7 +161,8 @@ impl ContactSet {
             .collect()
     }
 
-    /// Release the active contacts with the given indices (from the `asm` they were judged on).
+    /// Release the active contacts with the given indices (ascending; from the `asm` they were
+    /// judged on).
     fn release(
         &mut self,
         solver: &Solver,
@@ -187,7 +188,7 @@ impl ContactSet {
         let mut k = 0;
         self.active.retain(|_| {
             k += 1;
-            !which.contains(&(k - 1))
+            which.binary_search(&(k - 1)).is_err()
         });
     }
 

@@ -10,8 +10,8 @@ use std::time::Instant;
 
 use super::assembly::{assemble_into, Assembled, AssemblyContext, DofKind};
 use super::control::Solver;
-use super::newton::{AttemptError, Converged, Stall};
-use super::report::{Event, Flow, IncrementRecord, IterationRecord, Observer, SolveError};
+use super::newton::{AttemptError, Converged, IterationLog, Stall};
+use super::report::{Event, IncrementRecord, IterationRecord, Observer, SolveError};
 
 /// Where the arc-length control stands between increments.
 #[derive(Clone, Debug, Default)]
@@ -115,11 +115,9 @@ impl Solver {
         let mut dd = vec![0.0; d.len()];
         let mut iterations = 0;
         let mut pass_iter = 0;
-        let mut residuals = Vec::new();
+        let mut log = IterationLog::default();
         let mut events = Vec::new();
         let mut changes = 0;
-        let mut it8 = None;
-        let mut r0 = None;
         let mut predictor = true;
         let mut stall = Stall::new();
         let mut last_step = f64::INFINITY;
@@ -141,27 +139,18 @@ impl Solver {
             let floor = f64::EPSILON * tangent.max_diagonal() * scale / reference;
             if !predictor {
                 let rel = norm / reference;
-                let rec = IterationRecord {
-                    increment,
-                    iteration: iterations,
-                    residual: norm,
-                    relative_residual: rel,
-                    reference,
-                    step_norm: dot(&dd, &dd).sqrt(),
-                    active_contacts: contacts.active.len(),
-                };
-                if obs.iteration(&rec) == Flow::Stop {
-                    return Err(AttemptError::Stopped);
-                }
-                residuals.push(rec);
-                if !rel.is_finite() {
-                    return Err(AttemptError::Failed(format!(
-                        "non-finite residual at iteration {iterations}"
-                    )));
-                }
-                if it8.is_none() && r0.is_some_and(|r0: f64| norm <= 1e-8 * r0) {
-                    it8 = Some(iterations);
-                }
+                log.record(
+                    obs,
+                    IterationRecord {
+                        increment,
+                        iteration: iterations,
+                        residual: norm,
+                        relative_residual: rel,
+                        reference,
+                        step_norm: dot(&dd, &dd).sqrt(),
+                        active_contacts: contacts.active.len(),
+                    },
+                )?;
                 let at_floor = stall.at_floor(rel, floor, last_step, scale);
                 if rel <= p.tolerance.max(p.roundoff_factor * floor) || at_floor {
                     let changed = contacts.after_convergence(
@@ -172,11 +161,7 @@ impl Solver {
                         iterations,
                         &mut events,
                     );
-                    if contacts.too_deep.is_some() {
-                        return Err(AttemptError::Failed(
-                            "a node went through a body before contact was detected".into(),
-                        ));
-                    }
+                    self.too_deep(&contacts)?;
                     if changed == 0 {
                         let max_penetration = contacts.max_penetration(self, &d);
                         let conv = Converged {
@@ -185,11 +170,11 @@ impl Solver {
                             contacts,
                             assembled: asm,
                             iterations,
-                            iterations_8_orders: it8,
+                            iterations_8_orders: log.it8,
                             relative_residual: rel,
                             reference,
                             roundoff_floor: floor,
-                            residuals,
+                            residuals: log.residuals,
                             events,
                         };
                         return Ok((conv, lambda));
@@ -200,19 +185,7 @@ impl Solver {
                     stall = Stall::new();
                     continue;
                 }
-                // The first residual of a pass measures the penetration of the contacts just
-                // activated (large where a node touches next to an element end), not divergence.
-                if rel > p.divergence && pass_iter > 0 {
-                    return Err(AttemptError::Failed(format!(
-                        "diverged at iteration {iterations}: relative residual {rel:.3e}"
-                    )));
-                }
-                if pass_iter >= p.max_iterations {
-                    return Err(AttemptError::Failed(format!(
-                        "arc length: no convergence in {} iterations: relative residual {rel:.3e}",
-                        p.max_iterations
-                    )));
-                }
+                self.pass_failed(rel, floor, pass_iter, iterations)?;
             }
             if let Err(sp) = tangent.factor(0.0) {
                 return Err(AttemptError::Failed(format!(
@@ -254,7 +227,7 @@ impl Solver {
                     Some(last_d) if dot(last_d, &qf) < 0.0 => -1.0,
                     _ => 1.0,
                 };
-                r0 = Some((ds / size) * dot(&fref, &fref).sqrt());
+                log.r0 = Some((ds / size) * dot(&fref, &fref).sqrt());
                 sign * ds / size
             } else {
                 // The correction keeps |dd| = ds: a quadratic in the load-factor correction; the

@@ -87,9 +87,9 @@ pub(super) struct StateView {
     shapes: RefCell<IndexMap<usize, Rc<Shape>>>,
 }
 
-/// Views of the iterate and of the last converged state, for one pass.
+/// The views of the iterate and of the last converged state, for one pass.
 #[derive(Default)]
-pub(super) struct Grids {
+pub(super) struct PassViews {
     pub(super) now: StateView,
     pub(super) before: StateView,
 }
@@ -627,10 +627,10 @@ impl ContactSet {
         d: &[f64],
         n: usize,
         b: usize,
-        grids: &Grids,
+        views: &PassViews,
     ) -> Option<(Probe, f64)> {
-        let p = self.probe_near(solver, d, n, b, Some(&grids.now))?;
-        if let Some((side, was)) = self.side_of(solver, n, b, Some(&grids.before)) {
+        let p = self.probe_near(solver, d, n, b, Some(&views.now))?;
+        if let Some((side, was)) = self.side_of(solver, n, b, Some(&views.before)) {
             let crossed = p.gap * side < -1e-10 * p.length
                 && Self::adjacent(solver, b, was, p.beam)
                 && (-p.gap * side < SHAPE_MARGIN * p.length
@@ -642,7 +642,7 @@ impl ContactSet {
         }
         let e = Self::swept_crossing(solver, d, n, b, 0.0)?;
         if self
-            .probe_near(solver, &solver.d, n, b, Some(&grids.before))
+            .probe_near(solver, &solver.d, n, b, Some(&views.before))
             .is_some()
         {
             // It projected onto the body before: touching then, so no side was recorded, or a
@@ -681,14 +681,14 @@ impl ContactSet {
         &self,
         solver: &Solver,
         d: &[f64],
-        grids: &Grids,
+        views: &PassViews,
     ) -> Option<(usize, usize, f64)> {
         let m = &solver.model;
         for (n, b) in self.near_inactive(solver, d) {
-            let Some((_, was)) = self.side_of(solver, n, b, Some(&grids.before)) else {
+            let Some((_, was)) = self.side_of(solver, n, b, Some(&views.before)) else {
                 continue;
             };
-            if self.probe_near(solver, d, n, b, Some(&grids.now)).is_some() {
+            if self.probe_near(solver, d, n, b, Some(&views.now)).is_some() {
                 continue;
             }
             let Some(e) = Self::swept_crossing(solver, d, n, b, 0.0) else {
@@ -743,9 +743,9 @@ impl ContactSet {
         if near.is_empty() {
             return worst;
         }
-        let grids = Grids::default();
+        let views = PassViews::default();
         for (n, b) in near {
-            if let Some((p, side)) = self.crossing(solver, d, n, b, &grids) {
+            if let Some((p, side)) = self.crossing(solver, d, n, b, &views) {
                 worst = worst.max(-p.gap * side / p.length);
             }
         }

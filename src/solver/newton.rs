@@ -82,6 +82,44 @@ pub enum AttemptError {
     Stopped,
 }
 
+/// The residual history of one attempt: the predictor's residual, the first iteration at which
+/// the residual fell 8 orders below it, and every iteration's record.
+#[derive(Default)]
+pub(crate) struct IterationLog {
+    /// Every iteration's record, in order.
+    pub(crate) residuals: Vec<IterationRecord>,
+    /// The residual after the predictor (the reference of the 8-order drop).
+    pub(crate) r0: Option<f64>,
+    /// The first iteration whose residual is 8 orders below `r0`.
+    pub(crate) it8: Option<usize>,
+}
+
+impl IterationLog {
+    /// Report `rec` to the observer and keep it. Fails when the observer asks to stop or the
+    /// residual is not finite.
+    pub(crate) fn record(
+        &mut self,
+        obs: &mut dyn Observer,
+        rec: IterationRecord,
+    ) -> Result<(), AttemptError> {
+        let flow = obs.iteration(&rec);
+        let (norm, rel, iteration) = (rec.residual, rec.relative_residual, rec.iteration);
+        self.residuals.push(rec);
+        if flow == Flow::Stop {
+            return Err(AttemptError::Stopped);
+        }
+        if !rel.is_finite() {
+            return Err(AttemptError::Failed(format!(
+                "non-finite residual at iteration {iteration}"
+            )));
+        }
+        if self.it8.is_none() && self.r0.is_some_and(|r0| norm <= 1e-8 * r0) {
+            self.it8 = Some(iteration);
+        }
+        Ok(())
+    }
+}
+
 impl Solver {
     /// External force vector over all dofs at load factor `lambda`.
     pub(crate) fn external_force(&self, lambda: f64) -> Vec<f64> {
@@ -132,6 +170,44 @@ impl Solver {
         (norm, reference)
     }
 
+    /// The error for a node found deeper through a body than `max_penetration` at a converged
+    /// pass (the increment is then cut back), if there is one.
+    pub(crate) fn too_deep(&self, contacts: &ContactSet) -> Result<(), AttemptError> {
+        match contacts.too_deep {
+            Some((n, b, depth)) => Err(AttemptError::Failed(format!(
+                "{} went {depth:.2} element lengths through {} before contact was detected",
+                self.model.node_label(n),
+                self.model.bodies[b].name
+            ))),
+            None => Ok(()),
+        }
+    }
+
+    /// Fail a pass that diverged or ran out of iterations. The first residual of a pass
+    /// measures the penetration of the contacts just activated (large where a node touches next
+    /// to an element end), not divergence, so it is not tested.
+    pub(crate) fn pass_failed(
+        &self,
+        rel: f64,
+        floor: f64,
+        pass_iter: usize,
+        iterations: usize,
+    ) -> Result<(), AttemptError> {
+        let p = &self.params;
+        if rel > p.divergence && pass_iter > 0 {
+            return Err(AttemptError::Failed(format!(
+                "diverged at iteration {iterations}: relative residual {rel:.3e}"
+            )));
+        }
+        if pass_iter >= p.max_iterations {
+            return Err(AttemptError::Failed(format!(
+                "no convergence in {} iterations: relative residual {rel:.3e} (round-off floor {floor:.1e})",
+                p.max_iterations
+            )));
+        }
+        Ok(())
+    }
+
     /// One attempt to reach (`target_p`, `target_lambda`) from the last converged state.
     pub(crate) fn attempt(
         &self,
@@ -152,10 +228,8 @@ impl Solver {
         let mut ordering = self.ordering_for(&contacts);
         let mut predictor = true;
         let mut iterations = 0;
-        let mut residuals = Vec::new();
+        let mut log = IterationLog::default();
         let mut events = Vec::new();
-        let mut r0: Option<f64> = None;
-        let mut it8 = None;
         let mut changes = 0;
         let mut pass_iter = 0;
         let mut last_step = 0.0;
@@ -191,36 +265,21 @@ impl Solver {
                 for (e, c) in rhs.iter_mut().zip(&asm.coupling) {
                     *e -= c;
                 }
-                r0 = Some(rhs.iter().map(|v| v * v).sum::<f64>().sqrt());
+                log.r0 = Some(rhs.iter().map(|v| v * v).sum::<f64>().sqrt());
             } else {
                 let rel = norm / reference;
-                let rec = IterationRecord {
-                    increment,
-                    iteration: iterations,
-                    residual: norm,
-                    relative_residual: rel,
-                    reference,
-                    step_norm: last_step,
-                    active_contacts: contacts.active.len(),
-                };
-                let flow = obs.iteration(&rec);
-                residuals.push(rec);
-                if flow == Flow::Stop {
-                    return Err(AttemptError::Stopped);
-                }
-                if !rel.is_finite() {
-                    if std::env::var_os("TSM_DEBUG").is_some() {
-                        for e in &events {
-                            eprintln!("DEBUG {e:?}");
-                        }
-                    }
-                    return Err(AttemptError::Failed(format!(
-                        "non-finite residual at iteration {iterations}"
-                    )));
-                }
-                if it8.is_none() && r0.is_some_and(|r0| norm <= 1e-8 * r0) {
-                    it8 = Some(iterations);
-                }
+                log.record(
+                    obs,
+                    IterationRecord {
+                        increment,
+                        iteration: iterations,
+                        residual: norm,
+                        relative_residual: rel,
+                        reference,
+                        step_norm: last_step,
+                        active_contacts: contacts.active.len(),
+                    },
+                )?;
                 let at_floor = stall.at_floor(rel, floor, last_step, scale);
                 let accepted = rel <= p.tolerance.max(p.roundoff_factor * floor) || at_floor;
                 // At the round-off floor the state is as converged as it can be: let the contact
@@ -236,13 +295,7 @@ impl Solver {
                         iterations,
                         &mut events,
                     );
-                    if let Some((n, b, depth)) = contacts.too_deep {
-                        return Err(AttemptError::Failed(format!(
-                            "{} went {depth:.2} element lengths through {} before contact was detected",
-                            self.model.node_label(n),
-                            self.model.bodies[b].name
-                        )));
-                    }
+                    self.too_deep(&contacts)?;
                     if changed == 0 && accepted {
                         let max_penetration = contacts.max_penetration(self, &d);
                         return Ok(Converged {
@@ -251,11 +304,11 @@ impl Solver {
                             contacts,
                             assembled: asm,
                             iterations,
-                            iterations_8_orders: it8,
+                            iterations_8_orders: log.it8,
                             relative_residual: rel,
                             reference,
                             roundoff_floor: floor,
-                            residuals,
+                            residuals: log.residuals,
                             events,
                         });
                     }
@@ -272,19 +325,7 @@ impl Solver {
                         continue;
                     }
                 }
-                // The first residual of a pass measures the penetration of the contacts just
-                // activated (large where a node touches next to an element end), not divergence.
-                if rel > p.divergence && pass_iter > 0 {
-                    return Err(AttemptError::Failed(format!(
-                        "diverged at iteration {iterations}: relative residual {rel:.3e}"
-                    )));
-                }
-                if pass_iter >= p.max_iterations {
-                    return Err(AttemptError::Failed(format!(
-                        "no convergence in {} iterations: relative residual {rel:.3e} (round-off floor {floor:.1e})",
-                        p.max_iterations
-                    )));
-                }
+                self.pass_failed(rel, floor, pass_iter, iterations)?;
             }
             if let Err(sp) = tangent.factor(0.0) {
                 return Err(AttemptError::Failed(format!(
