@@ -78,19 +78,19 @@ fn symmetric_band(rng: &mut Rng, n: usize, w: usize, shift: f64) -> (BandMatrix,
             dense[j * n + i] = v;
         }
     }
-    let mut band = BandMatrix::zeros(n, w, w);
+    let mut band = BandMatrix::symmetric_zeros(n, w);
     for i in 0..n {
         for j in i.saturating_sub(w)..(i + w + 1).min(n) {
             band.add(i, j, dense[i * n + j]);
         }
     }
-    band.set_symmetric(true);
     (band, dense)
 }
 
 #[test]
-fn symmetric_band_lu_agrees_with_dense_lu_definite_or_not() {
+fn symmetric_band_ldlt_agrees_with_dense_lu_definite_or_not() {
     let mut rng = Rng(0x2545_f491_4f6c_dd1d);
+    let mut handed_over_midway = false;
     for &(n, w, shift) in &[
         (3usize, 1usize, 0.0),
         (60, 5, 0.0),
@@ -102,7 +102,20 @@ fn symmetric_band_lu_agrees_with_dense_lu_definite_or_not() {
         let (mut band, dense) = symmetric_band(&mut rng, n, w, shift);
         let b: Vec<f64> = (0..n).map(|_| rng.next()).collect();
         solves_like_dense(&mut band, &dense, &b, &format!("n {n} w {w} shift {shift}"));
+        // A positive definite matrix is L D L^T throughout; an indefinite one hands over to
+        // the pivoting LU where a diagonal stops dominating.
+        let from = band.pivoting_from();
+        assert_eq!(
+            from.is_none(),
+            shift == 0.0,
+            "n {n} w {w} shift {shift}: {from:?}"
+        );
+        handed_over_midway |= from.is_some_and(|j| j > 0);
     }
+    assert!(
+        handed_over_midway,
+        "no case converts a partial L D L^T to LU"
+    );
 }
 
 #[test]

@@ -4,7 +4,7 @@
 
 use super::beam::BeamElement;
 use super::contact_element::{contact_response, ContactOptions};
-use super::linear::{reverse_cuthill_mckee, BandMatrix};
+use super::linear::{reverse_cuthill_mckee, BandMatrix, NOT_FREE};
 use super::model::Model;
 
 /// What a global dof is.
@@ -90,6 +90,9 @@ pub struct Ordering {
     pub links: Vec<ContactLink>,
     /// For every beam, the indices into `links` of the contacts resting on it.
     pub on_beam: Vec<Vec<usize>>,
+    /// For every beam, the equations of its six dofs (u, v, phi at i, then at j; `NOT_FREE`
+    /// where the dof is not free).
+    pub beam_eqs: Vec<[u32; 6]>,
 }
 
 impl Ordering {
@@ -127,12 +130,20 @@ impl Ordering {
         for (k, l) in links.iter().enumerate() {
             on_beam[l.beam].push(k);
         }
+        assert!(n_eq < NOT_FREE as usize, "more equations than u32 numbers");
+        let number = |g: usize| eq[g].map_or(NOT_FREE, |e| e as u32);
+        let beam_eqs = model
+            .beams
+            .iter()
+            .map(|b| std::array::from_fn(|a| number(dofs.dof([b.i, b.j][a / 3], a % 3))))
+            .collect();
         let mut ord = Ordering {
             eq,
             n_eq,
             band: 0,
             links: links.to_vec(),
             on_beam,
+            beam_eqs,
         };
         let mut band = 0;
         for (e, b) in model.beams.iter().enumerate() {
@@ -189,6 +200,7 @@ pub struct AssemblyContext<'a> {
 }
 
 /// Current position of node `n` and its rotation (0 for 2-dof nodes).
+#[inline]
 pub fn current(model: &Model, dofs: &DofMap, d: &[f64], n: usize) -> ([f64; 2], f64) {
     let f = dofs.first[n];
     let p = model.position(n);
@@ -202,6 +214,7 @@ pub fn current(model: &Model, dofs: &DofMap, d: &[f64], n: usize) -> ([f64; 2], 
 
 /// Position of node `n` relative to the initial position of node `origin`, and its rotation:
 /// `(X_n - X_origin) + u_n`.
+#[inline]
 pub fn relative(
     model: &Model,
     dofs: &DofMap,
@@ -255,9 +268,12 @@ pub fn assemble_into(
     refill(&mut out.coupling, ord.n_eq, 0.0);
     let mut tangent = out.tangent.take();
     if with_tangent {
-        match tangent.as_mut() {
-            Some(t) => t.reset(ord.n_eq, ord.band, ord.band),
-            None => tangent = Some(BandMatrix::zeros(ord.n_eq, ord.band, ord.band)),
+        // Beam tangents are exactly symmetric (entry by entry); contact elements' are not.
+        let t = tangent.get_or_insert_with(|| BandMatrix::zeros(0, 0, 0));
+        if ord.links.is_empty() {
+            t.reset_symmetric(ord.n_eq, ord.band);
+        } else {
+            t.reset(ord.n_eq, ord.band, ord.band);
         }
     } else {
         tangent = None;
@@ -287,9 +303,9 @@ pub fn assemble_into(
                 internal[g] += f;
             }
             if let Some(band) = tangent.as_mut() {
-                let eqs: [Option<usize>; 6] = std::array::from_fn(|a| ord.eq[gdofs[a]]);
-                band.add_element(&eqs, &k);
+                band.add_element(&ord.beam_eqs[e], &k);
                 if let Some(dp) = dp {
+                    let eqs: [Option<usize>; 6] = std::array::from_fn(|a| ord.eq[gdofs[a]]);
                     add_coupling(&gdofs, &eqs, |a, b| k[a][b], dp, coupling);
                 }
             }
@@ -323,10 +339,6 @@ pub fn assemble_into(
             let sink = (&mut *internal, tangent.as_mut(), &mut *coupling);
             add_element(&gdofs, r.nodal.as_slice(), k, ord, dp, sink);
         }
-    }
-    if let Some(t) = tangent.as_mut() {
-        // Beam tangents are exactly symmetric (entry by entry); contact elements' are not.
-        t.set_symmetric(ord.links.is_empty());
     }
     out.tangent = tangent;
 }

@@ -33,14 +33,21 @@ pub struct Chord {
 /// Using the mean rotation of the element's end nodes as the reference makes the unwrapping
 /// stateless and continuous for any number of turns, as long as the element itself deforms by
 /// less than half a turn (small strain).
+#[inline]
 pub fn unwrap_angle(raw: f64, reference: f64) -> f64 {
     let two_pi = std::f64::consts::TAU;
-    raw + two_pi * ((reference - raw) / two_pi).round()
+    let turns = (reference - raw) / two_pi;
+    // Within half a turn (the usual case) there is nothing to round: skip the libm call.
+    if turns.abs() < 0.5 {
+        return raw + two_pi * 0.0f64.copysign(turns);
+    }
+    raw + two_pi * turns.round()
 }
 
 impl Chord {
     /// Chord from the current end positions, the initial chord angle `alpha0` and a reference
     /// rotation for unwrapping (the mean end rotation).
+    #[inline(always)]
     pub fn new(xi: [f64; 2], xj: [f64; 2], alpha0: f64, reference: f64) -> Chord {
         let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
         let l = (dx * dx + dy * dy).sqrt();
@@ -130,7 +137,7 @@ impl BeamElement {
 
     /// `response` for the assembly: the tangent, if wanted, is written row by row into `k`
     /// (the returned `tangent` is `None`), with no 6x6 temporaries.
-    #[inline]
+    #[inline(always)]
     pub fn evaluate(
         &self,
         xi: [f64; 2],

@@ -1,32 +1,52 @@
-//! The global linear solve: a banded LU with partial pivoting (LAPACK gbtrf layout, widened only
-//! when a row interchange needs it; diagonal pivots kept for an exactly symmetric matrix while
-//! they dominate their 2x2 minors) over equations numbered by a reverse Cuthill-McKee ordering,
-//! so a chain of n elements costs O(n).
+//! The global linear solve: a band matrix over equations numbered by a reverse Cuthill-McKee
+//! ordering, so a chain of n elements costs O(n). A symmetric matrix (a tangent of beams alone)
+//! is stored as its lower band and factored L D L^T without interchanges while every pivot
+//! dominates its 2x2 minors; from the first pivot that does not, and for every unsymmetric
+//! matrix (contact elements), a banded LU with partial pivoting (LAPACK gbtrf layout, widened
+//! only when a row interchange needs it) does the rest.
 //! A dense LU path exists for cross-checks and tiny systems.
+
+/// The equation number of a dof that is not free, in `BandMatrix::add_element`.
+pub const NOT_FREE: u32 = u32::MAX;
+
+/// How a band matrix is stored.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Layout {
+    /// Symmetric: the diagonal and `kl` sub-diagonals only, `kl + 1` rows per column.
+    Lower,
+    /// General, `kl + ku + 1` rows per column.
+    Compact,
+    /// General with room for the fill of row interchanges, `2 kl + ku + 1` rows per column.
+    Wide,
+}
 
 /// A square band matrix with `kl` sub- and `ku` super-diagonals.
 ///
-/// Stored column by column (LAPACK band layout). The storage starts compact, `kl + ku + 1` rows
-/// per column; the factorisation widens it to `2 kl + ku + 1` rows (room for the `kl` extra
+/// Stored column by column (LAPACK band layout). A general matrix starts compact, `kl + ku + 1`
+/// rows per column; the factorisation widens it to `2 kl + ku + 1` rows (room for the `kl` extra
 /// super-diagonals that row interchanges fill in) only when a pivot actually needs a row swap.
-/// A frame tangent usually needs none, so it is factored without the extra traffic. Once
-/// widened, a matrix stays wide when it is `reset` (the next tangent of the same model will
-/// likely need the room again).
+/// A widened matrix stays wide when it is `reset` (the next tangent of the same model will
+/// likely need the room again). A symmetric matrix (`symmetric_zeros`, `reset_symmetric`)
+/// stores its lower band only, `kl + 1` rows per column: half the memory traffic and, factored
+/// as L D L^T, little more than half the work.
 #[derive(Clone, Debug)]
 pub struct BandMatrix {
     n: usize,
     kl: usize,
     ku: usize,
-    /// Rows stored per column: `kl + ku + 1` (compact) or `2 kl + ku + 1` (widened).
+    layout: Layout,
+    /// Rows stored per column.
     ld: usize,
-    /// Storage row of the diagonal in every column: `ku` (compact) or `kl + ku` (widened).
+    /// Storage row of the diagonal in every column: `0` (lower), `ku` (compact) or `kl + ku`
+    /// (wide). Entry (i, j) lies at `j ld + off + i - j`.
     off: usize,
     ab: Vec<f64>,
     pivots: Vec<usize>,
-    /// Upper bandwidth of U after factorisation: `ku` plus the largest row interchange distance.
+    /// Upper bandwidth of U after an LU factorisation: `ku` plus the largest row interchange
+    /// distance.
     uw: usize,
-    /// Declared exactly symmetric by whoever filled it (see `set_symmetric`).
-    symmetric: bool,
+    /// For a symmetric matrix: the column from which the LU with partial pivoting took over.
+    lu_from: Option<usize>,
 }
 
 /// Why a factorisation failed.
@@ -39,32 +59,60 @@ pub struct SingularPivot {
 impl BandMatrix {
     /// A zero n x n band matrix.
     pub fn zeros(n: usize, kl: usize, ku: usize) -> BandMatrix {
-        let mut m = BandMatrix {
+        let mut m = BandMatrix::empty();
+        m.reset(n, kl, ku);
+        m
+    }
+
+    /// A zero symmetric n x n band matrix with `k` sub- and super-diagonals (lower band stored).
+    pub fn symmetric_zeros(n: usize, k: usize) -> BandMatrix {
+        let mut m = BandMatrix::empty();
+        m.reset_symmetric(n, k);
+        m
+    }
+
+    fn empty() -> BandMatrix {
+        BandMatrix {
             n: 0,
             kl: 0,
             ku: 0,
+            layout: Layout::Compact,
             ld: 1,
             off: 0,
             ab: Vec::new(),
             pivots: Vec::new(),
             uw: 0,
-            symmetric: false,
-        };
-        m.reset(n, kl, ku);
-        m
+            lu_from: None,
+        }
     }
 
-    /// Make this a zero n x n band matrix with the given bandwidths, reusing the storage (no
-    /// allocation when it is large enough: Newton iterations refill the same matrix).
+    /// Make this a zero general n x n band matrix with the given bandwidths, reusing the
+    /// storage (no allocation when it is large enough: Newton iterations refill the same matrix).
     pub fn reset(&mut self, n: usize, kl: usize, ku: usize) {
-        let wide = self.kl > 0 && self.off == self.kl + self.ku;
-        self.n = n;
-        self.kl = kl;
-        self.ku = ku;
-        self.ld = if wide { 2 * kl + ku + 1 } else { kl + ku + 1 };
-        self.off = if wide { kl + ku } else { ku };
+        let layout = if self.layout == Layout::Wide && self.kl > 0 {
+            Layout::Wide
+        } else {
+            Layout::Compact
+        };
+        self.set_shape(n, kl, ku, layout);
+    }
+
+    /// Make this a zero symmetric n x n band matrix with `k` sub- and super-diagonals. Only the
+    /// lower band is stored: `add` keeps entries on or below the diagonal and drops the rest
+    /// (their mirror images), so callers add whole symmetric element matrices as usual.
+    pub fn reset_symmetric(&mut self, n: usize, k: usize) {
+        self.set_shape(n, k, k, Layout::Lower);
+    }
+
+    fn set_shape(&mut self, n: usize, kl: usize, ku: usize, layout: Layout) {
+        (self.n, self.kl, self.ku, self.layout) = (n, kl, ku, layout);
+        (self.ld, self.off) = match layout {
+            Layout::Lower => (kl + 1, 0),
+            Layout::Compact => (kl + ku + 1, ku),
+            Layout::Wide => (2 * kl + ku + 1, kl + ku),
+        };
         self.uw = ku;
-        self.symmetric = false;
+        self.lu_from = None;
         self.ab.clear();
         self.ab.resize(self.ld * n, 0.0);
         self.pivots.clear();
@@ -81,50 +129,68 @@ impl BandMatrix {
         self.n == 0
     }
 
+    /// For a symmetric matrix after `factor`: the first equation whose diagonal pivot did not
+    /// dominate its 2x2 minors, from which an LU with partial pivoting finished the job (`None`:
+    /// L D L^T throughout, or not symmetric).
+    pub fn pivoting_from(&self) -> Option<usize> {
+        self.lu_from
+    }
+
     #[inline]
     fn idx(&self, i: usize, j: usize) -> usize {
         j * self.ld + self.off + i - j
     }
 
-    /// Add `v` to entry (i, j); panics in debug builds if (i, j) lies outside the band.
+    /// Add `v` to entry (i, j); panics in debug builds if (i, j) lies outside the band. A
+    /// symmetric matrix keeps only entries with i >= j.
     #[inline]
     pub fn add(&mut self, i: usize, j: usize, v: f64) {
         debug_assert!(
             i <= j + self.kl && j <= i + self.ku,
             "({i},{j}) outside band"
         );
+        if self.layout == Layout::Lower && i < j {
+            return;
+        }
         let k = self.idx(i, j);
         self.ab[k] += v;
     }
 
-    /// Add a dense element matrix `k` (row-major) over the equations `eqs` (`None`: a dof that
-    /// is not free, skipped). Panics in debug builds if an entry lies outside the band.
+    /// Add a dense element matrix `k` (row-major) over the equations `eqs` (`NOT_FREE`: a dof
+    /// that is not free, skipped). Panics in debug builds if an entry lies outside the band. A
+    /// symmetric matrix keeps the entries on or below the diagonal.
     #[inline]
-    pub fn add_element<const N: usize>(&mut self, eqs: &[Option<usize>; N], k: &[[f64; N]; N]) {
+    pub fn add_element<const N: usize>(&mut self, eqs: &[u32; N], k: &[[f64; N]; N]) {
+        // Entry (i, j) lies at j (ld - 1) + off + i.
         let (ld, off) = (self.ld, self.off);
-        if eqs.iter().all(Option::is_some) {
+        let lower = self.layout == Layout::Lower;
+        if !lower && !eqs.contains(&NOT_FREE) {
             // Every dof free (the usual case): each column's N entries lie in rows lo..=hi.
-            let e: [usize; N] = std::array::from_fn(|a| eqs[a].unwrap_or(0));
-            let (lo, hi) = (e.iter().min(), e.iter().max());
+            let (lo, hi) = (eqs.iter().min(), eqs.iter().max());
             let (Some(&lo), Some(&hi)) = (lo, hi) else {
                 return;
             };
+            let (lo, hi) = (lo as usize, hi as usize);
             debug_assert!(hi - lo <= self.kl.min(self.ku), "element outside band");
-            for (b, &eb) in e.iter().enumerate() {
-                let base = eb * (ld - 1) + off;
+            for (b, &eb) in eqs.iter().enumerate() {
+                let base = eb as usize * (ld - 1) + off;
                 let column = &mut self.ab[base + lo..=base + hi];
-                for (a, &ea) in e.iter().enumerate() {
-                    column[ea - lo] += k[a][b];
+                for (a, &ea) in eqs.iter().enumerate() {
+                    column[ea as usize - lo] += k[a][b];
                 }
             }
             return;
         }
-        for (b, eb) in eqs.iter().enumerate() {
-            let Some(eb) = *eb else { continue };
-            // Storage index of (i, eb) is base + i.
-            let base = eb * (ld - 1) + off;
-            for (a, ea) in eqs.iter().enumerate() {
-                let Some(ea) = *ea else { continue };
+        for (b, &eb) in eqs.iter().enumerate() {
+            if eb == NOT_FREE {
+                continue;
+            }
+            let base = eb as usize * (ld - 1) + off;
+            for (a, &ea) in eqs.iter().enumerate() {
+                if ea == NOT_FREE || (lower && ea < eb) {
+                    continue;
+                }
+                let (ea, eb) = (ea as usize, eb as usize);
                 debug_assert!(
                     ea <= eb + self.kl && eb <= ea + self.ku,
                     "({ea},{eb}) outside band"
@@ -136,6 +202,11 @@ impl BandMatrix {
 
     /// Entry (i, j) (zero outside the band). Valid before factorisation.
     pub fn get(&self, i: usize, j: usize) -> f64 {
+        let (i, j) = if self.layout == Layout::Lower {
+            (i.max(j), i.min(j))
+        } else {
+            (i, j)
+        };
         if i > j + self.kl || j > i + self.ku {
             0.0
         } else {
@@ -155,7 +226,7 @@ impl BandMatrix {
 
     /// Give every column room for the `kl` super-diagonals that row interchanges fill in.
     fn widen(&mut self) {
-        if self.off == self.kl + self.ku {
+        if self.layout == Layout::Wide {
             return;
         }
         let (ld, ld2, kl) = (self.ld, 2 * self.kl + self.ku + 1, self.kl);
@@ -166,12 +237,7 @@ impl BandMatrix {
         self.ab = wide;
         self.ld = ld2;
         self.off = self.kl + self.ku;
-    }
-
-    /// Declare the matrix exactly symmetric (as assembled), which lets `factor` keep diagonal
-    /// pivots that dominate their 2x2 minors. `reset` clears it.
-    pub fn set_symmetric(&mut self, symmetric: bool) {
-        self.symmetric = symmetric;
+        self.layout = Layout::Wide;
     }
 
     /// True if pivot j of a symmetric trailing matrix dominates every 2x2 principal minor it is
@@ -188,38 +254,61 @@ impl BandMatrix {
                 .all(|(t, &a)| a * a <= d * self.ab[dj + (t + 1) * self.ld].abs())
     }
 
-    /// In-place LU factorisation. A pivot below `tiny` (absolute) is reported as singular.
+    /// In-place factorisation. A pivot below `tiny` (absolute) is reported as singular.
     ///
-    /// Pivoting: strict partial pivoting (the largest entry of the column), except for a matrix
-    /// declared symmetric (`set_symmetric`), whose diagonal stays the pivot as long as it
-    /// dominates its 2x2 minors (always so for a positive definite matrix, where elimination
-    /// without interchanges is stable). That saves the row interchanges partial pivoting makes
-    /// on mere scaling differences (EA/L against EI/L^3) and the fill they bring. From the first
-    /// pivot that fails the test on, the factorisation is strict partial pivoting.
+    /// A symmetric matrix is factored L D L^T, its diagonal the pivot as long as it dominates
+    /// its 2x2 minors (always so for a positive definite matrix, where elimination without
+    /// interchanges is stable). That saves the row interchanges partial pivoting makes on mere
+    /// scaling differences (EA/L against EI/L^3) and the fill they bring. From the first pivot
+    /// that fails the test on (`pivoting_from`), and for a general matrix throughout, it is an LU
+    /// with partial pivoting (the largest entry of the column), which still keeps a dominating
+    /// diagonal pivot while no interchange has broken the trailing matrix's symmetry.
     pub fn factor(&mut self, tiny: f64) -> Result<(), SingularPivot> {
-        let (n, kl, ku) = (self.n, self.kl, self.ku);
-        let mut symmetric = self.symmetric && kl == ku;
-        let mut ju = 0usize;
-        let mut max_p = 0usize;
-        for j in 0..n {
-            let km = kl.min(n - 1 - j);
-            // The common case first: a symmetric trailing matrix, a full band below and after the
-            // diagonal, and a diagonal pivot that passes the test (unrolled for the bandwidth).
-            if symmetric && km == kl {
-                let (ab, ld, off) = (&mut self.ab[..], self.ld, self.off);
-                let done = match kl {
-                    3 => symmetric_step::<3>(ab, j, ld, off, tiny),
-                    4 => symmetric_step::<4>(ab, j, ld, off, tiny),
-                    5 => symmetric_step::<5>(ab, j, ld, off, tiny),
-                    6 => symmetric_step::<6>(ab, j, ld, off, tiny),
-                    _ => false,
-                };
-                if done {
-                    self.pivots[j] = j;
-                    ju = ju.max(j + ku);
-                    continue;
-                }
+        if self.layout != Layout::Lower {
+            return self.lu(0, false, tiny);
+        }
+        match ldlt(&mut self.ab, self.n, self.kl, tiny) {
+            Ok(()) => Ok(()),
+            Err(j) => {
+                self.lower_to_lu(j);
+                self.lu_from = Some(j);
+                self.lu(j, true, tiny)
             }
+        }
+    }
+
+    /// Rewrite an L D L^T factorisation stopped before column j as the LU factorisation of the
+    /// same columns (U = D L^T), over the wide general layout, with the symmetric trailing
+    /// matrix mirrored into its upper band.
+    fn lower_to_lu(&mut self, j: usize) {
+        let (n, k, ldo) = (self.n, self.kl, self.ld);
+        let old = std::mem::take(&mut self.ab);
+        self.set_shape(n, k, k, Layout::Wide);
+        let (ld, off) = (self.ld, self.off);
+        for m in 0..n {
+            let column = m * ld + off - m;
+            for i in m..=(m + k).min(n - 1) {
+                self.ab[column + i] = old[m * ldo + i - m];
+            }
+            for i in m.saturating_sub(k)..m {
+                let v = old[i * ldo + m - i];
+                self.ab[column + i] = if i < j { old[i * ldo] * v } else { v };
+            }
+        }
+        for (p, pivot) in self.pivots.iter_mut().enumerate().take(j) {
+            *pivot = p;
+        }
+    }
+
+    /// LU with partial pivoting of columns `start..` (columns before it already factored
+    /// without interchanges). `symmetric`: the trailing matrix is exactly symmetric, so a
+    /// diagonal pivot that dominates its 2x2 minors is kept until the first interchange.
+    fn lu(&mut self, start: usize, mut symmetric: bool, tiny: f64) -> Result<(), SingularPivot> {
+        let (n, kl, ku) = (self.n, self.kl, self.ku);
+        let mut ju = (start + ku).saturating_sub(1).min(n.saturating_sub(1));
+        let mut max_p = 0usize;
+        for j in start..n {
+            let km = kl.min(n - 1 - j);
             // Column j from the diagonal down is contiguous.
             let dj = self.idx(j, j);
             let diagonal = self.ab[dj].abs();
@@ -279,6 +368,10 @@ impl BandMatrix {
     pub fn solve(&self, b: &mut [f64]) {
         let (n, kl, ld, off) = (self.n, self.kl, self.ld, self.off);
         let b = &mut b[..n];
+        if self.layout == Layout::Lower {
+            ldlt_solve(&self.ab, n, kl, b);
+            return;
+        }
         for j in 0..n {
             let p = self.pivots[j];
             if p != j {
@@ -300,6 +393,226 @@ impl BandMatrix {
             axpy(&mut b[lo..j], col, bj);
         }
     }
+}
+
+/// L D L^T of a symmetric band matrix stored as its lower band (`k + 1` rows per column: the
+/// diagonal, then the sub-diagonals), in place: D on the diagonal, L below it. Stops before the
+/// first column whose pivot is tiny, not finite or fails to dominate its 2x2 minors, and
+/// returns that column (columns before it factored, the rest the updated trailing matrix).
+fn ldlt(ab: &mut [f64], n: usize, k: usize, tiny: f64) -> Result<(), usize> {
+    for j in 0..n {
+        let full = j + k < n;
+        let done = match k {
+            1 if full => ldlt_step::<1>(ab, j, tiny),
+            2 if full => ldlt_step::<2>(ab, j, tiny),
+            3 if full => ldlt_step::<3>(ab, j, tiny),
+            4 if full => ldlt_step::<4>(ab, j, tiny),
+            5 if full => ldlt_step::<5>(ab, j, tiny),
+            6 if full => ldlt_step::<6>(ab, j, tiny),
+            7 if full => ldlt_step::<7>(ab, j, tiny),
+            8 if full => ldlt_step::<8>(ab, j, tiny),
+            _ => ldlt_step_any(ab, j, k, k.min(n - 1 - j), tiny),
+        };
+        if !done {
+            return Err(j);
+        }
+    }
+    Ok(())
+}
+
+/// Column j of `ldlt` with a full band of K sub-diagonals below it (unrolled for K).
+#[inline(always)]
+fn ldlt_step<const K: usize>(ab: &mut [f64], j: usize, tiny: f64) -> bool {
+    let ld = K + 1;
+    let window: &mut [f64] = &mut ab[j * ld..(j + K + 1) * ld];
+    let d = window[0];
+    let ad = d.abs();
+    if ad <= tiny || !ad.is_finite() {
+        return false;
+    }
+    let u: [f64; K] = std::array::from_fn(|t| window[1 + t]);
+    let mut dominates = true;
+    for t in 0..K {
+        dominates &= u[t] * u[t] <= ad * window[(t + 1) * ld].abs();
+    }
+    if !dominates {
+        return false;
+    }
+    let inv = 1.0 / d;
+    let l: [f64; K] = std::array::from_fn(|t| u[t] * inv);
+    window[1..=K].copy_from_slice(&l);
+    // Column j + t + 1 loses l_s u_t in its rows j + s + 1 for s >= t.
+    for t in 0..K {
+        let column = (t + 1) * ld;
+        for s in t..K {
+            window[column + s - t] -= l[s] * u[t];
+        }
+    }
+    true
+}
+
+/// `ldlt_step` for any bandwidth `k` (storage) and `km` rows below the diagonal.
+fn ldlt_step_any(ab: &mut [f64], j: usize, k: usize, km: usize, tiny: f64) -> bool {
+    let ld = k + 1;
+    let dj = j * ld;
+    let d = ab[dj];
+    let ad = d.abs();
+    if ad <= tiny || !ad.is_finite() {
+        return false;
+    }
+    if (0..km).any(|t| ab[dj + 1 + t].powi(2) > ad * ab[dj + (t + 1) * ld].abs()) {
+        return false;
+    }
+    let inv = 1.0 / d;
+    for t in 0..km {
+        let u = ab[dj + 1 + t];
+        let column = dj + (t + 1) * ld;
+        for s in t..km {
+            let l = ab[dj + 1 + s] * inv;
+            ab[column + s - t] -= l * u;
+        }
+    }
+    for v in &mut ab[dj + 1..dj + 1 + km] {
+        *v *= inv;
+    }
+    true
+}
+
+/// Solve L D L^T x = b in place (factors from `ldlt`, lower band of `k` sub-diagonals).
+fn ldlt_solve(ab: &[f64], n: usize, k: usize, b: &mut [f64]) {
+    match k {
+        3 => ldlt_solve_band::<3>(ab, n, b),
+        4 => ldlt_solve_band::<4>(ab, n, b),
+        5 => ldlt_solve_band::<5>(ab, n, b),
+        6 => ldlt_solve_band::<6>(ab, n, b),
+        8 => ldlt_solve_band::<8>(ab, n, b),
+        _ => {
+            ldlt_forward(ab, n, k, b, 0..n);
+            ldlt_backward(ab, n, k, b, 0..n);
+        }
+    }
+}
+
+/// The forward substitution L y = b over the columns `columns` (any bandwidth).
+fn ldlt_forward(ab: &[f64], n: usize, k: usize, b: &mut [f64], columns: std::ops::Range<usize>) {
+    let ld = k + 1;
+    for j in columns {
+        let km = k.min(n - 1 - j);
+        let bj = b[j];
+        axpy(
+            &mut b[j + 1..j + 1 + km],
+            &ab[j * ld + 1..j * ld + 1 + km],
+            bj,
+        );
+    }
+}
+
+/// The scaling and back substitution x = L^-T D^-1 y over the columns `columns`, last first
+/// (any bandwidth).
+fn ldlt_backward(ab: &[f64], n: usize, k: usize, b: &mut [f64], columns: std::ops::Range<usize>) {
+    let ld = k + 1;
+    for j in columns.rev() {
+        let km = k.min(n - 1 - j);
+        let l = &ab[j * ld + 1..j * ld + 1 + km];
+        let dot: f64 = l
+            .iter()
+            .zip(&b[j + 1..j + 1 + km])
+            .map(|(l, x)| l * x)
+            .sum();
+        b[j] = b[j] / ab[j * ld] - dot;
+    }
+}
+
+/// `ldlt_solve` for a band of K sub-diagonals. Over whole blocks of K columns with full bands,
+/// the K unknowns a column touches stay in registers as a ring (slot `m mod K` holds unknown m;
+/// each column of a block is its own instance of the step, so every slot index is a constant):
+/// each substitution step then waits on one multiply-subtract, not on a store and reload of b.
+#[inline(always)]
+fn ldlt_solve_band<const K: usize>(ab: &[f64], n: usize, b: &mut [f64]) {
+    let blocks = n.saturating_sub(K) / K;
+    let done = blocks * K;
+    if blocks > 0 {
+        // Forward: before column j, slot j mod K holds b[j] (final) and the others b[j+1..j+K-1].
+        let mut ring: [f64; K] = b[..K].try_into().expect("K unknowns");
+        for block in 0..blocks {
+            let j = block * K;
+            forward_step::<K, 0>(ab, b, j, &mut ring);
+            forward_step::<K, 1>(ab, b, j, &mut ring);
+            forward_step::<K, 2>(ab, b, j, &mut ring);
+            forward_step::<K, 3>(ab, b, j, &mut ring);
+            forward_step::<K, 4>(ab, b, j, &mut ring);
+            forward_step::<K, 5>(ab, b, j, &mut ring);
+            forward_step::<K, 6>(ab, b, j, &mut ring);
+            forward_step::<K, 7>(ab, b, j, &mut ring);
+        }
+        b[done..done + K].copy_from_slice(&ring);
+    }
+    ldlt_forward(ab, n, K, b, done..n);
+    ldlt_backward(ab, n, K, b, done..n);
+    if blocks == 0 {
+        return;
+    }
+    // Backward: after column j, slot j mod K holds x[j] and the others x[j+1..j+K-1].
+    let mut ring: [f64; K] = b[done..done + K].try_into().expect("K unknowns");
+    for block in (0..blocks).rev() {
+        let j = block * K;
+        backward_step::<K, 7>(ab, b, j, &mut ring);
+        backward_step::<K, 6>(ab, b, j, &mut ring);
+        backward_step::<K, 5>(ab, b, j, &mut ring);
+        backward_step::<K, 4>(ab, b, j, &mut ring);
+        backward_step::<K, 3>(ab, b, j, &mut ring);
+        backward_step::<K, 2>(ab, b, j, &mut ring);
+        backward_step::<K, 1>(ab, b, j, &mut ring);
+        backward_step::<K, 0>(ab, b, j, &mut ring);
+    }
+}
+
+/// Column `block + R` of the forward ring substitution (nothing if R >= K, K <= 8).
+#[inline(always)]
+fn forward_step<const K: usize, const R: usize>(
+    ab: &[f64],
+    b: &mut [f64],
+    block: usize,
+    ring: &mut [f64; K],
+) {
+    if R >= K {
+        return;
+    }
+    let j = block + R;
+    let l: &[f64; K] = ab[j * (K + 1) + 1..j * (K + 1) + 1 + K]
+        .try_into()
+        .expect("K rows");
+    let x = ring[R];
+    b[j] = x;
+    ring[R] = b[j + K];
+    for t in 1..=K {
+        ring[(R + t) % K] -= l[t - 1] * x;
+    }
+}
+
+/// Column `block + R` of the backward ring substitution (nothing if R >= K, K <= 8).
+#[inline(always)]
+fn backward_step<const K: usize, const R: usize>(
+    ab: &[f64],
+    b: &mut [f64],
+    block: usize,
+    ring: &mut [f64; K],
+) {
+    if R >= K {
+        return;
+    }
+    let j = block + R;
+    let l: &[f64; K] = ab[j * (K + 1) + 1..j * (K + 1) + 1 + K]
+        .try_into()
+        .expect("K rows");
+    // The nearest unknown, the last computed, enters last.
+    let mut dot = 0.0;
+    for t in (1..=K).rev() {
+        dot += l[t - 1] * ring[(R + t) % K];
+    }
+    let x = b[j] / ab[j * (K + 1)] - dot;
+    b[j] = x;
+    ring[R] = x;
 }
 
 /// `x -= a v`, unrolled for the short lengths of a band.
@@ -342,39 +655,6 @@ fn rank_one<const K: usize>(tail: &mut [f64], l: &[f64], ld: usize, off: usize, 
             }
         }
     }
-}
-
-/// Column j of a symmetric trailing matrix with K = kl = ku and a full band (K rows below, K
-/// columns after): if its diagonal dominates every 2x2 minor and is above `tiny`, scale the
-/// multipliers and update the K columns after it, and return true; otherwise touch nothing.
-#[inline(always)]
-fn symmetric_step<const K: usize>(
-    ab: &mut [f64],
-    j: usize,
-    ld: usize,
-    off: usize,
-    tiny: f64,
-) -> bool {
-    let dj = j * ld + off;
-    let d = ab[dj];
-    let ad = d.abs();
-    if ad <= tiny || !ad.is_finite() {
-        return false;
-    }
-    let mut dominates = true;
-    for t in 1..K + 1 {
-        let a = ab[dj + t];
-        dominates &= a * a <= ad * ab[dj + t * ld].abs();
-    }
-    if !dominates {
-        return false;
-    }
-    let inv = 1.0 / d;
-    let (head, tail) = ab.split_at_mut((j + 1) * ld);
-    let l = &mut head[dj + 1..dj + 1 + K];
-    l.iter_mut().for_each(|v| *v *= inv);
-    rank_one::<K>(tail, l, ld, off, K);
-    true
 }
 
 /// `rank_one` for any bandwidth.
