@@ -1,7 +1,9 @@
 //! Scaling report: one Newton increment of a long beam on rollers, loaded in every span, of 10
 //! to 10^5 elements of 1 m, timed in release builds (median of repeats), as time per element per iteration, with
-//! the process's peak resident memory after each size (Linux `VmHWM`).
+//! the process's peak resident memory after each size (Linux `VmHWM`), beside the yardstick: one
+//! iteration of a plain banded assemble-and-factor loop over a chain of as many elements.
 
+use crate::plain_chain::PlainChain;
 use crate::scene::parse;
 use crate::solver::{Flow, IterationRecord, Observer};
 use crate::work_precision::timed_on;
@@ -27,6 +29,8 @@ pub struct ScaleRow {
     pub seconds: f64,
     /// Median time per element per iteration (microseconds).
     pub per_element_iteration_us: f64,
+    /// The same for the plain chain loop (`plain_chain`), the yardstick (microseconds).
+    pub plain_loop_us: f64,
     /// Peak resident memory of the process so far (MiB), if known.
     pub peak_mib: Option<f64>,
 }
@@ -99,11 +103,14 @@ pub fn measure(sizes: &[usize]) -> Vec<ScaleRow> {
                     count.0
                 },
             );
+            let mut chain = PlainChain::with_amplitude(n, 1e-3);
+            let (plain, _) = timed_on(repeats, || (), |()| chain.iteration());
             ScaleRow {
                 elements: n,
                 iterations,
                 seconds,
                 per_element_iteration_us: seconds * 1e6 / (n * iterations.max(1)) as f64,
+                plain_loop_us: plain * 1e6 / n as f64,
                 peak_mib: peak_memory_mib(),
             }
         })
@@ -113,15 +120,16 @@ pub fn measure(sizes: &[usize]) -> Vec<ScaleRow> {
 /// The report as a Markdown table.
 pub fn table(rows: &[ScaleRow]) -> String {
     let mut s = String::from(
-        "| elements | iterations | increment (ms, median) | per element per iteration (us) | peak memory (MiB) |\n|---|---|---|---|---|\n",
+        "| elements | iterations | increment (ms, median) | per element per iteration (us) | plain loop (us) | peak memory (MiB) |\n|---|---|---|---|---|---|\n",
     );
     for r in rows {
         s.push_str(&format!(
-            "| {} | {} | {:.3} | {:.3} | {} |\n",
+            "| {} | {} | {:.3} | {:.3} | {:.3} | {} |\n",
             r.elements,
             r.iterations,
             r.seconds * 1e3,
             r.per_element_iteration_us,
+            r.plain_loop_us,
             r.peak_mib.map(|m| format!("{m:.0}")).unwrap_or_default()
         ));
     }

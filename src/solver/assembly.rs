@@ -284,32 +284,42 @@ pub fn assemble_into(
     let internal = &mut out.internal;
     let coupling = &mut out.coupling;
     let mut gdofs: Vec<usize> = Vec::with_capacity(12);
+    let mut k = [[0.0; 6]; 6];
     for (e, beam) in model.beams.iter().enumerate() {
         // Positions relative to node i's initial position: the element only uses differences,
         // and (X_j - X_i) + (u_j - u_i) rounds to eps |u| where X_j + u_j rounds to eps |X|.
         // That keeps the round-off floor of the residual low for lightly loaded states.
-        let (xi, phi_i) = relative(model, dofs, d, beam.i, beam.i);
-        let (xj, phi_j) = relative(model, dofs, d, beam.j, beam.i);
-        gdofs.clear();
-        gdofs.extend((0..3).map(|o| dofs.dof(beam.i, o)));
-        gdofs.extend((0..3).map(|o| dofs.dof(beam.j, o)));
         let on_this = &ord.on_beam[e];
         if on_this.is_empty() {
-            // A plain beam: its closed-form tangent goes straight into the band.
-            let mut k = [[0.0; 6]; 6];
-            let r = ctx.elements[e].evaluate(xi, xj, phi_i, phi_j, with_tangent.then_some(&mut k));
+            // A plain beam (both ends carry rotations): its closed-form tangent goes straight
+            // into the band.
+            let (fi, fj) = (dofs.first[beam.i], dofs.first[beam.j]);
+            let (ui, uj): (&[f64; 3], &[f64; 3]) = (
+                d[fi..].first_chunk().expect("3 dofs"),
+                d[fj..].first_chunk().expect("3 dofs"),
+            );
+            let (pi, pj) = (model.position(beam.i), model.position(beam.j));
+            let xi = [0.0 + ui[0], 0.0 + ui[1]];
+            let xj = [(pj[0] - pi[0]) + uj[0], (pj[1] - pi[1]) + uj[1]];
+            let r = ctx.elements[e].evaluate(xi, xj, ui[2], uj[2], with_tangent.then_some(&mut k));
             results.beam_forces[e] = r.forces;
-            for (&g, f) in gdofs.iter().zip(r.nodal.iter()) {
+            let g: [usize; 6] = std::array::from_fn(|a| [fi, fj][a / 3] + a % 3);
+            for (&g, f) in g.iter().zip(r.nodal.iter()) {
                 internal[g] += f;
             }
             if let Some(band) = tangent.as_mut() {
                 band.add_element(&ord.beam_eqs[e], &k);
                 if let Some(dp) = dp {
-                    let eqs: [Option<usize>; 6] = std::array::from_fn(|a| ord.eq[gdofs[a]]);
-                    add_coupling(&gdofs, &eqs, |a, b| k[a][b], dp, coupling);
+                    let eqs: [Option<usize>; 6] = std::array::from_fn(|a| ord.eq[g[a]]);
+                    add_coupling(&g, &eqs, |a, b| k[a][b], dp, coupling);
                 }
             }
         } else {
+            let (xi, phi_i) = relative(model, dofs, d, beam.i, beam.i);
+            let (xj, phi_j) = relative(model, dofs, d, beam.j, beam.i);
+            gdofs.clear();
+            gdofs.extend((0..3).map(|o| dofs.dof(beam.i, o)));
+            gdofs.extend((0..3).map(|o| dofs.dof(beam.j, o)));
             let xc: Vec<[f64; 2]> = on_this
                 .iter()
                 .map(|&k| relative(model, dofs, d, ord.links[k].node, beam.i).0)

@@ -16,6 +16,8 @@ pub type Vec6 = SVector<f64, 6>;
 pub struct Chord {
     /// Current chord length l.
     pub l: f64,
+    /// 1 / l.
+    pub inv_l: f64,
     /// cos of the current chord angle.
     pub c: f64,
     /// sin of the current chord angle.
@@ -51,10 +53,12 @@ impl Chord {
     pub fn new(xi: [f64; 2], xj: [f64; 2], alpha0: f64, reference: f64) -> Chord {
         let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
         let l = (dx * dx + dy * dy).sqrt();
-        let (c, s) = (dx / l, dy / l);
+        let inv_l = 1.0 / l;
+        let (c, s) = (dx * inv_l, dy * inv_l);
         let beta = unwrap_angle(dy.atan2(dx) - alpha0, reference);
         Chord {
             l,
+            inv_l,
             c,
             s,
             beta,
@@ -154,15 +158,20 @@ impl BeamElement {
         let n = ka * dl;
         let mi = k11 * ti + k12 * tj;
         let mj = k12 * ti + k11 * tj;
-        // Columns of J: r, e3 - z/l, e6 - z/l.
-        let mut bi = -ch.z / ch.l;
-        bi[2] += 1.0;
-        let mut bj = -ch.z / ch.l;
-        bj[5] += 1.0;
-        let nodal = ch.r * n + bi * mi + bj * mj;
+        // Columns of J: r = (-c, -s, 0, c, s, 0), bi = e3 - z/l = (w, 1, -w, 0) and
+        // bj = e6 - z/l = (w, 0, -w, 1), with w = (-s/l, c/l).
+        let w = [-ch.s * ch.inv_l, ch.c * ch.inv_l];
+        let nodal = Vec6::new(
+            (-ch.c * n + w[0] * mi) + w[0] * mj,
+            (-ch.s * n + w[1] * mi) + w[1] * mj,
+            mi,
+            (ch.c * n - w[0] * mi) - w[0] * mj,
+            (ch.s * n - w[1] * mi) - w[1] * mj,
+            mj,
+        );
         if let Some(k) = k {
-            let g = [n / ch.l, (mi + mj) / (ch.l * ch.l)];
-            tangent(&ch, &bi, [ka, k11, k12], g, k);
+            let g = [n * ch.inv_l, (mi + mj) * (ch.inv_l * ch.inv_l)];
+            tangent(&ch, w, [ka, k11, k12], g, k);
         }
         BeamResponse {
             deformation: [dl, ti, tj],
@@ -181,9 +190,8 @@ impl BeamElement {
 /// ten entries are distinct; the translational blocks of node j are exact negatives (or copies)
 /// of node i's. Every entry is summed in the same order as the outer-product form (terms that
 /// vanish identically left out), so the two agree to the last bit.
-fn tangent(ch: &Chord, bi: &Vec6, k: [f64; 3], g: [f64; 2], out: &mut [[f64; 6]; 6]) {
+fn tangent(ch: &Chord, w: [f64; 2], k: [f64; 3], g: [f64; 2], out: &mut [[f64; 6]; 6]) {
     let (r, z) = (&ch.r, &ch.z);
-    let w = [bi[0], bi[1]];
     let [ka, k11, k12] = k;
     let [nl, ml2] = g;
     // Translational block of node i: bi_a bi_b + bj_a bj_b = bi_a bj_b + bj_a bi_b = 2 w_a w_b.
@@ -217,14 +225,16 @@ mod tests {
         let (k11, k12) = el.bending_stiffness();
         let n = ka * (ch.l - el.length);
         let (mi, mj) = (k11 * ti + k12 * tj, k12 * ti + k11 * tj);
-        let mut bi = -ch.z / ch.l;
+        let mut bi = -ch.z * ch.inv_l;
         bi[2] += 1.0;
-        let mut bj = -ch.z / ch.l;
+        let mut bj = -ch.z * ch.inv_l;
         bj[5] += 1.0;
         let mut k = ch.r * ch.r.transpose() * ka;
         k += (bi * bi.transpose() + bj * bj.transpose()) * k11;
         k += (bi * bj.transpose() + bj * bi.transpose()) * k12;
-        k + ch.geometric_stiffness(n, mi + mj)
+        let zz = ch.z * ch.z.transpose();
+        let rz = ch.r * ch.z.transpose();
+        k + (zz * (n * ch.inv_l) + (rz + rz.transpose()) * ((mi + mj) * (ch.inv_l * ch.inv_l)))
     }
 
     #[test]

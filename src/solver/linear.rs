@@ -164,6 +164,33 @@ impl BandMatrix {
         // Entry (i, j) lies at j (ld - 1) + off + i.
         let (ld, off) = (self.ld, self.off);
         let lower = self.layout == Layout::Lower;
+        if lower && eqs.is_sorted() && eqs[N - 1] != NOT_FREE {
+            // Symmetric, every dof free and numbered in local order (the usual case): column
+            // eqs[b] takes rows eqs[a], a >= b, at eqs[b] (ld - 1) + eqs[a].
+            let top = eqs[N - 1] as usize;
+            debug_assert!(top - eqs[0] as usize <= self.kl, "element outside band");
+            for b in 0..N {
+                let base = eqs[b] as usize * (ld - 1);
+                let column = &mut self.ab[base..=base + top];
+                for a in b..N {
+                    column[eqs[a] as usize] += k[a][b];
+                }
+            }
+            return;
+        }
+        if lower && !eqs.contains(&NOT_FREE) {
+            // Symmetric, every dof free: pair (a, b) and its mirror (b, a) are one stored entry
+            // (row max, column min), whichever local order the equations come in. Entry (i, j)
+            // with i >= j lies at j (ld - 1) + i.
+            for b in 0..N {
+                for a in b..N {
+                    let (i, j) = (eqs[a].max(eqs[b]) as usize, eqs[a].min(eqs[b]) as usize);
+                    debug_assert!(i - j <= self.kl, "({i},{j}) outside band");
+                    self.ab[j * (ld - 1) + i] += k[a][b];
+                }
+            }
+            return;
+        }
         if !lower && !eqs.contains(&NOT_FREE) {
             // Every dof free (the usual case): each column's N entries lie in rows lo..=hi.
             let (lo, hi) = (eqs.iter().min(), eqs.iter().max());
@@ -400,55 +427,63 @@ impl BandMatrix {
 /// first column whose pivot is tiny, not finite or fails to dominate its 2x2 minors, and
 /// returns that column (columns before it factored, the rest the updated trailing matrix).
 fn ldlt(ab: &mut [f64], n: usize, k: usize, tiny: f64) -> Result<(), usize> {
-    for j in 0..n {
-        let full = j + k < n;
-        let done = match k {
-            1 if full => ldlt_step::<1>(ab, j, tiny),
-            2 if full => ldlt_step::<2>(ab, j, tiny),
-            3 if full => ldlt_step::<3>(ab, j, tiny),
-            4 if full => ldlt_step::<4>(ab, j, tiny),
-            5 if full => ldlt_step::<5>(ab, j, tiny),
-            6 if full => ldlt_step::<6>(ab, j, tiny),
-            7 if full => ldlt_step::<7>(ab, j, tiny),
-            8 if full => ldlt_step::<8>(ab, j, tiny),
-            _ => ldlt_step_any(ab, j, k, k.min(n - 1 - j), tiny),
-        };
-        if !done {
+    let full = match k {
+        1 => ldlt_band::<1, 4>(ab, n, tiny),
+        2 => ldlt_band::<2, 9>(ab, n, tiny),
+        3 => ldlt_band::<3, 16>(ab, n, tiny),
+        4 => ldlt_band::<4, 25>(ab, n, tiny),
+        5 => ldlt_band::<5, 36>(ab, n, tiny),
+        6 => ldlt_band::<6, 49>(ab, n, tiny),
+        7 => ldlt_band::<7, 64>(ab, n, tiny),
+        8 => ldlt_band::<8, 81>(ab, n, tiny),
+        _ => Ok(0),
+    }?;
+    for j in full..n {
+        if !ldlt_step_any(ab, j, k, k.min(n - 1 - j), tiny) {
             return Err(j);
         }
     }
     Ok(())
 }
 
-/// Column j of `ldlt` with a full band of K sub-diagonals below it (unrolled for K).
-#[inline(always)]
-fn ldlt_step<const K: usize>(ab: &mut [f64], j: usize, tiny: f64) -> bool {
+/// The columns of `ldlt` with a full band of K sub-diagonals below them (unrolled for K; the
+/// window of the K + 1 columns a step touches is a fixed array of W = (K + 1)^2 entries).
+/// Returns the first column it left to the general step.
+fn ldlt_band<const K: usize, const W: usize>(
+    ab: &mut [f64],
+    n: usize,
+    tiny: f64,
+) -> Result<usize, usize> {
+    debug_assert_eq!(W, (K + 1) * (K + 1));
     let ld = K + 1;
-    let window: &mut [f64] = &mut ab[j * ld..(j + K + 1) * ld];
-    let d = window[0];
-    let ad = d.abs();
-    if ad <= tiny || !ad.is_finite() {
-        return false;
-    }
-    let u: [f64; K] = std::array::from_fn(|t| window[1 + t]);
-    let mut dominates = true;
-    for t in 0..K {
-        dominates &= u[t] * u[t] <= ad * window[(t + 1) * ld].abs();
-    }
-    if !dominates {
-        return false;
-    }
-    let inv = 1.0 / d;
-    let l: [f64; K] = std::array::from_fn(|t| u[t] * inv);
-    window[1..=K].copy_from_slice(&l);
-    // Column j + t + 1 loses l_s u_t in its rows j + s + 1 for s >= t.
-    for t in 0..K {
-        let column = (t + 1) * ld;
-        for s in t..K {
-            window[column + s - t] -= l[s] * u[t];
+    let columns = n.saturating_sub(K);
+    for j in 0..columns {
+        let window: &mut [f64; W] = (&mut ab[j * ld..j * ld + W]).try_into().expect("W entries");
+        let d = window[0];
+        let ad = d.abs();
+        if ad <= tiny || !ad.is_finite() {
+            return Err(j);
         }
+        let u: [f64; K] = std::array::from_fn(|t| window[1 + t]);
+        let mut dominates = true;
+        for t in 0..K {
+            dominates &= u[t] * u[t] <= ad * window[(t + 1) * ld].abs();
+        }
+        if !dominates {
+            return Err(j);
+        }
+        let inv = 1.0 / d;
+        let l: [f64; K] = std::array::from_fn(|t| u[t] * inv);
+        // Column j + t + 1 loses l_s u_t in its rows j + s + 1 for s >= t.
+        for t in 0..K {
+            let column = (t + 1) * ld;
+            for s in t..K {
+                window[column + s - t] -= l[s] * u[t];
+            }
+        }
+        window[1..=K].copy_from_slice(&l);
     }
-    true
+    Ok(columns)
 }
 
 /// `ldlt_step` for any bandwidth `k` (storage) and `km` rows below the diagonal.
@@ -579,9 +614,7 @@ fn forward_step<const K: usize, const R: usize>(
         return;
     }
     let j = block + R;
-    let l: &[f64; K] = ab[j * (K + 1) + 1..j * (K + 1) + 1 + K]
-        .try_into()
-        .expect("K rows");
+    let l: &[f64; K] = ab[j * (K + 1) + 1..].first_chunk().expect("K rows");
     let x = ring[R];
     b[j] = x;
     ring[R] = b[j + K];
@@ -602,15 +635,14 @@ fn backward_step<const K: usize, const R: usize>(
         return;
     }
     let j = block + R;
-    let l: &[f64; K] = ab[j * (K + 1) + 1..j * (K + 1) + 1 + K]
-        .try_into()
-        .expect("K rows");
+    let column: &[f64] = &ab[j * (K + 1)..];
+    let (d, l): (&f64, &[f64; K]) = (&column[0], column[1..].first_chunk().expect("K rows"));
     // The nearest unknown, the last computed, enters last.
     let mut dot = 0.0;
     for t in (1..=K).rev() {
         dot += l[t - 1] * ring[(R + t) % K];
     }
-    let x = b[j] / ab[j * (K + 1)] - dot;
+    let x = b[j] / d - dot;
     b[j] = x;
     ring[R] = x;
 }
