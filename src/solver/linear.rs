@@ -243,12 +243,8 @@ impl BandMatrix {
 
     /// Largest absolute diagonal entry (before factorisation), a scale for pivot tests.
     pub fn max_diagonal(&self) -> f64 {
-        self.ab
-            .iter()
-            .skip(self.off)
-            .step_by(self.ld)
-            .map(|v| v.abs())
-            .fold(0.0, f64::max)
+        let diagonal = self.ab.iter().skip(self.off).step_by(self.ld);
+        super::reduce::max_of(diagonal.map(|v| v.abs()), 0.0)
     }
 
     /// Give every column room for the `kl` super-diagonals that row interchanges fill in.

@@ -14,6 +14,7 @@ pub mod linear;
 pub mod model;
 pub mod newton;
 pub mod params;
+pub mod reduce;
 pub mod report;
 pub mod shape;
 

@@ -3,9 +3,10 @@
 //! and the contact active-set passes (transfers during iterations, activation and release between
 //! converged passes).
 
-use super::assembly::{assemble_into, Assembled, AssemblyContext, DofKind, Ordering};
+use super::assembly::{assemble_into, Assembled, AssemblyContext, Ordering};
 use super::contact::ContactSet;
 use super::control::Solver;
+use super::reduce::{max_of, sum_squares};
 use super::report::{ContactChange, Event, Flow, IterationRecord, Observer};
 
 /// A residual within this factor of the round-off floor counts as stagnated.
@@ -154,18 +155,19 @@ impl Solver {
     ) -> (f64, f64) {
         r.clear();
         r.resize(ord.n_eq, 0.0);
-        let (mut ext2, mut reac2) = (0.0, 0.0);
-        for (g, kind) in self.dofs.kind.iter().enumerate() {
-            ext2 += fext[g] * fext[g];
-            match (kind, ord.eq[g]) {
-                (DofKind::Free, Some(e)) => r[e] = fext[g] - asm.internal[g],
-                _ => {
+        let mut reac2 = 0.0;
+        // Every free dof has an equation; the others carry reactions.
+        for (g, eq) in ord.eq.iter().enumerate() {
+            match eq {
+                Some(e) => r[*e] = fext[g] - asm.internal[g],
+                None => {
                     let re = asm.internal[g] - fext[g];
                     reac2 += re * re;
                 }
             }
         }
-        let norm = r.iter().map(|v| v * v).sum::<f64>().sqrt();
+        let ext2 = sum_squares(fext);
+        let norm = sum_squares(r).sqrt();
         let reference = ext2.sqrt().max(reac2.sqrt()).max(self.force_floor);
         (norm, reference)
     }
@@ -265,7 +267,7 @@ impl Solver {
                 for (e, c) in rhs.iter_mut().zip(&asm.coupling) {
                     *e -= c;
                 }
-                log.r0 = Some(rhs.iter().map(|v| v * v).sum::<f64>().sqrt());
+                log.r0 = Some(sum_squares(&rhs).sqrt());
             } else {
                 let rel = norm / reference;
                 log.record(
@@ -335,9 +337,9 @@ impl Solver {
             }
             tangent.solve(&mut rhs);
             asm.tangent = Some(tangent);
-            let mut step2: f64 = rhs.iter().map(|v| v * v).sum();
+            let mut step2 = sum_squares(&rhs);
             if predictor {
-                step2 += dp.iter().map(|v| v * v).sum::<f64>();
+                step2 += sum_squares(&dp);
             }
             let step = step2.sqrt();
             let scale = if step > p.max_step {
@@ -382,13 +384,11 @@ impl Solver {
     }
 
     pub(crate) fn coordinate_scale(&self, d: &[f64]) -> f64 {
-        let mut s: f64 = 0.0;
-        for n in 0..self.model.nodes.len() {
-            let p = self.model.position(n);
-            let f = self.dofs.first[n];
-            s = s.max((p[0] + d[f]).abs()).max((p[1] + d[f + 1]).abs());
-        }
-        s.max(1e-300)
+        let coordinates = (0..self.model.nodes.len()).flat_map(|n| {
+            let (p, f) = (self.model.position(n), self.dofs.first[n]);
+            [(p[0] + d[f]).abs(), (p[1] + d[f + 1]).abs()]
+        });
+        max_of(coordinates, 1e-300)
     }
 
     /// "node N u" for an equation number.
