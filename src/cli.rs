@@ -5,6 +5,20 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use clap::{Parser, Subcommand, ValueEnum};
+
+/// `println!` that ends the program quietly when stdout is closed (output piped into `head`)
+/// instead of panicking.
+macro_rules! out {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        if let Err(e) = writeln!(std::io::stdout(), $($arg)*) {
+            if e.kind() == std::io::ErrorKind::BrokenPipe {
+                std::process::exit(0);
+            }
+            panic!("cannot write to stdout: {e}");
+        }
+    }};
+}
 use tsm_contact::history::History;
 use tsm_contact::scene::{self, Scene, SceneError};
 use tsm_contact::solver::report::{ContactChange, Flow};
@@ -134,7 +148,7 @@ pub fn run() -> i32 {
                 .into_iter()
                 .filter(|&n| n <= max)
                 .collect();
-            println!(
+            out!(
                 "{}",
                 tsm_contact::contact_scaling::table(&tsm_contact::contact_scaling::measure(
                     &sizes, 10_000
@@ -150,7 +164,7 @@ pub fn run() -> i32 {
                 .into_iter()
                 .filter(|&n| n <= max)
                 .collect();
-            println!(
+            out!(
                 "{}",
                 tsm_contact::scaling::table(&tsm_contact::scaling::measure(&sizes))
             );
@@ -158,7 +172,7 @@ pub fn run() -> i32 {
         }
         Some(Command::Scenes) => {
             for (f, _) in scene::builtin::BUILTIN {
-                println!("{}", f.trim_end_matches(".ron"));
+                out!("{}", f.trim_end_matches(".ron"));
             }
             0
         }
@@ -190,9 +204,13 @@ struct Printer {
 impl Observer for Printer {
     fn iteration(&mut self, r: &tsm_contact::solver::IterationRecord) -> Flow {
         if self.verbose {
-            println!(
+            out!(
                 "      iter {:>3}  |R| = {:.3e}  |R|/ref = {:.3e}  |du| = {:.3e}  contacts {}",
-                r.iteration, r.residual, r.relative_residual, r.step_norm, r.active_contacts
+                r.iteration,
+                r.residual,
+                r.relative_residual,
+                r.step_norm,
+                r.active_contacts
             );
         }
         Flow::Continue
@@ -208,7 +226,7 @@ impl Observer for Printer {
                 .join(" ")
         };
         let it8 = r.iterations_8_orders.map_or("-".into(), |v| v.to_string());
-        println!(
+        out!(
             "{:>5}  {}  {:>4}  {:>4}  {:>9.2e}  {:>3}  {:>3}  {:>8.2}",
             r.increment,
             driven,
@@ -228,7 +246,7 @@ impl Observer for Printer {
                 reason,
                 fraction,
             } => {
-                println!("      cut-back in increment {increment}: {reason}; now trying {fraction} of the step")
+                out!("      cut-back in increment {increment}: {reason}; now trying {fraction} of the step")
             }
             Event::Contact(c) => {
                 let what = match c.change {
@@ -237,7 +255,7 @@ impl Observer for Printer {
                     ContactChange::Released => "releases from",
                     ContactChange::SlidOff => "slides off",
                 };
-                println!(
+                out!(
                     "      event: node {} {} {} element {} (li/l = {:.4}, Yc = {:+.4e}) at iteration {}",
                     c.node, what, c.body, c.element, c.xi, c.force, c.iteration
                 );
@@ -279,11 +297,14 @@ fn solve(
             return 2;
         }
     };
-    println!(
+    out!(
         "# {} ({:?}), {} steps, tolerance {:.0e}",
-        scene.file.name, scene.model.formulation, steps, scene.params.tolerance
+        scene.file.name,
+        scene.model.formulation,
+        steps,
+        scene.params.tolerance
     );
-    println!("# step  prescribed/load  iter  it8  rel.resid  cut  act   ms");
+    out!("# step  prescribed/load  iter  it8  rel.resid  cut  act   ms");
     let mut printer = Printer {
         history: History {
             scene: scene.file.name.clone(),
@@ -310,7 +331,7 @@ fn solve(
         .iter()
         .map(|r| r.iterations)
         .sum();
-    println!(
+    out!(
         "# {} increments, {} iterations, {:.1} ms",
         printer.history.increments.len(),
         total,
@@ -339,8 +360,8 @@ fn bench(quick: bool, out: &Path) -> i32 {
         eprintln!("error: cannot write {e}");
         return 2;
     }
-    println!("{}", wp::table(&points));
-    println!(
+    out!("{}", wp::table(&points));
+    out!(
         "wrote {0}/work-precision.csv and {0}/work-precision.svg ({1} points)",
         out.display(),
         points.len()
@@ -351,14 +372,14 @@ fn bench(quick: bool, out: &Path) -> i32 {
         .iter()
         .map(|s| interactive::measure(s, repeats))
         .collect();
-    println!("\n{}", interactive::table(&rows));
+    out!("\n{}", interactive::table(&rows));
     0
 }
 
 fn stress(long: bool, out: &Path) -> i32 {
     let rows = tsm_contact::stress::suite(long);
     let table = tsm_contact::stress::markdown(&rows);
-    println!("{table}");
+    out!("{table}");
     let page = format!(
         "# Stability suite\n\nGenerated by `tsm-contact stress{}` (release build). One row per case and \
          formulation; see `src/stress.rs` for each case's set-up and `docs/stability.md` for the \
@@ -370,6 +391,6 @@ fn stress(long: bool, out: &Path) -> i32 {
         eprintln!("error: cannot write {}: {e}", path.display());
         return 2;
     }
-    println!("wrote {}", path.display());
+    out!("wrote {}", path.display());
     0
 }
