@@ -453,14 +453,17 @@ fn ldlt_band<const K: usize, const W: usize>(
     debug_assert_eq!(W, (K + 1) * (K + 1));
     let ld = K + 1;
     let columns = n.saturating_sub(K);
+    // The pivot and the column below it are carried from one column to the next in registers:
+    // the chain from pivot to pivot is u_0^2, one division and one subtraction
+    // (d' = a - u_0^2 / d, u'_0 = a - u_1 u_0 / d), with no store and reload between.
+    let mut d = ab.first().copied().unwrap_or(0.0);
+    let mut u: [f64; K] = std::array::from_fn(|t| ab.get(1 + t).copied().unwrap_or(0.0));
     for j in 0..columns {
         let window: &mut [f64; W] = (&mut ab[j * ld..j * ld + W]).try_into().expect("W entries");
-        let d = window[0];
         let ad = d.abs();
         if ad <= tiny || !ad.is_finite() {
             return Err(j);
         }
-        let u: [f64; K] = std::array::from_fn(|t| window[1 + t]);
         let mut dominates = true;
         for t in 0..K {
             dominates &= u[t] * u[t] <= ad * window[(t + 1) * ld].abs();
@@ -468,16 +471,26 @@ fn ldlt_band<const K: usize, const W: usize>(
         if !dominates {
             return Err(j);
         }
+        let next = window[ld] - u[0] * u[0] / d;
+        let mut below: [f64; K] = std::array::from_fn(|s| window[ld + 1 + s]);
+        for s in 0..K - 1 {
+            below[s] -= u[s + 1] * u[0] / d;
+        }
         let inv = 1.0 / d;
-        let l: [f64; K] = std::array::from_fn(|t| u[t] * inv);
-        // Column j + t + 1 loses l_s u_t in its rows j + s + 1 for s >= t.
-        for t in 0..K {
+        // Column j + t + 1 loses u_s u_t / d in its rows j + s + 1 for s >= t (column j + 1,
+        // t = 0, is done above).
+        for t in 1..K {
             let column = (t + 1) * ld;
             for s in t..K {
-                window[column + s - t] -= l[s] * u[t];
+                window[column + s - t] -= (u[s] * u[t]) * inv;
             }
         }
-        window[1..=K].copy_from_slice(&l);
+        window[ld] = next;
+        window[ld + 1..ld + 1 + K].copy_from_slice(&below);
+        for t in 0..K {
+            window[1 + t] = u[t] * inv;
+        }
+        (d, u) = (next, below);
     }
     Ok(columns)
 }
