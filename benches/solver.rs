@@ -1,6 +1,7 @@
 //! Benchmarks: one Newton increment of an n-element cantilever (Mattiasson load k = 0.1), reported
-//! per element and per iteration, the paper's Example 3.2, all 80 steps, and a slider-driven
-//! update of the paper scenes (Examples 3.1 and 3.2).
+//! per element and per iteration, one increment of the scale report's long beam, the paper's
+//! Example 3.2, all 80 steps, and a slider-driven update of the paper scenes (Examples 3.1 and
+//! 3.2).
 //! Run with `cargo bench --no-default-features --bench solver`.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
@@ -39,6 +40,23 @@ fn newton(c: &mut Criterion) {
         );
         eprintln!("cantilever {n} elements: {iters} Newton iterations for k = 0.1 (divide the time by {iters} x {n})");
         let fresh = sc.solver().unwrap();
+        g.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| {
+            b.iter_batched(
+                || fresh.clone(),
+                |mut s| s.step(&mut Silent).unwrap(),
+                criterion::BatchSize::LargeInput,
+            )
+        });
+    }
+    g.finish();
+}
+
+/// One increment of the scale report's long beam (`scaling::long_beam`): divide by the
+/// iterations (4) and the elements for the time per element per iteration.
+fn long_beam(c: &mut Criterion) {
+    let mut g = c.benchmark_group("long_beam_increment");
+    for n in [1000usize, 10_000] {
+        let fresh = tsm_contact::scaling::long_beam(n).solver().unwrap();
         g.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| {
             b.iter_batched(
                 || fresh.clone(),
@@ -90,6 +108,6 @@ fn slider_update(c: &mut Criterion) {
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(10);
-    targets = newton, example_3_2, slider_update
+    targets = newton, long_beam, example_3_2, slider_update
 }
 criterion_main!(benches);
