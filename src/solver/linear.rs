@@ -116,7 +116,10 @@ impl BandMatrix {
         self.ab.clear();
         self.ab.resize(self.ld * n, 0.0);
         self.pivots.clear();
-        self.pivots.resize(n, 0);
+        if layout != Layout::Lower {
+            // L D L^T makes no interchanges.
+            self.pivots.resize(n, 0);
+        }
     }
 
     /// Number of equations.
@@ -243,8 +246,7 @@ impl BandMatrix {
 
     /// Largest absolute diagonal entry (before factorisation), a scale for pivot tests.
     pub fn max_diagonal(&self) -> f64 {
-        let diagonal = self.ab.iter().skip(self.off).step_by(self.ld);
-        super::reduce::max_of(diagonal.map(|v| v.abs()), 0.0)
+        super::reduce::max_abs_strided(&self.ab, self.off, self.ld)
     }
 
     /// Give every column room for the `kl` super-diagonals that row interchanges fill in.

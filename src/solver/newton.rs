@@ -6,7 +6,7 @@
 use super::assembly::{assemble_into, Assembled, AssemblyContext, Ordering};
 use super::contact::ContactSet;
 use super::control::Solver;
-use super::reduce::{max_of, sum_squares};
+use super::reduce::sum_squares;
 use super::report::{ContactChange, Event, Flow, IterationRecord, Observer};
 
 /// A residual within this factor of the round-off floor counts as stagnated.
@@ -384,11 +384,18 @@ impl Solver {
     }
 
     pub(crate) fn coordinate_scale(&self, d: &[f64]) -> f64 {
-        let coordinates = (0..self.model.nodes.len()).flat_map(|n| {
-            let (p, f) = (self.model.position(n), self.dofs.first[n]);
-            [(p[0] + d[f]).abs(), (p[1] + d[f + 1]).abs()]
-        });
-        max_of(coordinates, 1e-300)
+        // x and y: two independent chains of maxima.
+        let (mut mx, mut my) = (1e-300f64, 1e-300f64);
+        for (node, &f) in self.model.nodes.iter().zip(&self.dofs.first) {
+            let (x, y) = ((node.x + d[f]).abs(), (node.y + d[f + 1]).abs());
+            if x > mx {
+                mx = x;
+            }
+            if y > my {
+                my = y;
+            }
+        }
+        mx.max(my)
     }
 
     /// "node N u" for an equation number.

@@ -1,4 +1,4 @@
-//! Reductions over long vectors (norms, maxima) with independent partial results, so that a
+//! Reductions over long vectors (norms, largest entries) with independent partial results, so that a
 //! sum over 10^5 entries is not one serial chain of additions: each Newton iteration takes
 //! several of them.
 
@@ -16,17 +16,26 @@ pub fn sum_squares(v: &[f64]) -> f64 {
         .fold((acc[0] + acc[1]) + (acc[2] + acc[3]), |s, x| s + x * x)
 }
 
-/// Largest of `values` and `floor`, taken in four interleaved partial maxima (NaN entries are
-/// ignored, as `f64::max` does).
-pub fn max_of(values: impl Iterator<Item = f64>, floor: f64) -> f64 {
-    let mut acc = [floor; 4];
-    for (k, v) in values.enumerate() {
-        let slot = &mut acc[k % 4];
-        if v > *slot {
-            *slot = v;
+/// Largest |v[start + k stride]| over k (0 for none), in four interleaved partial maxima (NaN
+/// entries are ignored, as `f64::max` does).
+pub fn max_abs_strided(v: &[f64], start: usize, stride: usize) -> f64 {
+    let v = v.get(start..).unwrap_or(&[]);
+    let mut acc = [0.0f64; 4];
+    let blocks = v.chunks_exact(4 * stride);
+    let rest = blocks.remainder();
+    for block in blocks {
+        for (t, m) in acc.iter_mut().enumerate() {
+            let a = block[t * stride].abs();
+            if a > *m {
+                *m = a;
+            }
         }
     }
-    acc.into_iter().fold(floor, f64::max)
+    let mut m = acc.into_iter().fold(0.0, f64::max);
+    for a in rest.iter().step_by(stride) {
+        m = m.max(a.abs());
+    }
+    m
 }
 
 #[cfg(test)]
@@ -42,9 +51,18 @@ mod tests {
                 (sum_squares(&v) - serial).abs() <= 1e-12 * serial.max(1.0),
                 "n {n}"
             );
-            let max = v.iter().fold(-1e300, |m: f64, &x| m.max(x));
-            assert_eq!(max_of(v.iter().copied(), -1e300), max, "n {n}");
+            for stride in [1, 3, 6] {
+                for start in [0, 2] {
+                    let max = v
+                        .iter()
+                        .skip(start)
+                        .step_by(stride)
+                        .fold(0.0, |m: f64, x| m.max(x.abs()));
+                    let fast = max_abs_strided(&v, start, stride);
+                    assert_eq!(fast, max, "n {n} stride {stride} start {start}");
+                }
+            }
         }
-        assert_eq!(max_of([1.0, f64::NAN, 3.0].into_iter(), 0.0), 3.0);
+        assert_eq!(max_abs_strided(&[1.0, f64::NAN, -3.0], 0, 1), 3.0);
     }
 }
