@@ -26,6 +26,21 @@ fn cantilever(n: usize) -> tsm_contact::scene::Scene {
     sc
 }
 
+/// Time one `step` of `fresh` (cloned for each sample, outside the timing), labelled `n`.
+fn one_step(
+    g: &mut criterion::BenchmarkGroup<criterion::measurement::WallTime>,
+    n: usize,
+    fresh: &tsm_contact::solver::Solver,
+) {
+    g.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| {
+        b.iter_batched(
+            || fresh.clone(),
+            |mut s| s.step(&mut Silent).unwrap(),
+            criterion::BatchSize::LargeInput,
+        )
+    });
+}
+
 fn newton(c: &mut Criterion) {
     let mut g = c.benchmark_group("cantilever_increment");
     for n in [100usize, 1000] {
@@ -40,13 +55,7 @@ fn newton(c: &mut Criterion) {
         );
         eprintln!("cantilever {n} elements: {iters} Newton iterations for k = 0.1 (divide the time by {iters} x {n})");
         let fresh = sc.solver().unwrap();
-        g.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| {
-            b.iter_batched(
-                || fresh.clone(),
-                |mut s| s.step(&mut Silent).unwrap(),
-                criterion::BatchSize::LargeInput,
-            )
-        });
+        one_step(&mut g, n, &fresh);
     }
     g.finish();
 }
@@ -57,13 +66,7 @@ fn long_beam(c: &mut Criterion) {
     let mut g = c.benchmark_group("long_beam_increment");
     for n in [1000usize, 10_000] {
         let fresh = tsm_contact::scaling::long_beam(n).solver().unwrap();
-        g.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| {
-            b.iter_batched(
-                || fresh.clone(),
-                |mut s| s.step(&mut Silent).unwrap(),
-                criterion::BatchSize::LargeInput,
-            )
-        });
+        one_step(&mut g, n, &fresh);
     }
     g.finish();
 }
