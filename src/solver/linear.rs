@@ -457,7 +457,7 @@ fn ldlt_band<const K: usize, const W: usize>(
     let columns = n.saturating_sub(K);
     // The pivot and the column below it are carried from one column to the next in registers:
     // the chain from pivot to pivot is u_0^2, one division and one subtraction
-    // (d' = a - u_0^2 / d, u'_0 = a - u_1 u_0 / d), with no store and reload between.
+    // (d' = a - u_0^2 / d, u'_0 = a - (u_1 u_0) / d), with no store and reload between.
     let mut d = ab.first().copied().unwrap_or(0.0);
     let mut u: [f64; K] = std::array::from_fn(|t| ab.get(1 + t).copied().unwrap_or(0.0));
     for j in 0..columns {
@@ -473,12 +473,13 @@ fn ldlt_band<const K: usize, const W: usize>(
         if !dominates {
             return Err(j);
         }
+        // Two divisions per column: more would make the divider, not the chain, the limit.
         let next = window[ld] - u[0] * u[0] / d;
+        let inv = 1.0 / d;
         let mut below: [f64; K] = std::array::from_fn(|s| window[ld + 1 + s]);
         for s in 0..K - 1 {
-            below[s] -= u[s + 1] * u[0] / d;
+            below[s] -= (u[s + 1] * u[0]) * inv;
         }
-        let inv = 1.0 / d;
         // Column j + t + 1 loses u_s u_t / d in its rows j + s + 1 for s >= t (column j + 1,
         // t = 0, is done above).
         for t in 1..K {
