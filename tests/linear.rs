@@ -98,6 +98,14 @@ fn symmetric_band_ldlt_agrees_with_dense_lu_definite_or_not() {
         (90, 5, 4.0),
         (301, 8, 6.0),
         (90, 5, 6.5),
+        // Every unrolled bandwidth of the factorisation and the substitutions.
+        (50, 2, 0.0),
+        (51, 3, 0.0),
+        (70, 4, 3.0),
+        (64, 6, 0.0),
+        (45, 7, 0.0),
+        (20, 12, 0.0),
+        (4, 5, 0.0),
     ] {
         let (mut band, dense) = symmetric_band(&mut rng, n, w, shift);
         let b: Vec<f64> = (0..n).map(|_| rng.next()).collect();
