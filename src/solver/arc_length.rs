@@ -135,8 +135,7 @@ impl Solver {
             let fext = self.external_force(lambda);
             let (rhs, norm, reference) = self.residual(&asm, &fext, &ordering);
             let mut tangent = asm.tangent.take().expect("tangent requested");
-            let scale = self.coordinate_scale(&d);
-            let floor = f64::EPSILON * tangent.max_diagonal() * scale / reference;
+            let (scale, floor) = self.roundoff_floor(&tangent, &d, reference);
             if !predictor {
                 let rel = norm / reference;
                 log.record(
@@ -187,12 +186,7 @@ impl Solver {
                 }
                 self.pass_failed(rel, floor, pass_iter, iterations)?;
             }
-            if let Err(sp) = tangent.factor(0.0) {
-                return Err(AttemptError::Failed(format!(
-                    "singular tangent at {}",
-                    self.equation_label(&ordering, sp.equation)
-                )));
-            }
+            self.factor_tangent(&mut tangent, &ordering)?;
             // Displacement responses to the reference load and to the unbalanced force.
             let mut qf = vec![0.0; ordering.n_eq];
             for (g, e) in ordering.eq.iter().enumerate() {

@@ -293,16 +293,11 @@ pub fn assemble_into(
         if on_this.is_empty() {
             // A plain beam (both ends carry rotations): its closed-form tangent goes straight
             // into the band.
-            let (fi, fj) = (dofs.first[beam.i], dofs.first[beam.j]);
-            let (ui, uj): (&[f64; 3], &[f64; 3]) = (
-                d[fi..].first_chunk().expect("3 dofs"),
-                d[fj..].first_chunk().expect("3 dofs"),
-            );
-            let (pi, pj) = (model.position(beam.i), model.position(beam.j));
-            let xi = [0.0 + ui[0], 0.0 + ui[1]];
-            let xj = [(pj[0] - pi[0]) + uj[0], (pj[1] - pi[1]) + uj[1]];
-            let r = ctx.elements[e].evaluate(xi, xj, ui[2], uj[2], with_tangent.then_some(&mut k));
+            let (xi, phi_i) = relative(model, dofs, d, beam.i, beam.i);
+            let (xj, phi_j) = relative(model, dofs, d, beam.j, beam.i);
+            let r = ctx.elements[e].evaluate(xi, xj, phi_i, phi_j, with_tangent.then_some(&mut k));
             results.beam_forces[e] = r.forces;
+            let (fi, fj) = (dofs.first[beam.i], dofs.first[beam.j]);
             let g: [usize; 6] = std::array::from_fn(|a| [fi, fj][a / 3] + a % 3);
             for (&g, f) in g.iter().zip(r.nodal.iter()) {
                 internal[g] += f;

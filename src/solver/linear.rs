@@ -185,19 +185,6 @@ impl BandMatrix {
             }
             return;
         }
-        if lower && !eqs.contains(&NOT_FREE) {
-            // Symmetric, every dof free: pair (a, b) and its mirror (b, a) are one stored entry
-            // (row max, column min), whichever local order the equations come in. Entry (i, j)
-            // with i >= j lies at j (ld - 1) + i.
-            for b in 0..N {
-                for a in b..N {
-                    let (i, j) = (eqs[a].max(eqs[b]) as usize, eqs[a].min(eqs[b]) as usize);
-                    debug_assert!(i - j <= self.kl, "({i},{j}) outside band");
-                    self.ab[j * (ld - 1) + i] += k[a][b];
-                }
-            }
-            return;
-        }
         if !lower && !eqs.contains(&NOT_FREE) {
             // Every dof free (the usual case): each column's N entries lie in rows lo..=hi.
             let (lo, hi) = (eqs.iter().min(), eqs.iter().max());
@@ -215,6 +202,8 @@ impl BandMatrix {
             }
             return;
         }
+        // Otherwise (a dof not free, or a symmetric element numbered out of local order): each
+        // pair, the lower entry only for a symmetric matrix (k is symmetric, so k[a][b] is it).
         for (b, &eb) in eqs.iter().enumerate() {
             if eb == NOT_FREE {
                 continue;

@@ -6,6 +6,7 @@
 use super::assembly::{assemble_into, Assembled, AssemblyContext, Ordering};
 use super::contact::ContactSet;
 use super::control::Solver;
+use super::linear::BandMatrix;
 use super::reduce::sum_squares;
 use super::report::{ContactChange, Event, Flow, IterationRecord, Observer};
 
@@ -261,8 +262,7 @@ impl Solver {
                 }
             }
             let mut tangent = asm.tangent.take().expect("tangent requested");
-            let scale = self.coordinate_scale(&d);
-            let floor = f64::EPSILON * tangent.max_diagonal() * scale / reference;
+            let (scale, floor) = self.roundoff_floor(&tangent, &d, reference);
             if predictor {
                 for (e, c) in rhs.iter_mut().zip(&asm.coupling) {
                     *e -= c;
@@ -329,12 +329,7 @@ impl Solver {
                 }
                 self.pass_failed(rel, floor, pass_iter, iterations)?;
             }
-            if let Err(sp) = tangent.factor(0.0) {
-                return Err(AttemptError::Failed(format!(
-                    "singular tangent at {}",
-                    self.equation_label(&ordering, sp.equation)
-                )));
-            }
+            self.factor_tangent(&mut tangent, &ordering)?;
             tangent.solve(&mut rhs);
             asm.tangent = Some(tangent);
             let mut step2 = sum_squares(&rhs);
@@ -381,6 +376,35 @@ impl Solver {
             )));
         }
         Ok(total)
+    }
+
+    /// The coordinate scale of state `d` and the round-off floor of the relative residual there:
+    /// `eps max|K_ii| max|x| / reference`.
+    pub(crate) fn roundoff_floor(
+        &self,
+        tangent: &BandMatrix,
+        d: &[f64],
+        reference: f64,
+    ) -> (f64, f64) {
+        let scale = self.coordinate_scale(d);
+        (
+            scale,
+            f64::EPSILON * tangent.max_diagonal() * scale / reference,
+        )
+    }
+
+    /// Factor the tangent in place; a vanishing pivot fails the attempt, naming its dof.
+    pub(crate) fn factor_tangent(
+        &self,
+        tangent: &mut BandMatrix,
+        ord: &Ordering,
+    ) -> Result<(), AttemptError> {
+        tangent.factor(0.0).map_err(|sp| {
+            AttemptError::Failed(format!(
+                "singular tangent at {}",
+                self.equation_label(ord, sp.equation)
+            ))
+        })
     }
 
     pub(crate) fn coordinate_scale(&self, d: &[f64]) -> f64 {
