@@ -6,7 +6,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use super::arc_length::ArcState;
-use super::assembly::{assemble, current, AssemblyContext, DofKind, DofMap, Ordering};
+use super::assembly::{assemble, current, Assembled, AssemblyContext, DofKind, DofMap, Ordering};
 use super::beam::BeamElement;
 use super::contact::ContactSet;
 use super::model::Model;
@@ -20,6 +20,35 @@ const DENSE_MECHANISM_CHECK: usize = 200;
 
 /// A sub-increment that converged in at most this many iterations lets the next one double.
 const GROW_ITERATIONS: usize = 6;
+
+/// The assembly at the last converged state, kept for the next increment's predictor, which
+/// starts from that very state: for a structure without contact elements and with no prescribed
+/// increment, it would assemble the same internal forces and tangent again. Taken (not copied)
+/// by the first attempt that uses it.
+#[derive(Clone, Default)]
+pub(crate) struct ConvergedAssembly(pub(crate) std::cell::RefCell<Option<(usize, Assembled)>>);
+
+impl ConvergedAssembly {
+    /// Keep `asm`, assembled at the state converged in `increment`.
+    pub(crate) fn keep(&self, increment: usize, asm: Assembled) {
+        *self.0.borrow_mut() = Some((increment, asm));
+    }
+
+    /// The assembly kept at `increment`, if there is one with a tangent (it is handed over).
+    pub(crate) fn take(&self, increment: usize) -> Option<Assembled> {
+        match self.0.borrow_mut().take() {
+            Some((i, asm)) if i == increment && asm.tangent.is_some() => Some(asm),
+            _ => None,
+        }
+    }
+}
+
+impl std::fmt::Debug for ConvergedAssembly {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let kept = self.0.borrow().as_ref().map(|(i, _)| *i);
+        f.debug_tuple("ConvergedAssembly").field(&kept).finish()
+    }
+}
 
 /// The TSM solver for one model: converged state plus everything needed to advance it.
 #[derive(Clone, Debug)]
@@ -36,6 +65,8 @@ pub struct Solver {
     pub(crate) contacts: ContactSet,
     pub(crate) force_floor: f64,
     ordering_cache: std::cell::RefCell<Option<Arc<Ordering>>>,
+    /// The assembly (internal forces and unfactored tangent) at the last converged state.
+    pub(crate) converged_assembly: ConvergedAssembly,
     increment: usize,
     pub(crate) arc: ArcState,
     /// Contact candidate (node, body) pairs.
@@ -70,6 +101,7 @@ impl Solver {
             contacts: ContactSet::default(),
             force_floor: params.force_floor * max_ea.max(f64::MIN_POSITIVE),
             ordering_cache: std::cell::RefCell::new(None),
+            converged_assembly: ConvergedAssembly::default(),
             increment: 0,
             arc: ArcState::default(),
             candidates: ContactSet::candidates_of(&model),
@@ -362,6 +394,21 @@ impl Solver {
             })
             .collect();
         let contacts = self.contacts.states(self, &c.assembled);
+        let Assembled {
+            internal,
+            tangent,
+            elements,
+            ..
+        } = c.assembled;
+        self.converged_assembly.keep(
+            self.increment,
+            Assembled {
+                internal,
+                tangent,
+                coupling: Vec::new(),
+                elements: Default::default(),
+            },
+        );
         IncrementRecord {
             increment: self.increment,
             prescribed: self.prescribed.clone(),
@@ -374,7 +421,7 @@ impl Solver {
             cutbacks,
             residuals: c.residuals,
             nodes,
-            element_forces: c.assembled.elements.beam_forces,
+            element_forces: elements.beam_forces,
             reactions,
             contacts,
             max_penetration,

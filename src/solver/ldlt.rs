@@ -1,7 +1,9 @@
 //! The symmetric band kernels of the linear solve: L D L^T of a band stored as its lower part
 //! (`k + 1` rows per column: the diagonal, then the sub-diagonals), without interchanges while
 //! every pivot dominates its 2x2 minors, and its substitutions. `BandMatrix` (linear.rs) owns
-//! the storage and hands over to its pivoting LU where these kernels stop.
+//! the storage and hands over to its pivoting LU where these kernels stop. Each kernel step is
+//! written once for either end of the matrix (`REV`: the matrix read from its last equation
+//! up, as the twisted factorisation in `twisted.rs` does from the bottom).
 
 use super::linear::axpy;
 
@@ -21,12 +23,114 @@ pub(super) fn ldlt(ab: &mut [f64], n: usize, k: usize, tiny: f64) -> Result<(), 
         8 => ldlt_band::<8, 81>(ab, n, tiny),
         _ => Ok(0),
     }?;
-    for j in full..n {
-        if !ldlt_step_any(ab, j, k, k.min(n - 1 - j), tiny) {
+    ldlt_columns(ab, n, k, full..n, n, tiny)
+}
+
+/// The general L D L^T step over `columns` of a matrix whose rows end at `end` (exclusive):
+/// rows at or beyond `end` are left alone. Returns the first column that fails the pivot test.
+pub(super) fn ldlt_columns(
+    ab: &mut [f64],
+    n: usize,
+    k: usize,
+    columns: std::ops::Range<usize>,
+    end: usize,
+    tiny: f64,
+) -> Result<(), usize> {
+    debug_assert!(end <= n);
+    for j in columns {
+        if !ldlt_step_any(ab, j, k, k.min(end - 1 - j), tiny) {
             return Err(j);
         }
     }
     Ok(())
+}
+
+/// Where entry (row offset `r`, column `c`) of a column step's window lies: from the top, the
+/// window starts at column j and column j + c's rows j + c + r follow one another; from the
+/// bottom (`REV`), the matrix is read reversed, so reversed column j + c's entry r is the stored
+/// entry r of column R - c - r (R the stored row of reversed column j), and the window starts
+/// at column R - K - 1.
+#[inline(always)]
+pub(super) const fn at<const K: usize, const REV: bool>(c: usize, r: usize) -> usize {
+    if REV {
+        (K + 1 - c - r) * (K + 1) + r
+    } else {
+        c * (K + 1) + r
+    }
+}
+
+/// The carried pivot and column below it of (reversed, for `REV`) column 0.
+#[inline(always)]
+pub(super) fn first_column<const K: usize, const REV: bool>(
+    ab: &[f64],
+    n: usize,
+) -> (f64, [f64; K]) {
+    let ld = K + 1;
+    if REV {
+        let d = ab[(n - 1) * ld];
+        (d, std::array::from_fn(|t| ab[(n - 2 - t) * ld + 1 + t]))
+    } else {
+        let d = ab.first().copied().unwrap_or(0.0);
+        (
+            d,
+            std::array::from_fn(|t| ab.get(1 + t).copied().unwrap_or(0.0)),
+        )
+    }
+}
+
+/// One column of the unrolled L D L^T (reversed column `j` for `REV`), with a full band of K
+/// sub-diagonals below it and one more column after. The pivot `d` and the column `u` below it
+/// come in carried from the last step and leave as the next column's. False (and nothing
+/// written) if the pivot is tiny, not finite or fails to dominate its 2x2 minors. The window
+/// holds W entries: (K + 1)^2 from the top, one more from the bottom.
+#[inline(always)]
+pub(super) fn ldlt_column<const K: usize, const W: usize, const REV: bool>(
+    ab: &mut [f64],
+    n: usize,
+    j: usize,
+    d: &mut f64,
+    u: &mut [f64; K],
+    tiny: f64,
+) -> bool {
+    let ld = K + 1;
+    let base = if REV { (n - 2 - j - K) * ld } else { j * ld };
+    let window: &mut [f64; W] = (&mut ab[base..base + W]).try_into().expect("W entries");
+    let ad = d.abs();
+    if ad <= tiny || !ad.is_finite() {
+        return false;
+    }
+    let mut dominates = true;
+    for t in 0..K {
+        dominates &= u[t] * u[t] <= ad * window[at::<K, REV>(t + 1, 0)].abs();
+    }
+    if !dominates {
+        return false;
+    }
+    // The chain from pivot to pivot is u_0^2, one division and one subtraction
+    // (d' = a - u_0^2 / d, u'_0 = a - (u_1 u_0) / d), with no store and reload between. Two
+    // divisions per column: more would make the divider, not the chain, the limit.
+    let next = window[at::<K, REV>(1, 0)] - u[0] * u[0] / *d;
+    let inv = 1.0 / *d;
+    let mut below: [f64; K] = std::array::from_fn(|s| window[at::<K, REV>(1, 1 + s)]);
+    for s in 0..K - 1 {
+        below[s] -= (u[s + 1] * u[0]) * inv;
+    }
+    // Column j + t + 1 loses u_s u_t / d in its rows j + s + 1 for s >= t (column j + 1,
+    // t = 0, is done above).
+    for t in 1..K {
+        for s in t..K {
+            window[at::<K, REV>(t + 1, s - t)] -= (u[s] * u[t]) * inv;
+        }
+    }
+    window[at::<K, REV>(1, 0)] = next;
+    for s in 0..K {
+        window[at::<K, REV>(1, 1 + s)] = below[s];
+    }
+    for t in 0..K {
+        window[at::<K, REV>(0, 1 + t)] = u[t] * inv;
+    }
+    (*d, *u) = (next, below);
+    true
 }
 
 /// The columns of `ldlt` with a full band of K sub-diagonals below them (unrolled for K; the
@@ -38,47 +142,12 @@ fn ldlt_band<const K: usize, const W: usize>(
     tiny: f64,
 ) -> Result<usize, usize> {
     debug_assert_eq!(W, (K + 1) * (K + 1));
-    let ld = K + 1;
     let columns = n.saturating_sub(K);
-    // The pivot and the column below it are carried from one column to the next in registers:
-    // the chain from pivot to pivot is u_0^2, one division and one subtraction
-    // (d' = a - u_0^2 / d, u'_0 = a - (u_1 u_0) / d), with no store and reload between.
-    let mut d = ab.first().copied().unwrap_or(0.0);
-    let mut u: [f64; K] = std::array::from_fn(|t| ab.get(1 + t).copied().unwrap_or(0.0));
+    let (mut d, mut u) = first_column::<K, false>(ab, n);
     for j in 0..columns {
-        let window: &mut [f64; W] = (&mut ab[j * ld..j * ld + W]).try_into().expect("W entries");
-        let ad = d.abs();
-        if ad <= tiny || !ad.is_finite() {
+        if !ldlt_column::<K, W, false>(ab, n, j, &mut d, &mut u, tiny) {
             return Err(j);
         }
-        let mut dominates = true;
-        for t in 0..K {
-            dominates &= u[t] * u[t] <= ad * window[(t + 1) * ld].abs();
-        }
-        if !dominates {
-            return Err(j);
-        }
-        // Two divisions per column: more would make the divider, not the chain, the limit.
-        let next = window[ld] - u[0] * u[0] / d;
-        let inv = 1.0 / d;
-        let mut below: [f64; K] = std::array::from_fn(|s| window[ld + 1 + s]);
-        for s in 0..K - 1 {
-            below[s] -= (u[s + 1] * u[0]) * inv;
-        }
-        // Column j + t + 1 loses u_s u_t / d in its rows j + s + 1 for s >= t (column j + 1,
-        // t = 0, is done above).
-        for t in 1..K {
-            let column = (t + 1) * ld;
-            for s in t..K {
-                window[column + s - t] -= (u[s] * u[t]) * inv;
-            }
-        }
-        window[ld] = next;
-        window[ld + 1..ld + 1 + K].copy_from_slice(&below);
-        for t in 0..K {
-            window[1 + t] = u[t] * inv;
-        }
-        (d, u) = (next, below);
     }
     Ok(columns)
 }
@@ -164,45 +233,124 @@ fn ldlt_solve_band<const K: usize>(ab: &[f64], n: usize, b: &mut [f64]) {
     let blocks = n.saturating_sub(K) / K;
     let done = blocks * K;
     if blocks > 0 {
-        // Forward: before column j, slot j mod K holds b[j] (final) and the others b[j+1..j+K-1].
-        let mut ring: [f64; K] = b[..K].try_into().expect("K unknowns");
+        let mut ring = load_ring::<K, false>(b, n, 0);
         for block in 0..blocks {
-            let j = block * K;
-            forward_step::<K, 0>(ab, b, j, &mut ring);
-            forward_step::<K, 1>(ab, b, j, &mut ring);
-            forward_step::<K, 2>(ab, b, j, &mut ring);
-            forward_step::<K, 3>(ab, b, j, &mut ring);
-            forward_step::<K, 4>(ab, b, j, &mut ring);
-            forward_step::<K, 5>(ab, b, j, &mut ring);
-            forward_step::<K, 6>(ab, b, j, &mut ring);
-            forward_step::<K, 7>(ab, b, j, &mut ring);
+            forward_block::<K, false>(ab, n, b, block * K, &mut ring);
         }
-        b[done..done + K].copy_from_slice(&ring);
+        store_ring::<K, false>(b, n, done, &ring);
     }
     ldlt_forward(ab, n, K, b, done..n);
     ldlt_backward(ab, n, K, b, done..n);
     if blocks == 0 {
         return;
     }
-    // Backward: after column j, slot j mod K holds x[j] and the others x[j+1..j+K-1].
-    let mut ring: [f64; K] = b[done..done + K].try_into().expect("K unknowns");
+    let mut ring = load_ring::<K, false>(b, n, done);
     for block in (0..blocks).rev() {
-        let j = block * K;
-        backward_step::<K, 7>(ab, b, j, &mut ring);
-        backward_step::<K, 6>(ab, b, j, &mut ring);
-        backward_step::<K, 5>(ab, b, j, &mut ring);
-        backward_step::<K, 4>(ab, b, j, &mut ring);
-        backward_step::<K, 3>(ab, b, j, &mut ring);
-        backward_step::<K, 2>(ab, b, j, &mut ring);
-        backward_step::<K, 1>(ab, b, j, &mut ring);
-        backward_step::<K, 0>(ab, b, j, &mut ring);
+        backward_block::<K, false>(ab, n, b, block * K, &mut ring);
     }
 }
 
-/// Column `block + R` of the forward ring substitution (nothing if R >= K, K <= 8).
+/// Where unknown `j` (reversed for `REV`) lies in b.
 #[inline(always)]
-fn forward_step<const K: usize, const R: usize>(
+pub(super) const fn unknown<const REV: bool>(n: usize, j: usize) -> usize {
+    if REV {
+        n - 1 - j
+    } else {
+        j
+    }
+}
+
+/// The ring of unknowns j..j + K (reversed for `REV`; j a multiple of K, so slot t holds
+/// unknown j + t).
+#[inline(always)]
+pub(super) fn load_ring<const K: usize, const REV: bool>(
+    b: &[f64],
+    n: usize,
+    j: usize,
+) -> [f64; K] {
+    std::array::from_fn(|t| b[unknown::<REV>(n, j + t)])
+}
+
+/// Write the ring of unknowns j..j + K back (see `load_ring`).
+#[inline(always)]
+pub(super) fn store_ring<const K: usize, const REV: bool>(
+    b: &mut [f64],
+    n: usize,
+    j: usize,
+    ring: &[f64; K],
+) {
+    for (t, v) in ring.iter().enumerate() {
+        b[unknown::<REV>(n, j + t)] = *v;
+    }
+}
+
+/// The pivot and the K multipliers below it of (reversed, for `REV`) column j.
+#[inline(always)]
+fn factor_column<const K: usize, const REV: bool>(
     ab: &[f64],
+    n: usize,
+    j: usize,
+) -> (f64, [f64; K]) {
+    let ld = K + 1;
+    if REV {
+        // Reversed column j: stored row R = n - 1 - j, its entries t in columns R - 1 - t.
+        let base = (n - 1 - j - K) * ld;
+        let w = &ab[base..base + ld * ld];
+        (
+            w[K * ld],
+            std::array::from_fn(|t| w[(K - 1 - t) * ld + 1 + t]),
+        )
+    } else {
+        let column: &[f64; K] = ab[j * ld + 1..].first_chunk().expect("K rows");
+        (ab[j * ld], *column)
+    }
+}
+
+/// The forward substitution of the K columns from `j` (a multiple of K) with the ring.
+#[inline(always)]
+pub(super) fn forward_block<const K: usize, const REV: bool>(
+    ab: &[f64],
+    n: usize,
+    b: &mut [f64],
+    j: usize,
+    ring: &mut [f64; K],
+) {
+    forward_step::<K, 0, REV>(ab, n, b, j, ring);
+    forward_step::<K, 1, REV>(ab, n, b, j, ring);
+    forward_step::<K, 2, REV>(ab, n, b, j, ring);
+    forward_step::<K, 3, REV>(ab, n, b, j, ring);
+    forward_step::<K, 4, REV>(ab, n, b, j, ring);
+    forward_step::<K, 5, REV>(ab, n, b, j, ring);
+    forward_step::<K, 6, REV>(ab, n, b, j, ring);
+    forward_step::<K, 7, REV>(ab, n, b, j, ring);
+}
+
+/// The scaling and back substitution of the K columns from `j` (a multiple of K), last first,
+/// with the ring.
+#[inline(always)]
+pub(super) fn backward_block<const K: usize, const REV: bool>(
+    ab: &[f64],
+    n: usize,
+    b: &mut [f64],
+    j: usize,
+    ring: &mut [f64; K],
+) {
+    backward_step::<K, 7, REV>(ab, n, b, j, ring);
+    backward_step::<K, 6, REV>(ab, n, b, j, ring);
+    backward_step::<K, 5, REV>(ab, n, b, j, ring);
+    backward_step::<K, 4, REV>(ab, n, b, j, ring);
+    backward_step::<K, 3, REV>(ab, n, b, j, ring);
+    backward_step::<K, 2, REV>(ab, n, b, j, ring);
+    backward_step::<K, 1, REV>(ab, n, b, j, ring);
+    backward_step::<K, 0, REV>(ab, n, b, j, ring);
+}
+
+/// Column `block + R` of the forward ring substitution (nothing if R >= K, K <= 8). Before
+/// it, slot j mod K holds b[j] (final) and the others b[j+1..j+K-1].
+#[inline(always)]
+fn forward_step<const K: usize, const R: usize, const REV: bool>(
+    ab: &[f64],
+    n: usize,
     b: &mut [f64],
     block: usize,
     ring: &mut [f64; K],
@@ -211,19 +359,21 @@ fn forward_step<const K: usize, const R: usize>(
         return;
     }
     let j = block + R;
-    let l: &[f64; K] = ab[j * (K + 1) + 1..].first_chunk().expect("K rows");
+    let (_, l) = factor_column::<K, REV>(ab, n, j);
     let x = ring[R];
-    b[j] = x;
-    ring[R] = b[j + K];
+    b[unknown::<REV>(n, j)] = x;
+    ring[R] = b[unknown::<REV>(n, j + K)];
     for t in 1..=K {
         ring[(R + t) % K] -= l[t - 1] * x;
     }
 }
 
-/// Column `block + R` of the backward ring substitution (nothing if R >= K, K <= 8).
+/// Column `block + R` of the backward ring substitution (nothing if R >= K, K <= 8). After
+/// it, slot j mod K holds x[j] and the others x[j+1..j+K-1].
 #[inline(always)]
-fn backward_step<const K: usize, const R: usize>(
+fn backward_step<const K: usize, const R: usize, const REV: bool>(
     ab: &[f64],
+    n: usize,
     b: &mut [f64],
     block: usize,
     ring: &mut [f64; K],
@@ -232,14 +382,46 @@ fn backward_step<const K: usize, const R: usize>(
         return;
     }
     let j = block + R;
-    let column: &[f64] = &ab[j * (K + 1)..];
-    let (d, l): (&f64, &[f64; K]) = (&column[0], column[1..].first_chunk().expect("K rows"));
+    let (d, l) = factor_column::<K, REV>(ab, n, j);
     // The nearest unknown, the last computed, enters last.
     let mut dot = 0.0;
     for t in (1..=K).rev() {
         dot += l[t - 1] * ring[(R + t) % K];
     }
-    let x = b[j] / d - dot;
-    b[j] = x;
+    let at = unknown::<REV>(n, j);
+    let x = b[at] / d - dot;
+    b[at] = x;
     ring[R] = x;
+}
+
+/// One forward substitution step of (reversed, for `REV`) column j, outside the ring.
+#[inline(always)]
+pub(super) fn forward_one<const K: usize, const REV: bool>(
+    ab: &[f64],
+    n: usize,
+    b: &mut [f64],
+    j: usize,
+) {
+    let (_, l) = factor_column::<K, REV>(ab, n, j);
+    let x = b[unknown::<REV>(n, j)];
+    for t in 0..K {
+        b[unknown::<REV>(n, j + 1 + t)] -= l[t] * x;
+    }
+}
+
+/// One back substitution step of (reversed, for `REV`) column j, outside the ring.
+#[inline(always)]
+pub(super) fn backward_one<const K: usize, const REV: bool>(
+    ab: &[f64],
+    n: usize,
+    b: &mut [f64],
+    j: usize,
+) {
+    let (d, l) = factor_column::<K, REV>(ab, n, j);
+    let mut dot = 0.0;
+    for t in (0..K).rev() {
+        dot += l[t] * b[unknown::<REV>(n, j + 1 + t)];
+    }
+    let at = unknown::<REV>(n, j);
+    b[at] = b[at] / d - dot;
 }

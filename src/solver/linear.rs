@@ -4,11 +4,14 @@
 //! dominates its 2x2 minors; from the first pivot that does not, and for every unsymmetric
 //! matrix (contact elements), a banded LU with partial pivoting (LAPACK gbtrf layout, widened
 //! only when a row interchange needs it) does the rest.
+//! A long symmetric band is factored twisted (`twisted.rs`): from both ends at once toward a
+//! small middle block, which is factored here as a band matrix of its own.
 //! The L D L^T kernels are in `ldlt.rs`, the ordering in `rcm.rs`. A dense LU path exists for
 //! cross-checks and tiny systems.
 
 use super::ldlt::{ldlt, ldlt_solve};
 pub use super::rcm::reverse_cuthill_mckee;
+use super::twisted::{twisted_ldlt, twisted_solve, Twist};
 
 /// The equation number of a dof that is not free, in `BandMatrix::add_element`.
 pub const NOT_FREE: u32 = u32::MAX;
@@ -51,6 +54,11 @@ pub struct BandMatrix {
     uw: usize,
     /// For a symmetric matrix: the column from which the LU with partial pivoting took over.
     lu_from: Option<usize>,
+    /// For a symmetric matrix factored twisted: how far each end went; the middle block's
+    /// factors are in `middle`.
+    twist: Option<Twist>,
+    /// The middle block of a twisted factorisation (storage kept for the next one).
+    middle: Option<Box<BandMatrix>>,
 }
 
 /// Why a factorisation failed.
@@ -87,6 +95,8 @@ impl BandMatrix {
             pivots: Vec::new(),
             uw: 0,
             lu_from: None,
+            twist: None,
+            middle: None,
         }
     }
 
@@ -117,6 +127,7 @@ impl BandMatrix {
         };
         self.uw = ku;
         self.lu_from = None;
+        self.twist = None;
         self.ab.clear();
         self.ab.resize(self.ld * n, 0.0);
         self.pivots.clear();
@@ -281,10 +292,42 @@ impl BandMatrix {
     /// that fails the test on (`pivoting_from`), and for a general matrix throughout, it is an LU
     /// with partial pivoting (the largest entry of the column), which still keeps a dominating
     /// diagonal pivot while no interchange has broken the trailing matrix's symmetry.
+    ///
+    /// A long symmetric matrix is factored twisted: L D L^T from the top and U D U^T from the
+    /// bottom at once, toward a middle block of about twice the bandwidth, which is then
+    /// factored as above (a pivot failing the test at either end stops both, and the middle
+    /// block then covers the rest).
     pub fn factor(&mut self, tiny: f64) -> Result<(), SingularPivot> {
         if self.layout != Layout::Lower {
             return self.lu(0, false, tiny);
         }
+        let Some(twist) = twisted_ldlt(&mut self.ab, self.n, self.kl, tiny) else {
+            return self.factor_from_top(tiny);
+        };
+        let range = twist.middle(self.n);
+        let mut middle = self
+            .middle
+            .take()
+            .unwrap_or_else(|| Box::new(BandMatrix::empty()));
+        middle.reset_symmetric(range.len(), self.kl);
+        let ld = self.ld;
+        for (m, j) in range.clone().enumerate() {
+            // Rows of column j within the middle block (the rows beyond hold the bottom's
+            // factors).
+            let rows = ld.min(range.end - j);
+            middle.ab[m * ld..m * ld + rows].copy_from_slice(&self.ab[j * ld..j * ld + rows]);
+        }
+        let result = middle.factor_from_top(tiny);
+        self.lu_from = middle.lu_from.map(|e| e + twist.top);
+        self.twist = Some(twist);
+        self.middle = Some(middle);
+        result.map_err(|sp| SingularPivot {
+            equation: sp.equation + twist.top,
+        })
+    }
+
+    /// `factor` of a symmetric matrix from its first column on (no twist).
+    fn factor_from_top(&mut self, tiny: f64) -> Result<(), SingularPivot> {
         match ldlt(&mut self.ab, self.n, self.kl, tiny) {
             Ok(()) => Ok(()),
             Err(j) => {
@@ -387,7 +430,12 @@ impl BandMatrix {
         let (n, kl, ld, off) = (self.n, self.kl, self.ld, self.off);
         let b = &mut b[..n];
         if self.layout == Layout::Lower {
-            ldlt_solve(&self.ab, n, kl, b);
+            match (self.twist, &self.middle) {
+                (Some(twist), Some(middle)) => {
+                    twisted_solve(&self.ab, n, kl, twist, b, |m| middle.solve(m))
+                }
+                _ => ldlt_solve(&self.ab, n, kl, b),
+            }
             return;
         }
         for j in 0..n {
