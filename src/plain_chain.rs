@@ -73,7 +73,7 @@ impl PlainChain {
     /// singular.
     pub fn iteration(&mut self) -> Option<f64> {
         let n = self.elements.len();
-        self.band.reset_symmetric(3 * n, 5);
+        self.band.reset_symmetric_lazily(3 * n, 5);
         self.rhs.iter_mut().for_each(|r| *r = 0.0);
         if let Some(tip) = self.rhs.len().checked_sub(2) {
             self.rhs[tip] = -1e-3;
@@ -105,6 +105,7 @@ impl PlainChain {
             }
             self.band.add_element(&eqs, &k);
         }
+        self.band.finish_assembly();
         self.band.factor(0.0).ok()?;
         self.band.solve(&mut self.rhs);
         Some(self.rhs.iter().map(|v| v * v).sum::<f64>().sqrt())

@@ -271,7 +271,7 @@ pub fn assemble_into(
         // Beam tangents are exactly symmetric (entry by entry); contact elements' are not.
         let t = tangent.get_or_insert_with(|| BandMatrix::zeros(0, 0, 0));
         if ord.links.is_empty() {
-            t.reset_symmetric(ord.n_eq, ord.band);
+            t.reset_symmetric_lazily(ord.n_eq, ord.band);
         } else {
             t.reset(ord.n_eq, ord.band, ord.band);
         }
@@ -344,6 +344,9 @@ pub fn assemble_into(
             let sink = (&mut *internal, tangent.as_mut(), &mut *coupling);
             add_element(&gdofs, r.nodal.as_slice(), k, ord, dp, sink);
         }
+    }
+    if let Some(band) = tangent.as_mut() {
+        band.finish_assembly();
     }
     out.tangent = tangent;
 }

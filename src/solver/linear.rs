@@ -59,6 +59,9 @@ pub struct BandMatrix {
     twist: Option<Twist>,
     /// The middle block of a twisted factorisation (storage kept for the next one).
     middle: Option<Box<BandMatrix>>,
+    /// Storage entries before this are valid; those after it are left over from the last use
+    /// and are zeroed as the assembly reaches them (`reset_symmetric_lazily`).
+    zeroed: usize,
 }
 
 /// Why a factorisation failed.
@@ -97,6 +100,7 @@ impl BandMatrix {
             lu_from: None,
             twist: None,
             middle: None,
+            zeroed: 0,
         }
     }
 
@@ -118,7 +122,47 @@ impl BandMatrix {
         self.set_shape(n, k, k, Layout::Lower);
     }
 
+    /// `reset_symmetric` without zeroing the storage now: each column is zeroed when an
+    /// element first reaches it (in one pass with the assembly, while it is in cache, instead of
+    /// a separate pass over the whole band). Call `finish_assembly` before reading the matrix.
+    pub fn reset_symmetric_lazily(&mut self, n: usize, k: usize) {
+        self.set_shape_keeping(n, k, k, Layout::Lower);
+        // Everything is zeroed again as the assembly reaches it, the new storage beyond the old
+        // length (zero already) included: what counts is that every entry before the mark is
+        // valid.
+        self.zeroed = 0;
+    }
+
+    /// Zero whatever `reset_symmetric_lazily` left that no element reached.
+    pub fn finish_assembly(&mut self) {
+        self.zero_to(self.ab.len());
+    }
+
+    /// Make the storage entries before `end` valid.
+    #[inline]
+    fn zero_to(&mut self, end: usize) {
+        if end > self.zeroed {
+            self.ab[self.zeroed..end].fill(0.0);
+            self.zeroed = end;
+        }
+    }
+
+    /// Panics if the storage is read while `reset_symmetric_lazily` has left some of it stale.
+    fn assert_assembled(&self) {
+        assert!(
+            self.zeroed >= self.ab.len(),
+            "band matrix read before finish_assembly"
+        );
+    }
+
     fn set_shape(&mut self, n: usize, kl: usize, ku: usize, layout: Layout) {
+        self.ab.clear();
+        self.set_shape_keeping(n, kl, ku, layout);
+        self.zeroed = self.ab.len();
+    }
+
+    /// `set_shape` that leaves the old storage contents in place (stale, for the caller to zero).
+    fn set_shape_keeping(&mut self, n: usize, kl: usize, ku: usize, layout: Layout) {
         (self.n, self.kl, self.ku, self.layout) = (n, kl, ku, layout);
         (self.ld, self.off) = match layout {
             Layout::Lower => (kl + 1, 0),
@@ -128,7 +172,6 @@ impl BandMatrix {
         self.uw = ku;
         self.lu_from = None;
         self.twist = None;
-        self.ab.clear();
         self.ab.resize(self.ld * n, 0.0);
         self.pivots.clear();
         if layout != Layout::Lower {
@@ -170,6 +213,7 @@ impl BandMatrix {
         if self.layout == Layout::Lower && i < j {
             return;
         }
+        self.finish_assembly();
         let k = self.idx(i, j);
         self.ab[k] += v;
     }
@@ -187,6 +231,8 @@ impl BandMatrix {
             // eqs[b] takes rows eqs[a], a >= b, at eqs[b] (ld - 1) + eqs[a].
             let top = eqs[N - 1] as usize;
             debug_assert!(top - eqs[0] as usize <= self.kl, "element outside band");
+            // Column `top` is the last this element reaches.
+            self.zero_to((top + 1) * ld);
             for b in 0..N {
                 let base = eqs[b] as usize * (ld - 1);
                 let column = &mut self.ab[base..=base + top];
@@ -196,6 +242,7 @@ impl BandMatrix {
             }
             return;
         }
+        self.finish_assembly();
         if !lower && !eqs.contains(&NOT_FREE) {
             // Every dof free (the usual case): each column's N entries lie in rows lo..=hi.
             let (lo, hi) = (eqs.iter().min(), eqs.iter().max());
@@ -236,6 +283,7 @@ impl BandMatrix {
 
     /// Entry (i, j) (zero outside the band). Valid before factorisation.
     pub fn get(&self, i: usize, j: usize) -> f64 {
+        self.assert_assembled();
         let (i, j) = if self.layout == Layout::Lower {
             (i.max(j), i.min(j))
         } else {
@@ -250,6 +298,7 @@ impl BandMatrix {
 
     /// Largest absolute diagonal entry (before factorisation), a scale for pivot tests.
     pub fn max_diagonal(&self) -> f64 {
+        self.assert_assembled();
         super::reduce::max_abs_strided(&self.ab, self.off, self.ld)
     }
 
@@ -264,6 +313,7 @@ impl BandMatrix {
             to[kl..].copy_from_slice(from);
         }
         self.ab = wide;
+        self.zeroed = self.ab.len();
         self.ld = ld2;
         self.off = self.kl + self.ku;
         self.layout = Layout::Wide;
@@ -298,6 +348,7 @@ impl BandMatrix {
     /// factored as above (a pivot failing the test at either end stops both, and the middle
     /// block then covers the rest).
     pub fn factor(&mut self, tiny: f64) -> Result<(), SingularPivot> {
+        self.finish_assembly();
         if self.layout != Layout::Lower {
             return self.lu(0, false, tiny);
         }
