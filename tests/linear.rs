@@ -208,7 +208,7 @@ fn twisted_factorisation_agrees_with_dense_lu_wherever_a_pivot_fails() {
 /// elements come in (here every third element first, then the rest backwards).
 #[test]
 fn a_lazily_reset_band_assembles_like_a_zeroed_one() {
-    let mut rng = Rng(0x5eed_0f_7a1e);
+    let mut rng = Rng(0x005e_ed0f_7a1e);
     let n = 90;
     let (mut dirty, _) = symmetric_band(&mut rng, 120, 3, 0.0);
     dirty.factor(0.0).expect("nonsingular");
