@@ -190,9 +190,10 @@ impl BandMatrix {
         self.n == 0
     }
 
-    /// For a symmetric matrix after `factor`: the first equation whose diagonal pivot did not
-    /// dominate its 2x2 minors, from which an LU with partial pivoting finished the job (`None`:
-    /// L D L^T throughout, or not symmetric).
+    /// For a symmetric matrix after `factor`: the equation from which an LU with partial
+    /// pivoting finished the job, because a diagonal pivot did not dominate its 2x2 minors
+    /// (`None`: L D L^T throughout, or not symmetric). In a twisted factorisation this is an
+    /// equation of the middle block, which then starts where the two ends stopped.
     pub fn pivoting_from(&self) -> Option<usize> {
         self.lu_from
     }
