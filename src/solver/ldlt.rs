@@ -23,22 +23,8 @@ pub(super) fn ldlt(ab: &mut [f64], n: usize, k: usize, tiny: f64) -> Result<(), 
         8 => ldlt_band::<8, 81>(ab, n, tiny),
         _ => Ok(0),
     }?;
-    ldlt_columns(ab, n, k, full..n, n, tiny)
-}
-
-/// The general L D L^T step over `columns` of a matrix whose rows end at `end` (exclusive):
-/// rows at or beyond `end` are left alone. Returns the first column that fails the pivot test.
-pub(super) fn ldlt_columns(
-    ab: &mut [f64],
-    n: usize,
-    k: usize,
-    columns: std::ops::Range<usize>,
-    end: usize,
-    tiny: f64,
-) -> Result<(), usize> {
-    debug_assert!(end <= n);
-    for j in columns {
-        if !ldlt_step_any(ab, j, k, k.min(end - 1 - j), tiny) {
+    for j in full..n {
+        if !ldlt_step_any(ab, j, k, k.min(n - 1 - j), tiny) {
             return Err(j);
         }
     }
