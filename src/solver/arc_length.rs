@@ -189,9 +189,9 @@ impl Solver {
             self.factor_tangent(&mut tangent, &ordering)?;
             // Displacement responses to the reference load and to the unbalanced force.
             let mut qf = vec![0.0; ordering.n_eq];
-            for (g, e) in ordering.eq.iter().enumerate() {
-                if let (Some(e), true) = (e, free(g)) {
-                    qf[*e] = fref[g];
+            for (g, e) in ordering.free_dofs() {
+                if free(g) {
+                    qf[e] = fref[g];
                 }
             }
             tangent.solve(&mut qf);
@@ -200,10 +200,8 @@ impl Solver {
             asm.tangent = Some(tangent);
             let scatter = |v: &[f64]| {
                 let mut out = vec![0.0; self.dofs.len()];
-                for (g, e) in ordering.eq.iter().enumerate() {
-                    if let Some(e) = e {
-                        out[g] = v[*e];
-                    }
+                for (g, e) in ordering.free_dofs() {
+                    out[g] = v[e];
                 }
                 out
             };

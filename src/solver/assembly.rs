@@ -80,8 +80,9 @@ pub struct ContactLink {
 /// Equation numbers of the free dofs for one element topology, and the band widths.
 #[derive(Clone, Debug)]
 pub struct Ordering {
-    /// Equation of each global dof (None if not free).
-    pub eq: Vec<Option<usize>>,
+    /// Equation of each global dof (`NOT_FREE` if not free): 4 bytes a dof, so that the loops
+    /// over every dof of a large model stream as little memory as they can.
+    pub eq: Vec<u32>,
     /// Number of equations.
     pub n_eq: usize,
     /// Half-bandwidth.
@@ -115,27 +116,27 @@ impl Ordering {
             connect(b.j, l.node);
         }
         let perm = reverse_cuthill_mckee(&adj);
-        let mut eq = vec![None; dofs.len()];
+        let mut eq = vec![NOT_FREE; dofs.len()];
         let mut n_eq = 0;
         for &n in &perm {
             for o in 0..model.node_dofs(n) {
                 let d = dofs.dof(n, o);
                 if dofs.kind[d] == DofKind::Free {
-                    eq[d] = Some(n_eq);
+                    assert!(n_eq < NOT_FREE, "more equations than u32 numbers");
+                    eq[d] = n_eq;
                     n_eq += 1;
                 }
             }
         }
+        let n_eq = n_eq as usize;
         let mut on_beam = vec![Vec::new(); model.beams.len()];
         for (k, l) in links.iter().enumerate() {
             on_beam[l.beam].push(k);
         }
-        assert!(n_eq < NOT_FREE as usize, "more equations than u32 numbers");
-        let number = |g: usize| eq[g].map_or(NOT_FREE, |e| e as u32);
         let beam_eqs = model
             .beams
             .iter()
-            .map(|b| std::array::from_fn(|a| number(dofs.dof([b.i, b.j][a / 3], a % 3))))
+            .map(|b| std::array::from_fn(|a| eq[dofs.dof([b.i, b.j][a / 3], a % 3)]))
             .collect();
         let mut ord = Ordering {
             eq,
@@ -152,7 +153,7 @@ impl Ordering {
             let eqs: Vec<usize> = nodes
                 .iter()
                 .flat_map(|&n| (0..model.node_dofs(n)).map(move |o| (n, o)))
-                .filter_map(|(n, o)| ord.eq[dofs.dof(n, o)])
+                .filter_map(|(n, o)| ord.equation(dofs.dof(n, o)))
                 .collect();
             if let (Some(lo), Some(hi)) = (eqs.iter().min(), eqs.iter().max()) {
                 band = band.max(hi - lo);
@@ -160,6 +161,23 @@ impl Ordering {
         }
         ord.band = band;
         ord
+    }
+
+    /// The equation of global dof `g`, if it is free.
+    #[inline]
+    pub fn equation(&self, g: usize) -> Option<usize> {
+        let e = self.eq[g];
+        (e != NOT_FREE).then_some(e as usize)
+    }
+
+    /// (global dof, equation) of every free dof, in global dof order.
+    #[inline]
+    pub fn free_dofs(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+        self.eq
+            .iter()
+            .enumerate()
+            .filter(|(_, &e)| e != NOT_FREE)
+            .map(|(g, &e)| (g, e as usize))
     }
 }
 
@@ -179,7 +197,7 @@ pub struct Assembled {
     pub internal: Vec<f64>,
     /// Tangent over the free equations (if requested).
     pub tangent: Option<BandMatrix>,
-    /// K_fp dp over the free equations, for a prescribed increment dp (if given).
+    /// K_fp dp over the free equations for a prescribed increment dp (empty if none was given).
     pub coupling: Vec<f64>,
     /// Element results.
     pub elements: ElementResults,
@@ -265,7 +283,11 @@ pub fn assemble_into(
     let dofs = ctx.dofs;
     let ord = ctx.ordering;
     refill(&mut out.internal, dofs.len(), 0.0);
-    refill(&mut out.coupling, ord.n_eq, 0.0);
+    refill(
+        &mut out.coupling,
+        if dp.is_some() { ord.n_eq } else { 0 },
+        0.0,
+    );
     let mut tangent = out.tangent.take();
     if with_tangent {
         // Beam tangents are exactly symmetric (entry by entry); contact elements' are not.
@@ -305,7 +327,7 @@ pub fn assemble_into(
             if let Some(band) = tangent.as_mut() {
                 band.add_element(&ord.beam_eqs[e], &k);
                 if let Some(dp) = dp {
-                    let eqs: [Option<usize>; 6] = std::array::from_fn(|a| ord.eq[g[a]]);
+                    let eqs: [Option<usize>; 6] = std::array::from_fn(|a| ord.equation(g[a]));
                     add_coupling(&g, &eqs, |a, b| k[a][b], dp, coupling);
                 }
             }
@@ -384,7 +406,7 @@ fn add_matrix(
     coupling: &mut [f64],
 ) {
     let Some(band) = band else { return };
-    let eqs: Vec<Option<usize>> = gdofs.iter().map(|&g| ord.eq[g]).collect();
+    let eqs: Vec<Option<usize>> = gdofs.iter().map(|&g| ord.equation(g)).collect();
     for (a, &ea) in eqs.iter().enumerate() {
         let Some(ea) = ea else { continue };
         for (b, &eb) in eqs.iter().enumerate() {

@@ -209,10 +209,8 @@ impl Solver {
         let asm = assemble(&ctx, d, true, None);
         let fext = self.external_force(self.load_factor);
         let mut free = vec![0; ord.n_eq];
-        for (g, e) in ord.eq.iter().enumerate() {
-            if let Some(e) = e {
-                free[*e] = g;
-            }
+        for (g, e) in ord.free_dofs() {
+            free[e] = g;
         }
         let r = free.iter().map(|&g| fext[g] - asm.internal[g]).collect();
         let k = asm.tangent.expect("tangent");

@@ -349,8 +349,9 @@ fn forward_step<const K: usize, const R: usize, const REV: bool>(
     let x = ring[R];
     b[unknown::<REV>(n, j)] = x;
     ring[R] = b[unknown::<REV>(n, j + K)];
-    for t in 1..=K {
-        ring[(R + t) % K] -= l[t - 1] * x;
+    // Plain ranges (not `1..=K`) so that every loop unrolls and the ring stays in registers.
+    for t in 0..K {
+        ring[(R + 1 + t) % K] -= l[t] * x;
     }
 }
 
@@ -371,8 +372,8 @@ fn backward_step<const K: usize, const R: usize, const REV: bool>(
     let (d, l) = factor_column::<K, REV>(ab, n, j);
     // The nearest unknown, the last computed, enters last.
     let mut dot = 0.0;
-    for t in (1..=K).rev() {
-        dot += l[t - 1] * ring[(R + t) % K];
+    for t in (0..K).rev() {
+        dot += l[t] * ring[(R + 1 + t) % K];
     }
     let at = unknown::<REV>(n, j);
     let x = b[at] / d - dot;

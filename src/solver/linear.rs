@@ -243,7 +243,15 @@ impl BandMatrix {
             }
             return;
         }
-        self.finish_assembly();
+        if lower {
+            // A dof not free, or numbered out of local order: the lower entries of the free
+            // dofs lie in the columns up to the highest free equation.
+            let top = eqs.iter().filter(|&&q| q != NOT_FREE).max();
+            let Some(&top) = top else { return };
+            self.zero_to((top as usize + 1) * ld);
+        } else {
+            self.finish_assembly();
+        }
         if !lower && !eqs.contains(&NOT_FREE) {
             // Every dof free (the usual case): each column's N entries lie in rows lo..=hi.
             let (lo, hi) = (eqs.iter().min(), eqs.iter().max());

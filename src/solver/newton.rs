@@ -6,7 +6,7 @@
 use super::assembly::{assemble_into, Assembled, AssemblyContext, Ordering};
 use super::contact::ContactSet;
 use super::control::Solver;
-use super::linear::BandMatrix;
+use super::linear::{BandMatrix, NOT_FREE};
 use super::reduce::sum_squares;
 use super::report::{ContactChange, Event, Flow, IterationRecord, Observer};
 
@@ -158,13 +158,11 @@ impl Solver {
         r.resize(ord.n_eq, 0.0);
         let mut reac2 = 0.0;
         // Every free dof has an equation; the others carry reactions.
-        for (g, eq) in ord.eq.iter().enumerate() {
-            match eq {
-                Some(e) => r[*e] = fext[g] - asm.internal[g],
-                None => {
-                    let re = asm.internal[g] - fext[g];
-                    reac2 += re * re;
-                }
+        for ((&e, &f), &i) in ord.eq.iter().zip(fext).zip(&asm.internal) {
+            if e != NOT_FREE {
+                r[e as usize] = f - i;
+            } else {
+                reac2 += (i - f) * (i - f);
             }
         }
         let ext2 = sum_squares(fext);
@@ -247,7 +245,7 @@ impl Solver {
         if ordering.links.is_empty() && dp.iter().all(|v| *v == 0.0) {
             if let Some(kept) = self.converged_assembly.take(self.increment()) {
                 asm = kept;
-                refill_zeros(&mut asm.coupling, ordering.n_eq);
+                asm.coupling.clear();
                 reuse = asm
                     .tangent
                     .as_ref()
@@ -359,10 +357,8 @@ impl Solver {
             } else {
                 1.0
             };
-            for (g, e) in ordering.eq.iter().enumerate() {
-                if let Some(e) = e {
-                    d[g] += scale * rhs[*e];
-                }
+            for (g, e) in ordering.free_dofs() {
+                d[g] += scale * rhs[e];
             }
             if predictor {
                 for (g, v) in dp.iter().enumerate() {
@@ -441,7 +437,7 @@ impl Solver {
 
     /// "node N u" for an equation number.
     pub(crate) fn equation_label(&self, ord: &Ordering, eq: usize) -> String {
-        match ord.eq.iter().position(|e| *e == Some(eq)) {
+        match ord.free_dofs().find(|&(_, e)| e == eq).map(|(g, _)| g) {
             Some(g) => self.dof_label(g),
             None => format!("equation {eq}"),
         }
@@ -449,11 +445,6 @@ impl Solver {
 }
 
 /// Make `v` `len` zeros, reusing its storage.
-fn refill_zeros(v: &mut Vec<f64>, len: usize) {
-    v.clear();
-    v.resize(len, 0.0);
-}
-
 #[cfg(test)]
 mod tests {
     use crate::solver::Silent;
