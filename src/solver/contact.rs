@@ -351,8 +351,12 @@ impl ContactSet {
     /// states only: a beam that curls can bring a node to the other side of an element's
     /// extension without the node ever crossing the element.
     pub fn remember_sides(&mut self, solver: &Solver, d: &[f64]) {
-        let boxes = BodyBoxes::new(solver, &[d], FAR + 1.0);
         let pairs = Self::candidates(solver);
+        if pairs.is_empty() {
+            // No contact pairs: no side to remember (and no body boxes to build).
+            return;
+        }
+        let boxes = BodyBoxes::new(solver, &[d], FAR + 1.0);
         let view = StateView::default();
         for &(n, b) in pairs {
             if let Some(a) = self.active.iter().find(|a| a.node == n && a.body == b) {

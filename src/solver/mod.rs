@@ -19,6 +19,7 @@ mod rcm;
 pub mod reduce;
 pub mod report;
 pub mod shape;
+mod simd;
 mod twisted;
 
 pub use control::Solver;
