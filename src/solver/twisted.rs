@@ -195,7 +195,7 @@ mod tests {
             seed ^= seed << 17;
             (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
         };
-        let scale = [1e6, 1.0, 30.0];
+        let scale = [1e6f64, 1.0, 30.0];
         let mut ab = vec![0.0; n * (k + 1)];
         for j in 0..n {
             for r in 0..=k.min(n - 1 - j) {
