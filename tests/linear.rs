@@ -246,3 +246,55 @@ fn a_lazily_reset_band_assembles_like_a_zeroed_one() {
         }
     }
 }
+
+/// The diagonal peak is the largest |value| a diagonal entry took during the assembly: never
+/// below the largest final diagonal entry (here elements with negative diagonal entries
+/// shrink some diagonal sums), equal to it when every contribution is positive, and reset with
+/// the matrix. Every path of `add_element` and `add` is taken.
+#[test]
+fn the_diagonal_peak_bounds_the_largest_diagonal_entry() {
+    let mut rng = Rng(0x0dd_ba11_5eed);
+    let n = 40;
+    for positive in [true, false] {
+        for symmetric in [true, false] {
+            let mut band = if symmetric {
+                BandMatrix::symmetric_zeros(n, 3)
+            } else {
+                BandMatrix::zeros(n, 3, 3)
+            };
+            let mut shrinks = false;
+            for e in 0..n - 1 {
+                let (i, j) = (e as u32, e as u32 + 1);
+                let d = |v: f64| if positive { 1.0 + v.abs() } else { 3.0 * v };
+                let (a, b, c) = (d(rng.next()), rng.next(), d(rng.next()));
+                shrinks |= a < 0.0 || c < 0.0;
+                let eqs = match e % 4 {
+                    1 => [j, i],
+                    2 => [NOT_FREE, j],
+                    _ => [i, j],
+                };
+                let k = if eqs[0] == j {
+                    [[c, b], [b, a]]
+                } else {
+                    [[a, b], [b, c]]
+                };
+                band.add_element(&eqs, &k);
+            }
+            band.add(7, 7, if positive { 0.5 } else { -9.0 });
+            band.finish_assembly();
+            let (peak, largest) = (band.diagonal_peak(), band.max_diagonal());
+            assert!(peak >= largest, "peak {peak} below {largest}");
+            if positive {
+                assert_eq!(peak, largest);
+            } else {
+                assert!(shrinks);
+            }
+            if symmetric {
+                band.reset_symmetric_lazily(n, 3);
+            } else {
+                band.reset(n, 3, 3);
+            }
+            assert_eq!(band.diagonal_peak(), 0.0);
+        }
+    }
+}

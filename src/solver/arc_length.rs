@@ -125,11 +125,8 @@ impl Solver {
         let mut asm = Assembled::default();
         loop {
             let ctx = AssemblyContext {
-                model: &self.model,
-                elements: &self.elements,
-                dofs: &self.dofs,
-                ordering: &ordering,
                 contact: p.contact_options(pass_iter + 1),
+                ..self.context(&ordering)
             };
             assemble_into(&ctx, &d, true, None, &mut asm);
             let fext = self.external_force(lambda);

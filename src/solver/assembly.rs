@@ -2,7 +2,7 @@
 //! ordering (reverse Cuthill-McKee over the current element graph, contacts included), and the
 //! global internal force vector and band tangent summed from beam and contact elements.
 
-use super::beam::BeamElement;
+use super::beam::{BeamElement, ForceConstants};
 use super::contact_element::{contact_response, ContactOptions};
 use super::linear::{reverse_cuthill_mckee, BandMatrix, NOT_FREE};
 use super::model::Model;
@@ -91,6 +91,9 @@ pub struct Ordering {
     pub links: Vec<ContactLink>,
     /// For every beam, the indices into `links` of the contacts resting on it.
     pub on_beam: Vec<Vec<usize>>,
+    /// The beams with a contact resting on them, ascending (the assembly walks the others
+    /// without reading `on_beam`).
+    pub contact_beams: Vec<usize>,
     /// For every beam, the equations of its six dofs (u, v, phi at i, then at j; `NOT_FREE`
     /// where the dof is not free).
     pub beam_eqs: Vec<[u32; 6]>,
@@ -138,12 +141,16 @@ impl Ordering {
             .iter()
             .map(|b| std::array::from_fn(|a| eq[dofs.dof([b.i, b.j][a / 3], a % 3)]))
             .collect();
+        let contact_beams = (0..model.beams.len())
+            .filter(|&e| !on_beam[e].is_empty())
+            .collect();
         let mut ord = Ordering {
             eq,
             n_eq,
             band: 0,
             links: links.to_vec(),
             on_beam,
+            contact_beams,
             beam_eqs,
         };
         let mut band = 0;
@@ -203,12 +210,47 @@ pub struct Assembled {
     pub elements: ElementResults,
 }
 
+/// What the assembly reads of a beam with no contact on it, packed into one cache line: the
+/// first global dofs of its end nodes (u, v, phi each), the initial position of its end j
+/// relative to its end i, and its force constants.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PackedBeam {
+    /// First global dof of node i, then of node j.
+    pub first: [u32; 2],
+    /// X_j - X_i (initial).
+    pub span: [f64; 2],
+    /// The element force equation's constants.
+    pub constants: ForceConstants,
+}
+
+impl PackedBeam {
+    /// The packed beams of `model` (whose elements are `elements`, numbered by `dofs`).
+    pub fn all(model: &Model, dofs: &DofMap, elements: &[BeamElement]) -> Vec<PackedBeam> {
+        let first = |n: usize| u32::try_from(dofs.first[n]).expect("dofs fit in u32");
+        model
+            .beams
+            .iter()
+            .zip(elements)
+            .map(|(b, el)| {
+                let (p, q) = (model.position(b.i), model.position(b.j));
+                PackedBeam {
+                    first: [first(b.i), first(b.j)],
+                    span: [q[0] - p[0], q[1] - p[1]],
+                    constants: el.constants(),
+                }
+            })
+            .collect()
+    }
+}
+
 /// Everything an assembly needs besides the state.
 pub struct AssemblyContext<'a> {
     /// The model.
     pub model: &'a Model,
     /// Its beam elements, ready to evaluate.
     pub elements: &'a [BeamElement],
+    /// The same, packed for beams with no contact on them (`PackedBeam::all`).
+    pub packed: &'a [PackedBeam],
     /// Dof numbering.
     pub dofs: &'a DofMap,
     /// Equation ordering (must match `links`).
@@ -307,19 +349,24 @@ pub fn assemble_into(
     let coupling = &mut out.coupling;
     let mut gdofs: Vec<usize> = Vec::with_capacity(12);
     let mut k = [[0.0; 6]; 6];
+    let mut contact_beams = ord.contact_beams.iter().copied().peekable();
     for (e, beam) in model.beams.iter().enumerate() {
         // Positions relative to node i's initial position: the element only uses differences,
         // and (X_j - X_i) + (u_j - u_i) rounds to eps |u| where X_j + u_j rounds to eps |X|.
         // That keeps the round-off floor of the residual low for lightly loaded states.
-        let on_this = &ord.on_beam[e];
-        if on_this.is_empty() {
+        if contact_beams.next_if_eq(&e).is_none() {
             // A plain beam (both ends carry rotations): its closed-form tangent goes straight
-            // into the band.
-            let (xi, phi_i) = relative(model, dofs, d, beam.i, beam.i);
-            let (xj, phi_j) = relative(model, dofs, d, beam.j, beam.i);
-            let r = ctx.elements[e].evaluate(xi, xj, phi_i, phi_j, with_tangent.then_some(&mut k));
+            // into the band. Everything it needs is in its packed record (as `relative` would
+            // have it: node i at 0 + u_i, node j at (X_j - X_i) + u_j).
+            let pb = &ctx.packed[e];
+            let (fi, fj) = (pb.first[0] as usize, pb.first[1] as usize);
+            let (ui, uj) = (&d[fi..fi + 3], &d[fj..fj + 3]);
+            let xi = [0.0 + ui[0], 0.0 + ui[1]];
+            let xj = [pb.span[0] + uj[0], pb.span[1] + uj[1]];
+            let r = pb
+                .constants
+                .evaluate(xi, xj, ui[2], uj[2], with_tangent.then_some(&mut k));
             results.beam_forces[e] = r.forces;
-            let (fi, fj) = (dofs.first[beam.i], dofs.first[beam.j]);
             let g: [usize; 6] = std::array::from_fn(|a| [fi, fj][a / 3] + a % 3);
             for (&g, f) in g.iter().zip(r.nodal.iter()) {
                 internal[g] += f;
@@ -332,6 +379,7 @@ pub fn assemble_into(
                 }
             }
         } else {
+            let on_this = &ord.on_beam[e];
             let (xi, phi_i) = relative(model, dofs, d, beam.i, beam.i);
             let (xj, phi_j) = relative(model, dofs, d, beam.j, beam.i);
             gdofs.clear();

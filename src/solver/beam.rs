@@ -139,8 +139,51 @@ impl BeamElement {
         r
     }
 
+    /// The constants of the element force equation, worked out once.
+    pub fn constants(&self) -> ForceConstants {
+        let (k11, k12) = self.bending_stiffness();
+        ForceConstants {
+            length: self.length,
+            alpha0: self.alpha0,
+            ka: self.section.ea / self.length,
+            k11,
+            k12,
+        }
+    }
+
     /// `response` for the assembly: the tangent, if wanted, is written row by row into `k`
     /// (the returned `tangent` is `None`), with no 6x6 temporaries.
+    #[inline(always)]
+    pub fn evaluate(
+        &self,
+        xi: [f64; 2],
+        xj: [f64; 2],
+        phi_i: f64,
+        phi_j: f64,
+        k: Option<&mut [[f64; 6]; 6]>,
+    ) -> BeamResponse {
+        self.constants().evaluate(xi, xj, phi_i, phi_j, k)
+    }
+}
+
+/// What the element force equation needs of a beam, its divisions done once: the initial
+/// length and chord angle, EA/L and the bending pair (k11, k12) (see `bending_stiffness`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ForceConstants {
+    /// Initial length L.
+    pub length: f64,
+    /// Initial chord angle.
+    pub alpha0: f64,
+    /// Axial stiffness EA/L.
+    pub ka: f64,
+    /// Bending stiffness on the diagonal.
+    pub k11: f64,
+    /// Bending stiffness off the diagonal.
+    pub k12: f64,
+}
+
+impl ForceConstants {
+    /// `BeamElement::evaluate` with these constants.
     #[inline(always)]
     pub fn evaluate(
         &self,
@@ -153,8 +196,7 @@ impl BeamElement {
         let ch = Chord::new(xi, xj, self.alpha0, 0.5 * (phi_i + phi_j));
         let dl = ch.l - self.length;
         let (ti, tj) = (phi_i - ch.beta, phi_j - ch.beta);
-        let ka = self.section.ea / self.length;
-        let (k11, k12) = self.bending_stiffness();
+        let (ka, k11, k12) = (self.ka, self.k11, self.k12);
         let n = ka * dl;
         let mi = k11 * ti + k12 * tj;
         let mj = k12 * ti + k11 * tj;
@@ -190,6 +232,7 @@ impl BeamElement {
 /// ten entries are distinct; the translational blocks of node j are exact negatives (or copies)
 /// of node i's. Every entry is summed in the same order as the outer-product form (terms that
 /// vanish identically left out), so the two agree to the last bit.
+#[inline(always)]
 fn tangent(ch: &Chord, w: [f64; 2], k: [f64; 3], g: [f64; 2], out: &mut [[f64; 6]; 6]) {
     let (r, z) = (&ch.r, &ch.z);
     let [ka, k11, k12] = k;

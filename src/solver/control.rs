@@ -6,7 +6,9 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use super::arc_length::ArcState;
-use super::assembly::{assemble, current, Assembled, AssemblyContext, DofKind, DofMap, Ordering};
+use super::assembly::{
+    assemble, current, Assembled, AssemblyContext, DofKind, DofMap, Ordering, PackedBeam,
+};
 use super::beam::BeamElement;
 use super::contact::ContactSet;
 use super::model::Model;
@@ -58,6 +60,8 @@ pub struct Solver {
     /// Parameters.
     pub params: SolverParams,
     pub(crate) elements: Vec<BeamElement>,
+    /// The beam elements packed for the assembly (`PackedBeam`).
+    pub(crate) packed: Vec<PackedBeam>,
     pub(crate) dofs: DofMap,
     pub(crate) d: Vec<f64>,
     pub(crate) prescribed: Vec<f64>,
@@ -80,7 +84,7 @@ pub struct Solver {
 impl Solver {
     /// Set up a solver at the undeformed state; fails if the structure is a mechanism.
     pub fn new(model: Model, params: SolverParams) -> Result<Solver, SolveError> {
-        let elements = model
+        let elements: Vec<BeamElement> = model
             .beams
             .iter()
             .map(|b| {
@@ -93,6 +97,7 @@ impl Solver {
             })
             .collect();
         let dofs = DofMap::new(&model);
+        let packed = PackedBeam::all(&model, &dofs, &elements);
         let max_ea = model.beams.iter().map(|b| b.section.ea).fold(0.0, f64::max);
         let mut solver = Solver {
             d: vec![0.0; dofs.len()],
@@ -108,6 +113,7 @@ impl Solver {
             candidate_nodes: 0,
             node_beams: model.node_beams(),
             elements,
+            packed,
             dofs,
             params,
             model,
@@ -169,6 +175,7 @@ impl Solver {
         AssemblyContext {
             model: &self.model,
             elements: &self.elements,
+            packed: &self.packed,
             dofs: &self.dofs,
             ordering: ord,
             contact: self.params.contact_options(usize::MAX),

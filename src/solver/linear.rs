@@ -65,6 +65,8 @@ pub struct BandMatrix {
     /// Storage entries before this are valid; those after it are left over from the last use
     /// and are zeroed as the assembly reaches them (`reset_symmetric_lazily`).
     zeroed: usize,
+    /// The largest |value| any diagonal entry took since the last reset (`diagonal_peak`).
+    peak: f64,
 }
 
 /// Why a factorisation failed.
@@ -104,6 +106,7 @@ impl BandMatrix {
             twist: None,
             middle: None,
             zeroed: 0,
+            peak: 0.0,
         }
     }
 
@@ -169,6 +172,7 @@ impl BandMatrix {
 
     /// `set_shape` that leaves the old storage contents in place (stale, for the caller to zero).
     fn set_shape_keeping(&mut self, n: usize, kl: usize, ku: usize, layout: Layout) {
+        self.peak = 0.0;
         (self.n, self.kl, self.ku, self.layout) = (n, kl, ku, layout);
         (self.ld, self.off) = match layout {
             Layout::Lower => (kl + 1, 0),
@@ -223,6 +227,9 @@ impl BandMatrix {
         self.finish_assembly();
         let k = self.idx(i, j);
         self.ab[k] += v;
+        if i == j {
+            self.peak = self.peak.max(self.ab[k].abs());
+        }
     }
 
     /// Add a dense element matrix `k` (row-major) over the equations `eqs` (`NOT_FREE`: a dof
@@ -244,13 +251,16 @@ impl BandMatrix {
             if top - first == N - 1 {
                 // Consecutive equations (a chain numbered along itself): column first + b
                 // takes its rows first + b.. in one run from (first + b) ld.
+                let mut peak = self.peak;
                 for b in 0..N {
                     let start = (first + b) * ld;
                     let run = &mut self.ab[start..start + N - b];
                     for (a, v) in run.iter_mut().enumerate() {
                         *v += k[b + a][b];
                     }
+                    peak = peak.max(run[0].abs());
                 }
+                self.peak = peak;
                 return;
             }
             for b in 0..N {
@@ -259,6 +269,7 @@ impl BandMatrix {
                 for a in b..N {
                     column[eqs[a] as usize] += k[a][b];
                 }
+                self.peak = self.peak.max(column[eqs[b] as usize].abs());
             }
             return;
         }
@@ -285,6 +296,7 @@ impl BandMatrix {
                 for (a, &ea) in eqs.iter().enumerate() {
                     column[ea as usize - lo] += k[a][b];
                 }
+                self.peak = self.peak.max(column[eb as usize - lo].abs());
             }
             return;
         }
@@ -305,6 +317,9 @@ impl BandMatrix {
                     "({ea},{eb}) outside band"
                 );
                 self.ab[base + ea] += k[a][b];
+                if ea == eb {
+                    self.peak = self.peak.max(self.ab[base + ea].abs());
+                }
             }
         }
     }
@@ -322,6 +337,14 @@ impl BandMatrix {
         } else {
             self.ab[self.idx(i, j)]
         }
+    }
+
+    /// The largest |value| any diagonal entry took while the matrix was assembled (with `add`
+    /// and `add_element` since the last reset): every final diagonal entry is one of those
+    /// values, so this is an upper bound of `max_diagonal` that costs no pass over the band
+    /// (equal to it where no diagonal entry shrinks during the assembly).
+    pub fn diagonal_peak(&self) -> f64 {
+        self.peak
     }
 
     /// Largest absolute diagonal entry (before factorisation), a scale for pivot tests.

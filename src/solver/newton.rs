@@ -50,6 +50,58 @@ impl Stall {
     }
 }
 
+/// An upper bound of the round-off floor over one attempt, at no cost per iteration: the band's
+/// diagonal peak (`BandMatrix::diagonal_peak`, at least max|K_ii|) and the coordinate scale at
+/// the start of the attempt plus every correction since (the largest coordinate moves no
+/// further than the correction's norm). The exact floor takes a pass over the band and the
+/// coordinates; it is worked out only where it can decide something (see `may_decide`).
+/// Elsewhere the bound stands in, and every test gives the same outcome with it: each asks
+/// whether the residual lies within a factor of the floor, and the residual lies beyond that
+/// factor of the bound, so beyond that factor of the floor too.
+pub(crate) struct FloorBound {
+    /// Coordinate scale at the start of the attempt.
+    start: f64,
+    /// Sum of the largest coordinate moves since.
+    moved: f64,
+}
+
+impl FloorBound {
+    pub(crate) fn new(start: f64) -> FloorBound {
+        FloorBound { start, moved: 0.0 }
+    }
+
+    /// Record a correction of the coordinates by at most `largest` in any entry.
+    pub(crate) fn moved(&mut self, largest: f64) {
+        self.moved += largest;
+    }
+
+    /// (coordinate scale, round-off floor), both bounds from above.
+    pub(crate) fn get(&self, tangent: &BandMatrix, reference: f64) -> (f64, f64) {
+        // A margin for the round-off of the sums above (relative 1e-16 each).
+        let scale = (self.start + self.moved) * (1.0 + 1e-12);
+        let floor = f64::EPSILON * tangent.diagonal_peak() * scale / reference;
+        (scale, floor * (1.0 + 1e-12))
+    }
+
+    /// Whether the exact floor is needed at relative residual `rel` in iteration `pass_iter`
+    /// of a pass: where the state converges (the floor is reported), where the pass runs out
+    /// of iterations (the message gives it), and where `rel` lies within the widest factor the
+    /// convergence tests put on the floor.
+    pub(crate) fn may_decide(
+        &self,
+        rel: f64,
+        tangent: &BandMatrix,
+        reference: f64,
+        params: &super::params::SolverParams,
+        pass_iter: usize,
+    ) -> bool {
+        let widest = STAGNATION.max(params.roundoff_factor);
+        !(rel > params.tolerance
+            && pass_iter < params.max_iterations
+            && rel > widest * self.get(tangent, reference).1)
+    }
+}
+
 /// The converged outcome of one attempt, before it is committed.
 pub struct Converged {
     /// Displacements.
@@ -142,15 +194,17 @@ impl Solver {
         ord: &Ordering,
     ) -> (Vec<f64>, f64, f64) {
         let mut r = Vec::new();
-        let (norm, reference) = self.residual_into(asm, fext, ord, &mut r);
+        let (norm, reference) = self.residual_into(asm, fext, sum_squares(fext), ord, &mut r);
         (r, norm, reference)
     }
 
-    /// `residual` into a reused vector: returns the residual norm and the reference force.
+    /// `residual` into a reused vector, for the external force `fext` whose sum of squares is
+    /// `ext2` (constant over an attempt): returns the residual norm and the reference force.
     pub(crate) fn residual_into(
         &self,
         asm: &Assembled,
         fext: &[f64],
+        ext2: f64,
         ord: &Ordering,
         r: &mut Vec<f64>,
     ) -> (f64, f64) {
@@ -165,7 +219,6 @@ impl Solver {
                 reac2 += (i - f) * (i - f);
             }
         }
-        let ext2 = sum_squares(fext);
         let norm = sum_squares(r).sqrt();
         let reference = ext2.sqrt().max(reac2.sqrt()).max(self.force_floor);
         (norm, reference)
@@ -226,6 +279,7 @@ impl Solver {
             dp[self.dofs.dof(pr.node, pr.dof.offset())] = target_p[k] - self.prescribed[k];
         }
         let fext = self.external_force(target_lambda);
+        let ext2 = sum_squares(&fext);
         let mut ordering = self.ordering_for(&contacts);
         let mut predictor = true;
         let mut iterations = 0;
@@ -236,6 +290,7 @@ impl Solver {
         let mut last_step = 0.0;
         let mut springback = false;
         let mut stall = Stall::new();
+        let mut bound = FloorBound::new(self.coordinate_scale(&d));
         // Buffers reused by every iteration: the assembly (band tangent included) and the
         // right-hand side.
         let mut asm = Assembled::default();
@@ -255,16 +310,13 @@ impl Solver {
         let mut rhs = Vec::new();
         loop {
             let ctx = AssemblyContext {
-                model: &self.model,
-                elements: &self.elements,
-                dofs: &self.dofs,
-                ordering: &ordering,
                 contact: p.contact_options(pass_iter + 1),
+                ..self.context(&ordering)
             };
             if !std::mem::take(&mut reuse) {
                 assemble_into(&ctx, &d, true, predictor.then_some(dp.as_slice()), &mut asm);
             }
-            let (norm, reference) = self.residual_into(&asm, &fext, &ordering, &mut rhs);
+            let (norm, reference) = self.residual_into(&asm, &fext, ext2, &ordering, &mut rhs);
             if springback && !predictor && !contacts.one_at_a_time {
                 let released =
                     contacts.release_tensile(self, &asm, increment, iterations, &mut events);
@@ -275,7 +327,6 @@ impl Solver {
                 }
             }
             let mut tangent = asm.tangent.take().expect("tangent requested");
-            let (scale, floor) = self.roundoff_floor(&tangent, &d, reference);
             if predictor {
                 for (e, c) in rhs.iter_mut().zip(&asm.coupling) {
                     *e -= c;
@@ -295,6 +346,11 @@ impl Solver {
                         active_contacts: contacts.active.len(),
                     },
                 )?;
+                let (scale, floor) = if bound.may_decide(rel, &tangent, reference, p, pass_iter) {
+                    self.roundoff_floor(&tangent, &d, reference)
+                } else {
+                    bound.get(&tangent, reference)
+                };
                 let at_floor = stall.at_floor(rel, floor, last_step, scale);
                 let accepted = rel <= p.tolerance.max(p.roundoff_factor * floor) || at_floor;
                 // At the round-off floor the state is as converged as it can be: let the contact
@@ -360,6 +416,9 @@ impl Solver {
             for (g, e) in ordering.free_dofs() {
                 d[g] += scale * rhs[e];
             }
+            // No entry moved further than the (scaled) correction's norm; the predictor's
+            // prescribed part, which is not scaled, by at most as much again.
+            bound.moved(if predictor { 2.0 * step } else { scale * step });
             if predictor {
                 for (g, v) in dp.iter().enumerate() {
                     d[g] += v;
@@ -480,6 +539,54 @@ mod tests {
             assert_eq!(bits(a), bits(b));
             assert_eq!(warm.d, fresh.d);
             fresh.converged_assembly = Default::default();
+        }
+    }
+
+    /// The round-off floor's bound stands in for the floor where the floor cannot decide
+    /// anything; it must never fall below it. From a loaded state of the Mattiasson cantilever,
+    /// the coordinates move by random corrections (recorded by their largest entry) and the
+    /// tangent is assembled again: the bound holds at every step, and is tight (within 1e-9)
+    /// before any move, where the diagonal peak and the coordinate scale are exact.
+    #[test]
+    fn the_floor_bound_never_falls_below_the_floor() {
+        use super::FloorBound;
+        use crate::solver::assembly::assemble;
+        let mut s = crate::scene::builtin::builtin("mattiasson")
+            .expect("built-in")
+            .expect("valid")
+            .solver()
+            .expect("stable");
+        for _ in 0..3 {
+            s.step(&mut Silent).expect("converges");
+        }
+        let ord = s.ordering_for(&s.contacts);
+        let mut d = s.d.clone();
+        let mut bound = FloorBound::new(s.coordinate_scale(&d));
+        let mut seed = 0x5eed_f100_u64;
+        for step in 0..20 {
+            let asm = assemble(&s.context(&ord), &d, true, None);
+            let tangent = asm.tangent.expect("tangent");
+            let reference = 3.0;
+            let (scale, floor) = s.roundoff_floor(&tangent, &d, reference);
+            let (scale_bound, floor_bound) = bound.get(&tangent, reference);
+            assert!(scale <= scale_bound && floor <= floor_bound, "step {step}");
+            if step == 0 {
+                assert!(
+                    floor_bound <= floor * (1.0 + 1e-9),
+                    "{floor_bound} vs {floor}"
+                );
+            }
+            let size = 0.05 * (step % 4) as f64;
+            let mut largest = 0.0f64;
+            for v in d.iter_mut() {
+                seed ^= seed << 13;
+                seed ^= seed >> 7;
+                seed ^= seed << 17;
+                let dv = size * ((seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5);
+                *v += dv;
+                largest = largest.max(dv.abs());
+            }
+            bound.moved(largest);
         }
     }
 }
