@@ -4,6 +4,7 @@
 
 use nalgebra::{SMatrix, SVector};
 
+use super::angle::chord_angle;
 use super::model::Section;
 
 /// 6x6 matrix over the dofs (u_i, v_i, phi_i, u_j, v_j, phi_j).
@@ -55,7 +56,7 @@ impl Chord {
         let l = (dx * dx + dy * dy).sqrt();
         let inv_l = 1.0 / l;
         let (c, s) = (dx * inv_l, dy * inv_l);
-        let beta = unwrap_angle(dy.atan2(dx) - alpha0, reference);
+        let beta = unwrap_angle(chord_angle(dy, dx) - alpha0, reference);
         Chord {
             l,
             inv_l,
@@ -108,7 +109,7 @@ impl BeamElement {
         let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
         BeamElement {
             length: dx.hypot(dy),
-            alpha0: dy.atan2(dx),
+            alpha0: chord_angle(dy, dx),
             section,
             psi,
         }

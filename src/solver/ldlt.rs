@@ -93,19 +93,22 @@ pub(super) fn ldlt_column<const K: usize, const W: usize, const REV: bool>(
         return false;
     }
     // The chain from pivot to pivot is u_0^2, one division and one subtraction
-    // (d' = a - u_0^2 / d, u'_0 = a - (u_1 u_0) / d), with no store and reload between. Two
-    // divisions per column: more would make the divider, not the chain, the limit.
+    // (d' = a - u_0^2 / d), with no store and reload between. Two divisions per column: more
+    // would make the divider, not the chain, the limit.
     let next = window[at::<K, REV>(1, 0)] - u[0] * u[0] / *d;
     let inv = 1.0 / *d;
+    // The multipliers l = u / d, stored as the column of L and used for the update: one
+    // multiplication an entry.
+    let l: [f64; K] = std::array::from_fn(|t| u[t] * inv);
     let mut below: [f64; K] = std::array::from_fn(|s| window[at::<K, REV>(1, 1 + s)]);
     for s in 0..K - 1 {
-        below[s] -= (u[s + 1] * u[0]) * inv;
+        below[s] -= l[s + 1] * u[0];
     }
-    // Column j + t + 1 loses u_s u_t / d in its rows j + s + 1 for s >= t (column j + 1,
-    // t = 0, is done above).
+    // Column j + t + 1 loses l_s u_t in its rows j + s + 1 for s >= t (column j + 1, t = 0,
+    // is done above).
     for t in 1..K {
         for s in t..K {
-            window[at::<K, REV>(t + 1, s - t)] -= (u[s] * u[t]) * inv;
+            window[at::<K, REV>(t + 1, s - t)] -= l[s] * u[t];
         }
     }
     window[at::<K, REV>(1, 0)] = next;
@@ -113,7 +116,7 @@ pub(super) fn ldlt_column<const K: usize, const W: usize, const REV: bool>(
         window[at::<K, REV>(1, 1 + s)] = below[s];
     }
     for t in 0..K {
-        window[at::<K, REV>(0, 1 + t)] = u[t] * inv;
+        window[at::<K, REV>(0, 1 + t)] = l[t];
     }
     (*d, *u) = (next, below);
     true

@@ -235,7 +235,7 @@ impl BandMatrix {
     /// Add a dense element matrix `k` (row-major) over the equations `eqs` (`NOT_FREE`: a dof
     /// that is not free, skipped). Panics in debug builds if an entry lies outside the band. A
     /// symmetric matrix keeps the entries on or below the diagonal.
-    #[inline]
+    #[inline(always)]
     pub fn add_element<const N: usize>(&mut self, eqs: &[u32; N], k: &[[f64; N]; N]) {
         // Entry (i, j) lies at j (ld - 1) + off + i.
         let (ld, off) = (self.ld, self.off);

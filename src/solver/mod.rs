@@ -2,6 +2,7 @@
 //! Knows nothing of scenes files or the GUI.
 
 pub mod active_set;
+pub mod angle;
 pub mod arc_length;
 pub mod assembly;
 pub mod beam;
