@@ -44,9 +44,43 @@ fn wait(
         if done(h) {
             return;
         }
-        assert!(t0.elapsed() < limit, "timed out waiting for {what}");
+        assert!(
+            t0.elapsed() < limit,
+            "timed out waiting for {what}; the app shows: {}",
+            describe(h)
+        );
         std::thread::sleep(Duration::from_millis(5));
     }
+}
+
+/// What the app shows, for a timeout message: every text node of the top bar, the details
+/// and the handles, and the number of converged states it holds.
+fn describe(h: &Harness<'static, TsmApp>) -> String {
+    let texts: Vec<String> = h
+        .query_all_by_label_contains("")
+        .filter_map(|n| {
+            let a = n.accesskit_node();
+            let text = a.label().or_else(|| a.value())?;
+            let keep = [
+                "Increment ",
+                " = ",
+                "residual ",
+                "solving",
+                "elements",
+                "error",
+                "failed",
+                "drag to set",
+            ];
+            keep.iter()
+                .any(|k| text.contains(k))
+                .then(|| format!("{text:?} at {:?}", n.rect().center()))
+        })
+        .collect();
+    format!(
+        "{} converged states; {}",
+        h.state().increments(),
+        texts.join("; ")
+    )
 }
 
 /// Text of the first label that starts with `prefix`.

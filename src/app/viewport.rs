@@ -170,6 +170,11 @@ fn handles(app: &mut TsmApp, ui: &mut egui::Ui, rect: Rect) {
         }
         if resp.drag_stopped() {
             app.drag = None;
+            // The worker may have reached the last target while the handle was held (its
+            // `Idle` then left `targeting` on): follow the converged states again.
+            if !app.busy && send.is_none() {
+                app.targeting = false;
+            }
         }
     }
     if let Some((index, value)) = send {
