@@ -38,9 +38,21 @@ fn wait(
     limit: Duration,
     done: impl Fn(&Harness<'static, TsmApp>) -> bool,
 ) {
+    wait_each(h, what, limit, done, |_| {});
+}
+
+/// `wait`, calling `each` after every frame.
+fn wait_each(
+    h: &mut Harness<'static, TsmApp>,
+    what: &str,
+    limit: Duration,
+    done: impl Fn(&Harness<'static, TsmApp>) -> bool,
+    mut each: impl FnMut(&Harness<'static, TsmApp>),
+) {
     let t0 = Instant::now();
     loop {
         h.step();
+        each(h);
         if done(h) {
             return;
         }
@@ -51,6 +63,26 @@ fn wait(
         );
         std::thread::sleep(Duration::from_millis(5));
     }
+}
+
+/// Whether the app shows that it is solving.
+fn solving(h: &Harness<'static, TsmApp>) -> bool {
+    h.query_by_label("solving...").is_some()
+}
+
+/// Where the details panel starts (the y of its "Increment k / n" line), and whether the app
+/// shows that it is solving: the panels sit under the top bar, so this moves if the bar does.
+fn panel_top(h: &Harness<'static, TsmApp>) -> (bool, f32) {
+    let top = h
+        .query_all_by_label_contains("Increment ")
+        .find(|n| {
+            let a = n.accesskit_node();
+            a.label()
+                .or_else(|| a.value())
+                .is_some_and(|l| l.contains(" / "))
+        })
+        .map_or(f32::NAN, |n| n.rect().min.y);
+    (solving(h), top)
 }
 
 /// What the app shows, for a timeout message: every text node of the top bar, the details
@@ -335,19 +367,23 @@ fn slider_and_handle_drive_the_prescribed_dof() {
     let per_step = builtin(SCENE).unwrap().unwrap().model.prescribed[0]
         .per_step
         .abs();
+    // Where the panels start, in every frame, busy or not (checked at the end).
+    let mut tops = vec![panel_top(&h)];
 
     // The slider: -0.043 needs ceil(4.3) = 5 increments of at most |per_step|.
     let target = -0.043;
     h.get_by_role_and_label(egui::accesskit::Role::Slider, "node 34 v")
         .set_value_accesskit(target);
-    wait(
+    wait_each(
         &mut h,
         "the march to the slider target",
         Duration::from_secs(60),
         |h| {
             shown_increment(h).is_some_and(|(k, n)| k == n && n > 0)
                 && (shown_prescribed(h) - target).abs() < 1e-9
+                && !solving(h)
         },
+        |h| tops.push(panel_top(h)),
     );
     let (_, n) = shown_increment(&h).unwrap();
     assert_eq!(n, (target.abs() / per_step).ceil() as usize);
@@ -363,10 +399,11 @@ fn slider_and_handle_drive_the_prescribed_dof() {
     for k in 1..=6 {
         h.hover_at(start + egui::vec2(0.0, 10.0 * k as f32));
         h.step();
+        tops.push(panel_top(&h));
     }
     h.drop_at(end);
     h.step();
-    wait(
+    wait_each(
         &mut h,
         "the march to the handle",
         Duration::from_secs(60),
@@ -375,8 +412,9 @@ fn slider_and_handle_drive_the_prescribed_dof() {
                 && shown_increment(h).is_some_and(|(k, m)| k == m && m > n)
                 && (h.get_by_label(handle).rect().center().y - end.y).abs() < 1.0
                 && h.state().increments() == shown_increment(h).unwrap().1
-                && h.query_by_label("solving...").is_none()
+                && !solving(h)
         },
+        |h| tops.push(panel_top(h)),
     );
     let reached = shown_prescribed(&h);
     assert!(
@@ -391,4 +429,20 @@ fn slider_and_handle_drive_the_prescribed_dof() {
         m - n,
         reached - target
     );
+
+    // The top bar keeps its height while the solver runs (the beams and the handle under the
+    // pointer must not jump): the panels start at the same y in every frame, busy or not.
+    let busy_frames = tops.iter().filter(|t| t.0).count();
+    eprintln!(
+        "{busy_frames} of {} frames showed the solver busy",
+        tops.len()
+    );
+    let y0 = tops[0].1;
+    assert!(y0.is_finite(), "no details panel");
+    for (busy, y) in &tops {
+        assert!(
+            (y - y0).abs() < 0.5,
+            "panels start at {y} (solving: {busy}), at {y0} at first"
+        );
+    }
 }

@@ -60,14 +60,29 @@ pub fn toolbar(app: &mut TsmApp, ui: &mut egui::Ui) {
         .labelled_by(name.id);
         exports(app, ui);
         ui.separator();
-        if app.busy {
-            ui.spinner();
-            ui.label("solving...");
-        }
-        match &app.error {
-            Some(e) => ui.colored_label(ui.visuals().error_fg_color, e),
-            None => ui.label(&app.status),
+        // A spinner-sized slot, there or not, and one elided line (the whole text on hover): the
+        // bar, and the viewport under it, keep their layout when the solver starts and stops
+        // or a long message comes (else the beams and the handle under the pointer would jump).
+        let side = ui.spacing().interact_size.y;
+        let (slot, _) = ui.allocate_exact_size(egui::vec2(side, side), egui::Sense::hover());
+        let line = if app.busy {
+            egui::Spinner::new().paint_at(ui, slot);
+            egui::RichText::new("solving...")
+        } else {
+            match &app.error {
+                Some(e) => egui::RichText::new(e).color(ui.visuals().error_fg_color),
+                None => egui::RichText::new(&app.status),
+            }
         };
+        // The rest of the row (a row of its own when little is left), whatever the text.
+        // (A wrapping row reports its whole width as available: measure what is left of it.)
+        let width = ui.max_rect().right() - ui.cursor().left() - ui.spacing().item_spacing.x;
+        let width = if width < 120.0 { 300.0 } else { width };
+        let row = egui::Layout::left_to_right(egui::Align::Center);
+        ui.allocate_ui_with_layout(egui::vec2(width, side), row, |ui| {
+            ui.set_min_width(width);
+            ui.add(egui::Label::new(line).truncate());
+        });
     });
 }
 
@@ -148,11 +163,15 @@ pub fn sliders(app: &mut TsmApp, ui: &mut egui::Ui) {
         app.targeting = true;
         app.send(Command::SetTarget { index, value });
     }
-    if app.busy {
-        if ui.button("Stop").clicked() {
-            app.send(Command::Cancel);
+    // One row of button height either way, so the details below do not jump.
+    ui.horizontal(|ui| {
+        ui.set_min_height(ui.spacing().interact_size.y);
+        if app.busy {
+            if ui.button("Stop").clicked() {
+                app.send(Command::Cancel);
+            }
+        } else {
+            ui.label(format!("increments of at most {:.4} m", first_step.abs()));
         }
-    } else {
-        ui.label(format!("increments of at most {:.4} m", first_step.abs()));
-    }
+    });
 }
