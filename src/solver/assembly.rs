@@ -380,17 +380,18 @@ fn assemble_kernel(
             let (ui, uj) = (&d[fi..fi + 3], &d[fj..fj + 3]);
             let xi = [0.0 + ui[0], 0.0 + ui[1]];
             let xj = [pb.span[0] + uj[0], pb.span[1] + uj[1]];
-            let r = pb
+            let (r, t) = pb
                 .constants
-                .evaluate(xi, xj, ui[2], uj[2], with_tangent.then_some(&mut k));
+                .evaluate_entries(xi, xj, ui[2], uj[2], with_tangent);
             results.beam_forces[e] = r.forces;
             let g: [usize; 6] = std::array::from_fn(|a| [fi, fj][a / 3] + a % 3);
             for (&g, f) in g.iter().zip(r.nodal.iter()) {
                 internal[g] += f;
             }
-            if let Some(band) = tangent.as_mut() {
-                band.add_element(&ord.beam_eqs[e], &k);
+            if let (Some(band), Some(t)) = (tangent.as_mut(), t) {
+                band.add_beam(&ord.beam_eqs[e], &t);
                 if let Some(dp) = dp {
+                    t.write(&mut k);
                     let eqs: [Option<usize>; 6] = std::array::from_fn(|a| ord.equation(g[a]));
                     add_coupling(&g, &eqs, |a, b| k[a][b], dp, coupling);
                 }

@@ -194,6 +194,23 @@ impl ForceConstants {
         phi_j: f64,
         k: Option<&mut [[f64; 6]; 6]>,
     ) -> BeamResponse {
+        let (r, t) = self.evaluate_entries(xi, xj, phi_i, phi_j, k.is_some());
+        if let (Some(k), Some(t)) = (k, t) {
+            t.write(k);
+        }
+        r
+    }
+
+    /// `evaluate` with the tangent, if wanted, as its distinct entries (for the assembly).
+    #[inline(always)]
+    pub fn evaluate_entries(
+        &self,
+        xi: [f64; 2],
+        xj: [f64; 2],
+        phi_i: f64,
+        phi_j: f64,
+        with_tangent: bool,
+    ) -> (BeamResponse, Option<TangentEntries>) {
         let ch = Chord::new(xi, xj, self.alpha0, 0.5 * (phi_i + phi_j));
         let dl = ch.l - self.length;
         let (ti, tj) = (phi_i - ch.beta, phi_j - ch.beta);
@@ -201,8 +218,6 @@ impl ForceConstants {
         let n = ka * dl;
         let mi = k11 * ti + k12 * tj;
         let mj = k12 * ti + k11 * tj;
-        // Columns of J: r = (-c, -s, 0, c, s, 0), bi = e3 - z/l = (w, 1, -w, 0) and
-        // bj = e6 - z/l = (w, 0, -w, 1), with w = (-s/l, c/l).
         let w = [-ch.s * ch.inv_l, ch.c * ch.inv_l];
         let nodal = Vec6::new(
             (-ch.c * n + w[0] * mi) + w[0] * mj,
@@ -212,16 +227,89 @@ impl ForceConstants {
             (ch.s * n - w[1] * mi) - w[1] * mj,
             mj,
         );
-        if let Some(k) = k {
+        let t = with_tangent.then(|| {
             let g = [n * ch.inv_l, (mi + mj) * (ch.inv_l * ch.inv_l)];
-            tangent(&ch, w, [ka, k11, k12], g, k);
-        }
-        BeamResponse {
+            tangent(&ch, w, [ka, k11, k12], g)
+        });
+        let r = BeamResponse {
             deformation: [dl, ti, tj],
             forces: [n, mi, mj],
             nodal,
             tangent: None,
-        }
+        };
+        (r, t)
+    }
+}
+
+/// Where each column of `TangentEntries::lower_columns` lies in its array.
+pub const LOWER_COLUMNS: [std::ops::Range<usize>; 6] =
+    [0..6, 6..11, 11..15, 15..18, 18..20, 20..21];
+
+/// The distinct entries of a beam tangent (see `tangent`): the translational block of node i
+/// (t00, t01, t11), the couplings of the translations with either rotation (c0, c1) and the
+/// rotational pair (k11, k12).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TangentEntries {
+    /// Entry (u_i, u_i).
+    pub t00: f64,
+    /// Entry (u_i, v_i).
+    pub t01: f64,
+    /// Entry (v_i, v_i).
+    pub t11: f64,
+    /// Entry (u_i, phi_i).
+    pub c0: f64,
+    /// Entry (v_i, phi_i).
+    pub c1: f64,
+    /// Entry (phi_i, phi_i).
+    pub k11: f64,
+    /// Entry (phi_i, phi_j).
+    pub k12: f64,
+}
+
+impl TangentEntries {
+    /// The lower triangle column by column (column b from the diagonal down: rows b..6, at
+    /// `LOWER_COLUMNS[b]`), over (u_i, v_i, phi_i, u_j, v_j, phi_j).
+    #[inline(always)]
+    pub fn lower_columns(&self) -> [f64; 21] {
+        let TangentEntries {
+            t00,
+            t01,
+            t11,
+            c0,
+            c1,
+            k11,
+            k12,
+        } = *self;
+        [
+            t00, t01, c0, -t00, -t01, c0, // column 0
+            t11, c1, -t01, -t11, c1, // column 1
+            k11, -c0, -c1, k12, // column 2
+            t00, t01, -c0, // column 3
+            t11, -c1, // column 4
+            k11, // column 5
+        ]
+    }
+
+    /// The whole 6x6 tangent.
+    #[inline(always)]
+    pub fn write(&self, out: &mut [[f64; 6]; 6]) {
+        let TangentEntries {
+            t00,
+            t01,
+            t11,
+            c0,
+            c1,
+            k11,
+            k12,
+        } = *self;
+        *out = [
+            [t00, t01, c0, -t00, -t01, c0],
+            [t01, t11, c1, -t01, -t11, c1],
+            [c0, c1, k11, -c0, -c1, k12],
+            [-t00, -t01, -c0, t00, t01, -c0],
+            [-t01, -t11, -c1, t01, t11, -c1],
+            [c0, c1, k12, -c0, -c1, k11],
+        ];
     }
 }
 
@@ -234,7 +322,7 @@ impl ForceConstants {
 /// of node i's. Every entry is summed in the same order as the outer-product form (terms that
 /// vanish identically left out), so the two agree to the last bit.
 #[inline(always)]
-fn tangent(ch: &Chord, w: [f64; 2], k: [f64; 3], g: [f64; 2], out: &mut [[f64; 6]; 6]) {
+fn tangent(ch: &Chord, w: [f64; 2], k: [f64; 3], g: [f64; 2]) -> TangentEntries {
     let (r, z) = (&ch.r, &ch.z);
     let [ka, k11, k12] = k;
     let [nl, ml2] = g;
@@ -244,17 +332,16 @@ fn tangent(ch: &Chord, w: [f64; 2], k: [f64; 3], g: [f64; 2], out: &mut [[f64; 6
         (((r[a] * r[b]) * ka + ww * k11) + ww * k12)
             + ((z[a] * z[b]) * nl + (r[a] * z[b] + r[b] * z[a]) * ml2)
     };
-    let (t00, t01, t11) = (t(0, 0), t(0, 1), t(1, 1));
     // Couplings of the translations with either rotation: w_a k11 + w_a k12.
-    let (c0, c1) = (w[0] * k11 + w[0] * k12, w[1] * k11 + w[1] * k12);
-    *out = [
-        [t00, t01, c0, -t00, -t01, c0],
-        [t01, t11, c1, -t01, -t11, c1],
-        [c0, c1, k11, -c0, -c1, k12],
-        [-t00, -t01, -c0, t00, t01, -c0],
-        [-t01, -t11, -c1, t01, t11, -c1],
-        [c0, c1, k12, -c0, -c1, k11],
-    ];
+    TangentEntries {
+        t00: t(0, 0),
+        t01: t(0, 1),
+        t11: t(1, 1),
+        c0: w[0] * k11 + w[0] * k12,
+        c1: w[1] * k11 + w[1] * k12,
+        k11,
+        k12,
+    }
 }
 
 #[cfg(test)]

@@ -9,6 +9,7 @@
 //! The L D L^T kernels are in `ldlt.rs`, the ordering in `rcm.rs`. A dense LU path exists for
 //! cross-checks and tiny systems.
 
+use super::beam::{TangentEntries, LOWER_COLUMNS};
 use super::ldlt::{ldlt, ldlt_solve};
 pub use super::rcm::reverse_cuthill_mckee;
 use super::twisted::{twisted_ldlt, twisted_solve, Twist};
@@ -233,6 +234,37 @@ impl BandMatrix {
     }
 
     /// Add a dense element matrix `k` (row-major) over the equations `eqs` (`NOT_FREE`: a dof
+    /// Add a beam's tangent, given by its distinct entries, over equations `eqs` (as
+    /// `add_element` with `t.write`, and bit for bit the same): a beam whose six dofs are free and
+    /// numbered consecutively in a symmetric band takes its lower columns straight from `t`.
+    #[inline(always)]
+    pub fn add_beam(&mut self, eqs: &[u32; 6], t: &TangentEntries) {
+        let first = eqs[0] as usize;
+        let consecutive = eqs[5] != NOT_FREE && eqs[5] as usize == first + 5 && eqs.is_sorted();
+        if self.layout != Layout::Lower || !consecutive {
+            let mut k = [[0.0; 6]; 6];
+            t.write(&mut k);
+            return self.add_element(eqs, &k);
+        }
+        let ld = self.ld;
+        self.zero_to((first + 6) * ld);
+        let lower = t.lower_columns();
+        let mut peak = self.peak;
+        for (b, rows) in LOWER_COLUMNS.into_iter().enumerate() {
+            let start = (first + b) * ld;
+            let run = &mut self.ab[start..start + rows.len()];
+            for (v, k) in run.iter_mut().zip(&lower[rows]) {
+                *v += k;
+            }
+            // A plain comparison, as in `add_element`.
+            let diagonal = run[0].abs();
+            if diagonal > peak {
+                peak = diagonal;
+            }
+        }
+        self.peak = peak;
+    }
+
     /// that is not free, skipped). Panics in debug builds if an entry lies outside the band. A
     /// symmetric matrix keeps the entries on or below the diagonal.
     #[inline(always)]
