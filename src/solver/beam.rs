@@ -290,26 +290,16 @@ impl TangentEntries {
         ]
     }
 
-    /// The whole 6x6 tangent.
+    /// The whole 6x6 tangent (exactly symmetric: the lower columns mirrored).
     #[inline(always)]
     pub fn write(&self, out: &mut [[f64; 6]; 6]) {
-        let TangentEntries {
-            t00,
-            t01,
-            t11,
-            c0,
-            c1,
-            k11,
-            k12,
-        } = *self;
-        *out = [
-            [t00, t01, c0, -t00, -t01, c0],
-            [t01, t11, c1, -t01, -t11, c1],
-            [c0, c1, k11, -c0, -c1, k12],
-            [-t00, -t01, -c0, t00, t01, -c0],
-            [-t01, -t11, -c1, t01, t11, -c1],
-            [c0, c1, k12, -c0, -c1, k11],
-        ];
+        let lower = self.lower_columns();
+        for (b, rows) in LOWER_COLUMNS.into_iter().enumerate() {
+            for (a, &v) in (b..6).zip(&lower[rows]) {
+                out[a][b] = v;
+                out[b][a] = v;
+            }
+        }
     }
 }
 
