@@ -163,7 +163,13 @@ impl BeamElement {
         phi_j: f64,
         k: Option<&mut [[f64; 6]; 6]>,
     ) -> BeamResponse {
-        self.constants().evaluate(xi, xj, phi_i, phi_j, k)
+        let (r, t) = self
+            .constants()
+            .evaluate_entries(xi, xj, phi_i, phi_j, k.is_some());
+        if let (Some(k), Some(t)) = (k, t) {
+            t.write(k);
+        }
+        r
     }
 }
 
@@ -184,24 +190,8 @@ pub struct ForceConstants {
 }
 
 impl ForceConstants {
-    /// `BeamElement::evaluate` with these constants.
-    #[inline(always)]
-    pub fn evaluate(
-        &self,
-        xi: [f64; 2],
-        xj: [f64; 2],
-        phi_i: f64,
-        phi_j: f64,
-        k: Option<&mut [[f64; 6]; 6]>,
-    ) -> BeamResponse {
-        let (r, t) = self.evaluate_entries(xi, xj, phi_i, phi_j, k.is_some());
-        if let (Some(k), Some(t)) = (k, t) {
-            t.write(k);
-        }
-        r
-    }
-
-    /// `evaluate` with the tangent, if wanted, as its distinct entries (for the assembly).
+    /// `BeamElement::evaluate` with these constants, the tangent (if wanted) as its distinct
+    /// entries (for the assembly).
     #[inline(always)]
     pub fn evaluate_entries(
         &self,
