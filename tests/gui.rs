@@ -21,12 +21,16 @@ fn harness(no_gpu: bool) -> Harness<'static, TsmApp> {
 }
 
 fn harness_on(scene: &str, no_gpu: bool) -> Harness<'static, TsmApp> {
+    harness_sized(scene, no_gpu, [1400.0, 900.0])
+}
+
+fn harness_sized(scene: &str, no_gpu: bool, size: [f32; 2]) -> Harness<'static, TsmApp> {
     let startup = Startup {
         no_gpu,
         ..Startup::scene(scene)
     };
     Harness::builder()
-        .with_size([1400.0, 900.0])
+        .with_size(size)
         .wgpu()
         .build_eframe(move |cc| TsmApp::new(cc, startup))
 }
@@ -443,6 +447,31 @@ fn slider_and_handle_drive_the_prescribed_dof() {
         assert!(
             (y - y0).abs() < 0.5,
             "panels start at {y} (solving: {busy}), at {y0} at first"
+        );
+    }
+}
+
+/// In a narrow window (1100 x 800 points) the convergence plot's keys wrap within their column:
+/// each lies left of the reaction plot's title and clear of it, and inside the window (they
+/// used to run on in one row, under the title, and the plot grew as wide as the row).
+#[test]
+fn plot_keys_stay_in_their_column_in_a_narrow_window() {
+    let mut h = harness_sized(SCENE, true, [1100.0, 800.0]);
+    loaded(&mut h);
+    let title = h
+        .get_by_label_contains("Reaction against displacement")
+        .rect();
+    for key in [
+        "residual",
+        "selected",
+        "contact event",
+        "cut-back",
+        "tolerance",
+    ] {
+        let r = h.get_by_label(key).rect();
+        assert!(
+            r.max.x <= title.min.x && r.max.x <= 1100.0 && r.max.y <= 800.0,
+            "key {key:?} at {r:?}, the reaction plot's title at {title:?}"
         );
     }
 }

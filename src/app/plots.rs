@@ -168,9 +168,23 @@ enum Mark {
     Down,
 }
 
-/// A coloured key entry: a drawn marker and a label.
+/// A coloured key entry: a drawn marker and a label, one widget (a wrapping row moves it to the
+/// next line whole).
 fn key(ui: &mut egui::Ui, color: Color32, mark: Mark, text: &str) {
-    let (rect, _) = ui.allocate_exact_size(egui::vec2(16.0, 10.0), egui::Sense::hover());
+    let galley = egui::WidgetText::from(egui::RichText::new(text).small()).into_galley(
+        ui,
+        Some(egui::TextWrapMode::Extend),
+        f32::INFINITY,
+        egui::TextStyle::Small,
+    );
+    let gap = ui.spacing().item_spacing.x;
+    let size = egui::vec2(16.0 + gap + galley.size().x, galley.size().y.max(10.0));
+    let (whole, response) = ui.allocate_exact_size(size, egui::Sense::hover());
+    response.widget_info(|| egui::WidgetInfo::labeled(egui::WidgetType::Label, true, text));
+    let rect = egui::Rect::from_center_size(
+        egui::pos2(whole.left() + 8.0, whole.center().y),
+        egui::vec2(16.0, 10.0),
+    );
     let p = ui.painter();
     let c = rect.center();
     let stroke = egui::Stroke::new(2.0, color);
@@ -204,11 +218,14 @@ fn key(ui: &mut egui::Ui, color: Color32, mark: Mark, text: &str) {
             p.add(egui::Shape::convex_polygon(pts, color, egui::Stroke::NONE));
         }
     }
-    ui.label(egui::RichText::new(text).small());
+    let text_at = egui::pos2(rect.right() + gap, whole.center().y - galley.size().y / 2.0);
+    p.galley(text_at, galley, ui.visuals().text_color());
 }
 
 fn convergence(app: &mut TsmApp, ui: &mut egui::Ui) {
-    ui.horizontal(|ui| {
+    // Wrapped: in a narrow window the keys go onto a second row rather than past the column
+    // (where they ran under the reaction plot's title, and the plot grew as wide as the row).
+    ui.horizontal_wrapped(|ui| {
         ui.label("Convergence:");
         ui.selectable_value(&mut app.plot_all, true, "all increments");
         ui.selectable_value(&mut app.plot_all, false, "selected increment");
