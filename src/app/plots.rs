@@ -180,7 +180,7 @@ fn key(ui: &mut egui::Ui, color: Color32, mark: Mark, text: &str) {
     let gap = ui.spacing().item_spacing.x;
     let size = egui::vec2(16.0 + gap + galley.size().x, galley.size().y.max(10.0));
     let (whole, response) = ui.allocate_exact_size(size, egui::Sense::hover());
-    response.widget_info(|| egui::WidgetInfo::labeled(egui::WidgetType::Label, true, text));
+    response.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Label, true, text));
     let rect = egui::Rect::from_center_size(
         egui::pos2(whole.left() + 8.0, whole.center().y),
         egui::vec2(16.0, 10.0),
