@@ -13,5 +13,7 @@ pub mod scaling;
 pub mod scene;
 pub mod solver;
 pub mod stress;
+#[cfg(test)]
+mod test_support;
 pub mod work_precision;
 pub mod worker;

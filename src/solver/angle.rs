@@ -81,13 +81,8 @@ mod tests {
     /// split points i/8 included: within 2 ulp everywhere.
     #[test]
     fn chord_angle_is_atan2_to_two_ulp() {
-        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
-        let mut next = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = crate::test_support::Rng(0x2545_f491_4f6c_dd1d);
+        let mut next = || rng.unit();
         let mut worst = 0;
         for k in 0..1_000_000 {
             let angle = (next() * 2.0 - 1.0) * std::f64::consts::PI;

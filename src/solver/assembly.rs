@@ -508,7 +508,6 @@ fn add_coupling(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::solver::Silent;
 
     /// The AVX2 build of the assembly gives the baseline build's internal forces and tangent
     /// bit for bit (the element arithmetic is the same, only its instructions differ), at a
@@ -517,18 +516,10 @@ mod tests {
     fn avx2_build_assembles_bit_for_bit_like_the_baseline() {
         #[cfg(target_arch = "x86_64")]
         {
-            if !std::arch::is_x86_feature_detected!("avx2") {
-                eprintln!("no AVX2 on this CPU: nothing to compare");
+            if !crate::test_support::has_avx2() {
                 return;
             }
-            let mut s = crate::scene::builtin::builtin("mattiasson")
-                .expect("built-in")
-                .expect("valid")
-                .solver()
-                .expect("stable");
-            for _ in 0..4 {
-                s.step(&mut Silent).expect("converges");
-            }
+            let s = crate::test_support::solver_after("mattiasson", 4);
             let ord = s.ordering_for(&s.contacts);
             let ctx = s.context(&ord);
             let (mut base, mut wide) = (Assembled::default(), Assembled::default());

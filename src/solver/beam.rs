@@ -208,6 +208,8 @@ impl ForceConstants {
         let n = ka * dl;
         let mi = k11 * ti + k12 * tj;
         let mj = k12 * ti + k11 * tj;
+        // Columns of J: r = (-c, -s, 0, c, s, 0), bi = e3 - z/l = (w, 1, -w, 0) and
+        // bj = e6 - z/l = (w, 0, -w, 1), with w = (-s/l, c/l).
         let w = [-ch.s * ch.inv_l, ch.c * ch.inv_l];
         let nodal = Vec6::new(
             (-ch.c * n + w[0] * mi) + w[0] * mj,

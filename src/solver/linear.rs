@@ -233,7 +233,6 @@ impl BandMatrix {
         }
     }
 
-    /// Add a dense element matrix `k` (row-major) over the equations `eqs` (`NOT_FREE`: a dof
     /// Add a beam's tangent, given by its distinct entries, over equations `eqs` (as
     /// `add_element` with `t.write`, and bit for bit the same): a beam whose six dofs are free and
     /// numbered consecutively in a symmetric band takes its lower columns straight from `t`.
@@ -246,17 +245,30 @@ impl BandMatrix {
             t.write(&mut k);
             return self.add_element(eqs, &k);
         }
-        let ld = self.ld;
-        self.zero_to((first + 6) * ld);
+        self.zero_to((first + 6) * self.ld);
         let lower = t.lower_columns();
+        self.add_consecutive::<6>(first, |b, a| lower[LOWER_COLUMNS[b].start + a]);
+    }
+
+    /// The lower columns of an N x N symmetric element over the consecutive equations
+    /// `first..first + N` of a symmetric band (zeroed that far): column first + b takes its rows
+    /// first + b.. in one run from (first + b) ld, entry (first + b + a, first + b) being
+    /// `entry(b, a)`. Keeps the diagonal peak.
+    #[inline(always)]
+    fn add_consecutive<const N: usize>(
+        &mut self,
+        first: usize,
+        entry: impl Fn(usize, usize) -> f64,
+    ) {
+        let ld = self.ld;
         let mut peak = self.peak;
-        for (b, rows) in LOWER_COLUMNS.into_iter().enumerate() {
+        for b in 0..N {
             let start = (first + b) * ld;
-            let run = &mut self.ab[start..start + rows.len()];
-            for (v, k) in run.iter_mut().zip(&lower[rows]) {
-                *v += k;
+            let run = &mut self.ab[start..start + N - b];
+            for (a, v) in run.iter_mut().enumerate() {
+                *v += entry(b, a);
             }
-            // A plain comparison, as in `add_element`.
+            // A plain comparison (one instruction; `f64::max` also sorts out NaNs).
             let diagonal = run[0].abs();
             if diagonal > peak {
                 peak = diagonal;
@@ -265,6 +277,7 @@ impl BandMatrix {
         self.peak = peak;
     }
 
+    /// Add a dense element matrix `k` (row-major) over the equations `eqs` (`NOT_FREE`: a dof
     /// that is not free, skipped). Panics in debug builds if an entry lies outside the band. A
     /// symmetric matrix keeps the entries on or below the diagonal.
     #[inline(always)]
@@ -281,22 +294,8 @@ impl BandMatrix {
             self.zero_to((top + 1) * ld);
             let first = eqs[0] as usize;
             if top - first == N - 1 {
-                // Consecutive equations (a chain numbered along itself): column first + b
-                // takes its rows first + b.. in one run from (first + b) ld.
-                let mut peak = self.peak;
-                for b in 0..N {
-                    let start = (first + b) * ld;
-                    let run = &mut self.ab[start..start + N - b];
-                    for (a, v) in run.iter_mut().enumerate() {
-                        *v += k[b + a][b];
-                    }
-                    // A plain comparison (one instruction; `f64::max` also sorts out NaNs).
-                    let diagonal = run[0].abs();
-                    if diagonal > peak {
-                        peak = diagonal;
-                    }
-                }
-                self.peak = peak;
+                // Consecutive equations (a chain numbered along itself).
+                self.add_consecutive::<N>(first, |b, a| k[b + a][b]);
                 return;
             }
             for b in 0..N {

@@ -503,7 +503,6 @@ impl Solver {
     }
 }
 
-/// Make `v` `len` zeros, reusing its storage.
 #[cfg(test)]
 mod tests {
     use crate::solver::Silent;
@@ -551,18 +550,11 @@ mod tests {
     fn the_floor_bound_never_falls_below_the_floor() {
         use super::FloorBound;
         use crate::solver::assembly::assemble;
-        let mut s = crate::scene::builtin::builtin("mattiasson")
-            .expect("built-in")
-            .expect("valid")
-            .solver()
-            .expect("stable");
-        for _ in 0..3 {
-            s.step(&mut Silent).expect("converges");
-        }
+        let s = crate::test_support::solver_after("mattiasson", 3);
         let ord = s.ordering_for(&s.contacts);
         let mut d = s.d.clone();
         let mut bound = FloorBound::new(s.coordinate_scale(&d));
-        let mut seed = 0x5eed_f100_u64;
+        let mut rng = crate::test_support::Rng(0x5eed_f100);
         for step in 0..20 {
             let asm = assemble(&s.context(&ord), &d, true, None);
             let tangent = asm.tangent.expect("tangent");
@@ -579,10 +571,7 @@ mod tests {
             let size = 0.05 * (step % 4) as f64;
             let mut largest = 0.0f64;
             for v in d.iter_mut() {
-                seed ^= seed << 13;
-                seed ^= seed >> 7;
-                seed ^= seed << 17;
-                let dv = size * ((seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5);
+                let dv = size * (rng.unit() - 0.5);
                 *v += dv;
                 largest = largest.max(dv.abs());
             }
