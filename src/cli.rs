@@ -346,8 +346,23 @@ fn solve(
     code
 }
 
+/// Make the output folder `out` (and its parents) before any measuring, so that a folder that
+/// cannot be made fails at once, naming it.
+fn output_folder(out: &Path) -> Result<(), i32> {
+    std::fs::create_dir_all(out).map_err(|e| {
+        eprintln!(
+            "error: cannot make the output folder {}: {e}",
+            out.display()
+        );
+        2
+    })
+}
+
 fn bench(quick: bool, out: &Path) -> i32 {
     use tsm_contact::work_precision as wp;
+    if let Err(code) = output_folder(out) {
+        return code;
+    }
     let points = wp::measure(quick);
     let write = |name: &str, text: String| {
         let path = out.join(name);
@@ -377,6 +392,9 @@ fn bench(quick: bool, out: &Path) -> i32 {
 }
 
 fn stress(long: bool, out: &Path) -> i32 {
+    if let Err(code) = output_folder(out) {
+        return code;
+    }
     let rows = tsm_contact::stress::suite(long);
     let table = tsm_contact::stress::markdown(&rows);
     out!("{table}");

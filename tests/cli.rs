@@ -1,6 +1,7 @@
 //! The command line: output piped into a reader that stops early (`| head`) ends the program
 //! quietly, with exit status 0 and nothing on stderr. The comb prints more than a pipe holds
-//! (64 KiB), so the solver is still writing when the pipe closes.
+//! (64 KiB), so the solver is still writing when the pipe closes. The report commands make their
+//! output folder, and name it where it cannot be made.
 
 use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
@@ -24,4 +25,39 @@ fn solve_piped_into_head_exits_quietly() {
     let stderr = String::from_utf8_lossy(&result.stderr);
     assert_eq!(result.status.code(), Some(0), "stderr: {stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
+}
+
+/// `bench --quick --out DIR` makes DIR (two levels that do not exist yet) and writes the CSV
+/// there, one line per measured point after the header (32 points in the quick report: 4
+/// problems, 2 formulations, 4 meshes). An output path below a regular file cannot be a folder:
+/// exit status 2 and an error that names the path, before any measuring.
+#[test]
+fn bench_makes_its_output_folder_or_names_it() {
+    let root = std::env::temp_dir().join(format!("tsm-bench-out-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&root);
+    let out = root.join("reports").join("quick");
+    let run = |out: &std::path::Path| {
+        Command::new(env!("CARGO_BIN_EXE_tsm-contact"))
+            .args(["bench", "--quick", "--out"])
+            .arg(out)
+            .output()
+            .expect("runs")
+    };
+    let made = run(&out);
+    let stderr = String::from_utf8_lossy(&made.stderr);
+    assert_eq!(made.status.code(), Some(0), "stderr: {stderr}");
+    let csv = std::fs::read_to_string(out.join("work-precision.csv")).expect("CSV written");
+    assert_eq!(csv.lines().count(), 1 + 32, "{csv}");
+    assert!(out.join("work-precision.svg").is_file());
+    let file = root.join("a-file");
+    std::fs::write(&file, "not a folder").expect("writable");
+    let below = file.join("out");
+    let refused = run(&below);
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert_eq!(refused.status.code(), Some(2), "stderr: {stderr}");
+    assert!(
+        stderr.contains("cannot make the output folder") && stderr.contains("a-file"),
+        "{stderr}"
+    );
+    std::fs::remove_dir_all(&root).expect("cleaned up");
 }
