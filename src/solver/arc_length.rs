@@ -109,7 +109,7 @@ impl Solver {
         let mut contacts = self.contacts.clone();
         contacts.begin_attempt();
         let mut ordering = self.ordering_for(&contacts);
-        let fref = self.external_force(1.0);
+        let fref = self.external_force(1.0).dense(self.dofs.len());
         // Free-dof vectors are kept over all dofs (zero at supports and prescribed dofs).
         let free = |g: usize| self.dofs.kind[g] == DofKind::Free;
         let mut dd = vec![0.0; d.len()];

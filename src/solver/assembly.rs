@@ -4,7 +4,7 @@
 
 use super::beam::{BeamElement, ForceConstants};
 use super::contact_element::{contact_response, ContactOptions};
-use super::linear::{reverse_cuthill_mckee, BandMatrix, NOT_FREE};
+use super::linear::{consecutive_first, reverse_cuthill_mckee, BandMatrix, NOT_FREE};
 use super::model::Model;
 use super::simd::dispatch;
 
@@ -26,6 +26,9 @@ pub struct DofMap {
     pub first: Vec<usize>,
     /// Kind of each global dof.
     pub kind: Vec<DofKind>,
+    /// The global dofs that are not free (supported or prescribed), ascending: where the
+    /// reactions act.
+    pub held: Vec<usize>,
 }
 
 impl DofMap {
@@ -44,7 +47,8 @@ impl DofMap {
         for (p, pr) in model.prescribed.iter().enumerate() {
             kind[first[pr.node] + pr.dof.offset()] = DofKind::Prescribed(p);
         }
-        DofMap { first, kind }
+        let held = (0..total).filter(|&g| kind[g] != DofKind::Free).collect();
+        DofMap { first, kind, held }
     }
 
     /// Total number of dofs.
@@ -98,6 +102,10 @@ pub struct Ordering {
     /// For every beam, the equations of its six dofs (u, v, phi at i, then at j; `NOT_FREE`
     /// where the dof is not free).
     pub beam_eqs: Vec<[u32; 6]>,
+    /// For every beam, its first equation where its six dofs are free and numbered
+    /// consecutively in local order (`consecutive_first`), else `NOT_FREE`: all the assembly
+    /// reads of a beam's equations in the usual case.
+    pub beam_first: Vec<u32>,
 }
 
 impl Ordering {
@@ -137,10 +145,13 @@ impl Ordering {
         for (k, l) in links.iter().enumerate() {
             on_beam[l.beam].push(k);
         }
-        let beam_eqs = model
+        let beam_eqs: Vec<[u32; 6]> = model
             .beams
             .iter()
             .map(|b| std::array::from_fn(|a| eq[dofs.dof([b.i, b.j][a / 3], a % 3)]))
+            .collect();
+        let beam_first = (beam_eqs.iter())
+            .map(|eqs| consecutive_first(eqs).map_or(NOT_FREE, |f| f as u32))
             .collect();
         let contact_beams = (0..model.beams.len())
             .filter(|&e| !on_beam[e].is_empty())
@@ -153,6 +164,7 @@ impl Ordering {
             on_beam,
             contact_beams,
             beam_eqs,
+            beam_first,
         };
         let mut band = 0;
         for (e, b) in model.beams.iter().enumerate() {
@@ -201,8 +213,11 @@ pub struct ElementResults {
 /// The assembled global quantities at one state.
 #[derive(Clone, Debug, Default)]
 pub struct Assembled {
-    /// Internal nodal forces sum J S over every global dof.
+    /// Internal nodal forces sum J S over the free equations (by equation number).
     pub internal: Vec<f64>,
+    /// Internal nodal forces sum J S at the dofs that are not free, in the order of
+    /// `DofMap::held` (where they balance the reactions).
+    pub held_internal: Vec<f64>,
     /// Tangent over the free equations (if requested).
     pub tangent: Option<BandMatrix>,
     /// K_fp dp over the free equations for a prescribed increment dp (empty if none was given).
@@ -294,7 +309,8 @@ pub fn relative(
 }
 
 /// Assemble internal forces (and the tangent) at displacements `d`.
-/// `dp`, if given, is a prescribed increment over all dofs whose K_fp product is returned.
+/// `dp`, if given, is a prescribed increment (one value per `Model::prescribed`) whose K_fp
+/// product is returned.
 pub fn assemble(
     ctx: &AssemblyContext,
     d: &[f64],
@@ -341,7 +357,8 @@ fn assemble_kernel(
     let model = ctx.model;
     let dofs = ctx.dofs;
     let ord = ctx.ordering;
-    refill(&mut out.internal, dofs.len(), 0.0);
+    refill(&mut out.internal, ord.n_eq, 0.0);
+    refill(&mut out.held_internal, dofs.held.len(), 0.0);
     refill(
         &mut out.coupling,
         if dp.is_some() { ord.n_eq } else { 0 },
@@ -363,6 +380,7 @@ fn assemble_kernel(
     refill(&mut results.beam_forces, model.beams.len(), [0.0; 3]);
     refill(&mut results.contact_forces, ord.links.len(), (0.0, 0.0));
     let internal = &mut out.internal;
+    let held = (&dofs.held[..], &mut out.held_internal[..]);
     let coupling = &mut out.coupling;
     let mut gdofs: Vec<usize> = Vec::with_capacity(12);
     let mut k = [[0.0; 6]; 6];
@@ -385,15 +403,30 @@ fn assemble_kernel(
                 .evaluate_entries(xi, xj, ui[2], uj[2], with_tangent);
             results.beam_forces[e] = r.forces;
             let g: [usize; 6] = std::array::from_fn(|a| [fi, fj][a / 3] + a % 3);
-            for (&g, f) in g.iter().zip(r.nodal.iter()) {
-                internal[g] += f;
+            let first = ord.beam_first[e];
+            if first != NOT_FREE {
+                // Six free equations in a row (a chain numbered along itself).
+                let first = first as usize;
+                let run: &mut [f64; 6] = (&mut internal[first..first + 6]).try_into().unwrap();
+                for (v, f) in run.iter_mut().zip(r.nodal.iter()) {
+                    *v += f;
+                }
+            } else {
+                let eqs = &ord.beam_eqs[e];
+                for ((&q, &g), &f) in eqs.iter().zip(&g).zip(r.nodal.iter()) {
+                    add_nodal_force(q, g, f, internal, (held.0, &mut *held.1));
+                }
             }
             if let (Some(band), Some(t)) = (tangent.as_mut(), t) {
-                band.add_beam(&ord.beam_eqs[e], &t);
+                if first != NOT_FREE {
+                    band.add_beam_consecutive(first as usize, &t);
+                } else {
+                    band.add_beam(&ord.beam_eqs[e], &t);
+                }
                 if let Some(dp) = dp {
                     t.write(&mut k);
                     let eqs: [Option<usize>; 6] = std::array::from_fn(|a| ord.equation(g[a]));
-                    add_coupling(&g, &eqs, |a, b| k[a][b], dp, coupling);
+                    add_coupling(&g, &eqs, |a, b| k[a][b], dofs, dp, coupling);
                 }
             }
         } else {
@@ -429,8 +462,13 @@ fn assemble_kernel(
                 .tangent
                 .as_ref()
                 .map(|k| move |a: usize, b: usize| k[(a, b)]);
-            let sink = (&mut *internal, tangent.as_mut(), &mut *coupling);
-            add_element(&gdofs, r.nodal.as_slice(), k, ord, dp, sink);
+            let sink = (
+                &mut *internal,
+                (held.0, &mut *held.1),
+                tangent.as_mut(),
+                &mut *coupling,
+            );
+            add_element(&gdofs, r.nodal.as_slice(), k, ord, dofs, dp, sink);
         }
     }
     if let Some(band) = tangent.as_mut() {
@@ -439,9 +477,28 @@ fn assemble_kernel(
     out.tangent = tangent;
 }
 
-/// Where element contributions go: internal forces, the band tangent, K_fp dp.
+/// The held dofs (`DofMap::held`) and the internal forces at them.
+type Held<'a> = (&'a [usize], &'a mut [f64]);
+
+/// Add nodal force `f` at global dof `g`, whose equation is `q` (`NOT_FREE` if it has none):
+/// to the free equations' internal forces, or to those at the held dofs.
+#[inline(always)]
+fn add_nodal_force(q: u32, g: usize, f: f64, internal: &mut [f64], (dofs, forces): Held) {
+    if q != NOT_FREE {
+        internal[q as usize] += f;
+    } else {
+        let k = dofs
+            .binary_search(&g)
+            .expect("a dof with no equation is held");
+        forces[k] += f;
+    }
+}
+
+/// Where element contributions go: internal forces (free equations, then held dofs), the band
+/// tangent, K_fp dp.
 type Sink<'a> = (
     &'a mut Vec<f64>,
+    Held<'a>,
     Option<&'a mut BandMatrix>,
     &'a mut Vec<f64>,
 );
@@ -452,14 +509,15 @@ fn add_element(
     nodal: &[f64],
     k: Option<impl Fn(usize, usize) -> f64>,
     ord: &Ordering,
+    dofs: &DofMap,
     dp: Option<&[f64]>,
-    (internal, band, coupling): Sink,
+    (internal, held, band, coupling): Sink,
 ) {
     for (a, &g) in gdofs.iter().enumerate() {
-        internal[g] += nodal[a];
+        add_nodal_force(ord.eq[g], g, nodal[a], internal, (held.0, &mut *held.1));
     }
     if let Some(k) = k {
-        add_matrix(gdofs, k, ord, band, dp, coupling);
+        add_matrix(gdofs, k, ord, band, dofs, dp, coupling);
     }
 }
 
@@ -468,6 +526,7 @@ fn add_matrix(
     k: impl Fn(usize, usize) -> f64,
     ord: &Ordering,
     band: Option<&mut BandMatrix>,
+    dofs: &DofMap,
     dp: Option<&[f64]>,
     coupling: &mut [f64],
 ) {
@@ -482,24 +541,28 @@ fn add_matrix(
         }
     }
     if let Some(dp) = dp {
-        add_coupling(gdofs, &eqs, k, dp, coupling);
+        add_coupling(gdofs, &eqs, k, dofs, dp, coupling);
     }
 }
 
-/// Add an element's `K_fp dp` over the global dofs `gdofs` (with equations `eqs`).
+/// Add an element's `K_fp dp` over the global dofs `gdofs` (with equations `eqs`), for the
+/// prescribed increments `dp` (one per `Model::prescribed`, found through `DofKind`).
 fn add_coupling(
     gdofs: &[usize],
     eqs: &[Option<usize>],
     k: impl Fn(usize, usize) -> f64,
+    dofs: &DofMap,
     dp: &[f64],
     coupling: &mut [f64],
 ) {
     for (a, &ea) in eqs.iter().enumerate() {
         let Some(ea) = ea else { continue };
         for (b, &eb) in eqs.iter().enumerate() {
-            let gb = gdofs[b];
-            if eb.is_none() && dp[gb] != 0.0 {
-                coupling[ea] += k(a, b) * dp[gb];
+            let DofKind::Prescribed(p) = dofs.kind[gdofs[b]] else {
+                continue;
+            };
+            if eb.is_none() && dp[p] != 0.0 {
+                coupling[ea] += k(a, b) * dp[p];
             }
         }
     }
@@ -533,6 +596,7 @@ mod tests {
             };
             let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
             assert_eq!(bits(&base.internal), bits(&wide.internal));
+            assert_eq!(bits(&base.held_internal), bits(&wide.held_internal));
             assert!(
                 base.internal.iter().any(|f| f.abs() > 1e-3),
                 "a loaded state"

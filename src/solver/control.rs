@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use super::arc_length::ArcState;
 use super::assembly::{
-    assemble, current, Assembled, AssemblyContext, DofKind, DofMap, Ordering, PackedBeam,
+    assemble, current, Assembled, AssemblyContext, DofMap, Ordering, PackedBeam,
 };
 use super::beam::BeamElement;
 use super::contact::ContactSet;
@@ -45,6 +45,17 @@ impl ConvergedAssembly {
     }
 }
 
+/// Buffers an attempt takes over from the one before, so that the increments of a large model
+/// allocate no fresh memory (each fresh page costs a page fault, some microseconds on this kind
+/// of machine): a displacement vector no longer in use and the right-hand side.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Spare {
+    /// The displacements before the last commit (any contents: they are overwritten).
+    pub(crate) d: Vec<f64>,
+    /// The right-hand side of the last attempt (any contents).
+    pub(crate) rhs: Vec<f64>,
+}
+
 impl std::fmt::Debug for ConvergedAssembly {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let kept = self.0.borrow().as_ref().map(|(i, _)| *i);
@@ -71,6 +82,8 @@ pub struct Solver {
     ordering_cache: std::cell::RefCell<Option<Arc<Ordering>>>,
     /// The assembly (internal forces and unfactored tangent) at the last converged state.
     pub(crate) converged_assembly: ConvergedAssembly,
+    /// Buffers for the next attempt.
+    pub(crate) spare: std::cell::RefCell<Spare>,
     increment: usize,
     pub(crate) arc: ArcState,
     /// Contact candidate (node, body) pairs.
@@ -107,6 +120,7 @@ impl Solver {
             force_floor: params.force_floor * max_ea.max(f64::MIN_POSITIVE),
             ordering_cache: std::cell::RefCell::new(None),
             converged_assembly: ConvergedAssembly::default(),
+            spare: Default::default(),
             increment: 0,
             arc: ArcState::default(),
             candidates: ContactSet::candidates_of(&model),
@@ -219,7 +233,11 @@ impl Solver {
         for (g, e) in ord.free_dofs() {
             free[e] = g;
         }
-        let r = free.iter().map(|&g| fext[g] - asm.internal[g]).collect();
+        let r = free
+            .iter()
+            .zip(&asm.internal)
+            .map(|(&g, i)| fext.at(g) - i)
+            .collect();
         let k = asm.tangent.expect("tangent");
         let dense = nalgebra::DMatrix::from_fn(ord.n_eq, ord.n_eq, |i, j| k.get(i, j));
         (r, dense, free)
@@ -368,7 +386,7 @@ impl Solver {
         seconds: f64,
     ) -> IncrementRecord {
         self.increment += 1;
-        self.d = c.d;
+        self.spare.get_mut().d = std::mem::replace(&mut self.d, c.d);
         self.contacts = c.contacts;
         self.prescribed = tp;
         self.load_factor = tl;
@@ -379,16 +397,15 @@ impl Solver {
         let fext = self.external_force(tl);
         let reactions = self
             .dofs
-            .kind
+            .held
             .iter()
-            .enumerate()
-            .filter(|(_, k)| **k != DofKind::Free)
-            .map(|(g, _)| {
+            .zip(&c.assembled.held_internal)
+            .map(|(&g, i)| {
                 let (n, o) = self.dofs.owner(g);
                 Reaction {
                     node: self.model.nodes[n].id,
                     dof: ["u", "v", "phi"][o].to_string(),
-                    value: c.assembled.internal[g] - fext[g],
+                    value: i - fext.at(g),
                 }
             })
             .collect();
@@ -401,6 +418,7 @@ impl Solver {
         let contacts = self.contacts.states(self, &c.assembled);
         let Assembled {
             internal,
+            held_internal,
             tangent,
             elements,
             ..
@@ -409,6 +427,7 @@ impl Solver {
             self.increment,
             Assembled {
                 internal,
+                held_internal,
                 tangent,
                 coupling: Vec::new(),
                 elements: Default::default(),

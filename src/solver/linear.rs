@@ -238,16 +238,30 @@ impl BandMatrix {
     /// numbered consecutively in a symmetric band takes its lower columns straight from `t`.
     #[inline(always)]
     pub fn add_beam(&mut self, eqs: &[u32; 6], t: &TangentEntries) {
-        let first = eqs[0] as usize;
-        let consecutive = eqs[5] != NOT_FREE && eqs[5] as usize == first + 5 && eqs.is_sorted();
-        if self.layout != Layout::Lower || !consecutive {
-            let mut k = [[0.0; 6]; 6];
-            t.write(&mut k);
-            return self.add_element(eqs, &k);
+        match consecutive_first(eqs) {
+            Some(first) => self.add_beam_consecutive(first, t),
+            None => self.add_beam_any(eqs, t),
+        }
+    }
+
+    /// `add_beam` for a beam over the consecutive equations `first..first + 6` (see
+    /// `consecutive_first`).
+    #[inline(always)]
+    pub fn add_beam_consecutive(&mut self, first: usize, t: &TangentEntries) {
+        if self.layout != Layout::Lower {
+            let eqs = std::array::from_fn(|a| (first + a) as u32);
+            return self.add_beam_any(&eqs, t);
         }
         self.zero_to((first + 6) * self.ld);
         let lower = t.lower_columns();
         self.add_consecutive::<6>(first, |b, a| lower[LOWER_COLUMNS[b].start + a]);
+    }
+
+    /// `add_beam` through the whole 6x6 tangent.
+    fn add_beam_any(&mut self, eqs: &[u32; 6], t: &TangentEntries) {
+        let mut k = [[0.0; 6]; 6];
+        t.write(&mut k);
+        self.add_element(eqs, &k)
     }
 
     /// The lower columns of an N x N symmetric element over the consecutive equations
@@ -596,6 +610,15 @@ impl BandMatrix {
             axpy(&mut b[lo..j], col, bj);
         }
     }
+}
+
+/// The first of an element's equations `eqs` if they are free and consecutive in local order
+/// (`first..first + N`: a chain numbered along itself), else `None`.
+#[inline]
+pub fn consecutive_first<const N: usize>(eqs: &[u32; N]) -> Option<usize> {
+    let first = eqs[0] as usize;
+    (eqs[N - 1] != NOT_FREE && eqs[N - 1] as usize == first + N - 1 && eqs.is_sorted())
+        .then_some(first)
 }
 
 /// `x -= a v`, unrolled for the short lengths of a band.

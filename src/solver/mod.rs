@@ -13,6 +13,7 @@ pub mod control;
 pub mod dual;
 mod ldlt;
 pub mod linear;
+pub mod loads;
 pub mod model;
 pub mod newton;
 pub mod params;

@@ -3,10 +3,11 @@
 //! and the contact active-set passes (transfers during iterations, activation and release between
 //! converged passes).
 
-use super::assembly::{assemble_into, Assembled, AssemblyContext, Ordering};
+use super::assembly::{assemble_into, Assembled, AssemblyContext, DofKind, Ordering};
 use super::contact::ContactSet;
 use super::control::Solver;
 use super::linear::{BandMatrix, NOT_FREE};
+use super::loads::ExternalForce;
 use super::reduce::sum_squares;
 use super::report::{ContactChange, Event, Flow, IterationRecord, Observer};
 
@@ -175,49 +176,49 @@ impl IterationLog {
 }
 
 impl Solver {
-    /// External force vector over all dofs at load factor `lambda`.
-    pub(crate) fn external_force(&self, lambda: f64) -> Vec<f64> {
-        let mut f = vec![0.0; self.dofs.len()];
-        for l in &self.model.loads {
-            for o in 0..self.model.node_dofs(l.node) {
-                f[self.dofs.dof(l.node, o)] += lambda * l.force[o];
-            }
-        }
-        f
-    }
-
-    /// Reference force and residual norm for a given assembly.
+    /// The unbalanced force over the free equations, its norm and the reference force, for a
+    /// given assembly.
     pub(crate) fn residual(
         &self,
         asm: &Assembled,
-        fext: &[f64],
+        fext: &ExternalForce,
         ord: &Ordering,
     ) -> (Vec<f64>, f64, f64) {
         let mut r = Vec::new();
-        let (norm, reference) = self.residual_into(asm, fext, sum_squares(fext), ord, &mut r);
+        let (norm, reference) = self.residual_into(asm, fext, fext.sum_squares(), ord, &mut r);
         (r, norm, reference)
     }
 
     /// `residual` into a reused vector, for the external force `fext` whose sum of squares is
     /// `ext2` (constant over an attempt): returns the residual norm and the reference force.
+    /// The reference is the larger of the external force and the reactions (internal minus
+    /// external force at the held dofs).
     pub(crate) fn residual_into(
         &self,
         asm: &Assembled,
-        fext: &[f64],
+        fext: &ExternalForce,
         ext2: f64,
         ord: &Ordering,
         r: &mut Vec<f64>,
     ) -> (f64, f64) {
+        // -(sum J S) + lambda F: the internal forces negated, then the few loads added.
         r.clear();
-        r.resize(ord.n_eq, 0.0);
-        let mut reac2 = 0.0;
-        // Every free dof has an equation; the others carry reactions.
-        for ((&e, &f), &i) in ord.eq.iter().zip(fext).zip(&asm.internal) {
+        r.extend(asm.internal.iter().map(|i| -i));
+        for &(g, f) in &fext.0 {
+            let e = ord.eq[g];
             if e != NOT_FREE {
-                r[e as usize] = f - i;
-            } else {
-                reac2 += (i - f) * (i - f);
+                r[e as usize] += f;
             }
+        }
+        let mut reac2 = 0.0;
+        let mut loads = fext.0.iter().peekable();
+        for (&g, &i) in self.dofs.held.iter().zip(&asm.held_internal) {
+            while loads.next_if(|&&(d, _)| d < g).is_some() {}
+            let f = match loads.peek() {
+                Some(&&(d, f)) if d == g => f,
+                _ => 0.0,
+            };
+            reac2 += (i - f) * (i - f);
         }
         let norm = sum_squares(r).sqrt();
         let reference = ext2.sqrt().max(reac2.sqrt()).max(self.force_floor);
@@ -271,15 +272,29 @@ impl Solver {
         obs: &mut dyn Observer,
     ) -> Result<Converged, AttemptError> {
         let p = &self.params;
-        let mut d = self.d.clone();
+        // The buffers of the last attempt (fresh memory would cost page faults).
+        let (mut d, mut rhs) = {
+            let mut spare = self.spare.borrow_mut();
+            (std::mem::take(&mut spare.d), std::mem::take(&mut spare.rhs))
+        };
+        d.clear();
+        d.extend_from_slice(&self.d);
         let mut contacts = self.contacts.clone();
         contacts.begin_attempt();
-        let mut dp = vec![0.0; self.dofs.len()];
-        for (k, pr) in self.model.prescribed.iter().enumerate() {
-            dp[self.dofs.dof(pr.node, pr.dof.offset())] = target_p[k] - self.prescribed[k];
-        }
+        // The prescribed increments, one per `Model::prescribed` (0 where a later one on the
+        // same dof overrides it).
+        let dp: Vec<f64> = (self.model.prescribed.iter().enumerate())
+            .map(|(k, pr)| {
+                let g = self.dofs.dof(pr.node, pr.dof.offset());
+                if self.dofs.kind[g] == DofKind::Prescribed(k) {
+                    target_p[k] - self.prescribed[k]
+                } else {
+                    0.0
+                }
+            })
+            .collect();
         let fext = self.external_force(target_lambda);
-        let ext2 = sum_squares(&fext);
+        let ext2 = fext.sum_squares();
         let mut ordering = self.ordering_for(&contacts);
         let mut predictor = true;
         let mut iterations = 0;
@@ -307,7 +322,6 @@ impl Solver {
                     .is_some_and(|t| t.len() == ordering.n_eq);
             }
         }
-        let mut rhs = Vec::new();
         loop {
             let ctx = AssemblyContext {
                 contact: p.contact_options(pass_iter + 1),
@@ -371,6 +385,7 @@ impl Solver {
                         let max_penetration = contacts.max_penetration(self, &d);
                         // Unfactored: the next increment's predictor may start from it.
                         asm.tangent = Some(tangent);
+                        self.spare.borrow_mut().rhs = rhs;
                         return Ok(Converged {
                             max_penetration,
                             d,
@@ -420,8 +435,8 @@ impl Solver {
             // prescribed part, which is not scaled, by at most as much again.
             bound.moved(if predictor { 2.0 * step } else { scale * step });
             if predictor {
-                for (g, v) in dp.iter().enumerate() {
-                    d[g] += v;
+                for (pr, v) in self.model.prescribed.iter().zip(&dp) {
+                    d[self.dofs.dof(pr.node, pr.dof.offset())] += v;
                 }
                 predictor = false;
             }
