@@ -56,8 +56,6 @@ impl Solver {
 
 #[cfg(test)]
 mod tests {
-    use super::*;
-
     /// Against the force summed over every dof, load by load: two loads on one node (summed),
     /// one elsewhere, at a load factor of 0.7.
     #[test]
