@@ -328,6 +328,12 @@ fn refill<T: Clone>(out: &mut Vec<T>, len: usize, v: T) {
     out.resize(len, v);
 }
 
+/// Give `out` the length `len` (filled with `v` where it grows), for a vector whose every
+/// entry the assembly overwrites: no pass over the entries it keeps.
+fn fit<T: Clone>(out: &mut Vec<T>, len: usize, v: T) {
+    out.resize(len, v);
+}
+
 /// `assemble` into the buffers of a previous assembly (Newton iterations reuse them, so a
 /// large model allocates nothing per iteration). Every field of `out` is overwritten; the
 /// tangent is `None` unless requested.
@@ -377,8 +383,9 @@ fn assemble_kernel(
         tangent = None;
     }
     let results = &mut out.elements;
-    refill(&mut results.beam_forces, model.beams.len(), [0.0; 3]);
-    refill(&mut results.contact_forces, ord.links.len(), (0.0, 0.0));
+    // Every beam and every contact link writes its entry below.
+    fit(&mut results.beam_forces, model.beams.len(), [0.0; 3]);
+    fit(&mut results.contact_forces, ord.links.len(), (0.0, 0.0));
     let internal = &mut out.internal;
     let held = (&dofs.held[..], &mut out.held_internal[..]);
     let coupling = &mut out.coupling;
