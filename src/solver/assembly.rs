@@ -90,6 +90,8 @@ pub struct Ordering {
     pub eq: Vec<u32>,
     /// Number of equations.
     pub n_eq: usize,
+    /// The global dof of every equation (the inverse of `eq`).
+    pub dof_of: Vec<u32>,
     /// Half-bandwidth.
     pub band: usize,
     /// The contact topology this ordering was built for.
@@ -141,6 +143,12 @@ impl Ordering {
             }
         }
         let n_eq = n_eq as usize;
+        let mut dof_of = vec![0; n_eq];
+        for (g, &e) in eq.iter().enumerate() {
+            if e != NOT_FREE {
+                dof_of[e as usize] = u32::try_from(g).expect("dofs fit in u32");
+            }
+        }
         let mut on_beam = vec![Vec::new(); model.beams.len()];
         for (k, l) in links.iter().enumerate() {
             on_beam[l.beam].push(k);
@@ -159,6 +167,7 @@ impl Ordering {
         let mut ord = Ordering {
             eq,
             n_eq,
+            dof_of,
             band: 0,
             links: links.to_vec(),
             on_beam,

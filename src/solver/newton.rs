@@ -428,8 +428,8 @@ impl Solver {
             } else {
                 1.0
             };
-            for (g, e) in ordering.free_dofs() {
-                d[g] += scale * rhs[e];
+            for (&g, x) in ordering.dof_of.iter().zip(&rhs) {
+                d[g as usize] += scale * x;
             }
             // No entry moved further than the (scaled) correction's norm; the predictor's
             // prescribed part, which is not scaled, by at most as much again.
