@@ -2,6 +2,12 @@
 
 mod cli;
 
+/// mimalloc (the default `mimalloc` feature): the contact element's small per-call matrices
+/// made glibc's malloc and free a fifth of Example 3.2's instructions.
+#[cfg(feature = "mimalloc")]
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 fn main() {
     std::process::exit(cli::run());
 }
