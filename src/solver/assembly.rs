@@ -337,12 +337,6 @@ fn refill<T: Clone>(out: &mut Vec<T>, len: usize, v: T) {
     out.resize(len, v);
 }
 
-/// Give `out` the length `len` (filled with `v` where it grows), for a vector whose every
-/// entry the assembly overwrites: no pass over the entries it keeps.
-fn fit<T: Clone>(out: &mut Vec<T>, len: usize, v: T) {
-    out.resize(len, v);
-}
-
 /// `assemble` into the buffers of a previous assembly (Newton iterations reuse them, so a
 /// large model allocates nothing per iteration). Every field of `out` is overwritten; the
 /// tangent is `None` unless requested.
@@ -392,9 +386,9 @@ fn assemble_kernel(
         tangent = None;
     }
     let results = &mut out.elements;
-    // Every beam and every contact link writes its entry below.
-    fit(&mut results.beam_forces, model.beams.len(), [0.0; 3]);
-    fit(&mut results.contact_forces, ord.links.len(), (0.0, 0.0));
+    // Every beam and every contact link writes its entry below: resized, not cleared.
+    results.beam_forces.resize(model.beams.len(), [0.0; 3]);
+    results.contact_forces.resize(ord.links.len(), (0.0, 0.0));
     let internal = &mut out.internal;
     let held = (&dofs.held[..], &mut out.held_internal[..]);
     let coupling = &mut out.coupling;
@@ -573,11 +567,12 @@ fn add_coupling(
 ) {
     for (a, &ea) in eqs.iter().enumerate() {
         let Some(ea) = ea else { continue };
-        for (b, &eb) in eqs.iter().enumerate() {
-            let DofKind::Prescribed(p) = dofs.kind[gdofs[b]] else {
+        for (b, &gb) in gdofs.iter().enumerate() {
+            // A prescribed dof has no equation.
+            let DofKind::Prescribed(p) = dofs.kind[gb] else {
                 continue;
             };
-            if eb.is_none() && dp[p] != 0.0 {
+            if dp[p] != 0.0 {
                 coupling[ea] += k(a, b) * dp[p];
             }
         }

@@ -229,10 +229,7 @@ impl Solver {
         let ctx = self.context(&ord);
         let asm = assemble(&ctx, d, true, None);
         let fext = self.external_force(self.load_factor);
-        let mut free = vec![0; ord.n_eq];
-        for (g, e) in ord.free_dofs() {
-            free[e] = g;
-        }
+        let free: Vec<usize> = ord.dof_of.iter().map(|&g| g as usize).collect();
         let r = free
             .iter()
             .zip(&asm.internal)

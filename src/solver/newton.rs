@@ -511,8 +511,8 @@ impl Solver {
 
     /// "node N u" for an equation number.
     pub(crate) fn equation_label(&self, ord: &Ordering, eq: usize) -> String {
-        match ord.free_dofs().find(|&(_, e)| e == eq).map(|(g, _)| g) {
-            Some(g) => self.dof_label(g),
+        match ord.dof_of.get(eq) {
+            Some(&g) => self.dof_label(g as usize),
             None => format!("equation {eq}"),
         }
     }
