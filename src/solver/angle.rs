@@ -9,7 +9,7 @@
 //! straight members lie) the result is rounded once, like libm's.
 
 /// atan(i/8), i = 0..8, as (value rounded to f64, the rest).
-const ATAN_EIGHTHS: [(f64, f64); 9] = [
+pub(super) const ATAN_EIGHTHS: [(f64, f64); 9] = [
     (0.0, 0.0),
     (0.12435499454676144, -3.1253241424539383e-18),
     (0.24497866312686414, 1.0698755618734451e-17),
@@ -22,10 +22,10 @@ const ATAN_EIGHTHS: [(f64, f64); 9] = [
 ];
 
 /// pi as (value rounded to f64, the rest).
-const PI: (f64, f64) = (std::f64::consts::PI, 1.2246467991473532e-16);
+pub(super) const PI: (f64, f64) = (std::f64::consts::PI, 1.2246467991473532e-16);
 
 /// pi/2 as (value rounded to f64, the rest).
-const HALF_PI: (f64, f64) = (std::f64::consts::FRAC_PI_2, 6.123233995736766e-17);
+pub(super) const HALF_PI: (f64, f64) = (std::f64::consts::FRAC_PI_2, 6.123233995736766e-17);
 
 /// The angle of the vector (x, y) from the x axis, in [-pi, pi]: `y.atan2(x)` to within 2 ulp
 /// (signed zeros and the axes as `atan2` has them).

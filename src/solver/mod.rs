@@ -6,6 +6,8 @@ pub mod angle;
 pub mod arc_length;
 pub mod assembly;
 pub mod beam;
+#[cfg(target_arch = "x86_64")]
+pub mod beam_lanes;
 pub mod broad_phase;
 pub mod contact;
 pub mod contact_element;

@@ -22,3 +22,20 @@ pub(crate) fn dispatch<R>(kernel: impl FnOnce() -> R) -> R {
 pub(crate) unsafe fn with_avx2<R>(kernel: impl FnOnce() -> R) -> R {
     kernel()
 }
+
+/// `dispatch` for a kernel with a path of its own for AVX2: it is told whether it runs in the
+/// AVX2 build (`true` only where the CPU has AVX2, so that it may call AVX2 intrinsics).
+#[inline(always)]
+pub(crate) fn dispatch_wide<R>(kernel: impl FnOnce(bool) -> R) -> R {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU has AVX2, checked just above.
+        return unsafe {
+            with_avx2(
+                #[inline(always)]
+                || kernel(true),
+            )
+        };
+    }
+    kernel(false)
+}
