@@ -8,17 +8,18 @@
 //! the unfolding. Infinite, NaN and (0, 0) arguments go to libm. Near the axes (where chords of
 //! straight members lie) the result is rounded once, like libm's.
 
-/// atan(i/8), i = 0..8, as (value rounded to f64, the rest).
-pub(super) const ATAN_EIGHTHS: [(f64, f64); 9] = [
-    (0.0, 0.0),
-    (0.12435499454676144, -3.1253241424539383e-18),
-    (0.24497866312686414, 1.0698755618734451e-17),
-    (0.35877067027057225, -2.4623815582638635e-17),
-    (0.4636476090008061, 2.2698777452961687e-17),
-    (0.5585993153435624, -5.4556305485916264e-18),
-    (0.6435011087932844, 1.5834785051444286e-17),
-    (0.7188299996216245, -2.1478388444456983e-17),
-    (std::f64::consts::FRAC_PI_4, 3.061616997868383e-17),
+/// atan(i/8), i = 0..8, as [value rounded to f64, the rest] (an array, so that
+/// the four-lane path in `beam_lanes.rs` can gather from it).
+pub(super) static ATAN_EIGHTHS: [[f64; 2]; 9] = [
+    [0.0, 0.0],
+    [0.12435499454676144, -3.1253241424539383e-18],
+    [0.24497866312686414, 1.0698755618734451e-17],
+    [0.35877067027057225, -2.4623815582638635e-17],
+    [0.4636476090008061, 2.2698777452961687e-17],
+    [0.5585993153435624, -5.4556305485916264e-18],
+    [0.6435011087932844, 1.5834785051444286e-17],
+    [0.7188299996216245, -2.1478388444456983e-17],
+    [std::f64::consts::FRAC_PI_4, 3.061616997868383e-17],
 ];
 
 /// pi as (value rounded to f64, the rest).
@@ -49,7 +50,7 @@ pub fn chord_angle(y: f64, x: f64) -> f64 {
         * z
         + 1.0 / 3.0)
         * z;
-    let (hi, lo) = ATAN_EIGHTHS[i.min(8)];
+    let [hi, lo] = ATAN_EIGHTHS[i.min(8)];
     // atan(t) = atan(c) + (s - s^3/3 + ...), the small parts summed first.
     let a = hi + (lo + (s - s * series));
     // Unfold in one step, base +- a with the rounded base added last: near an axis (a tiny)

@@ -266,6 +266,22 @@ impl PackedBeam {
             })
             .collect()
     }
+
+    /// The beam's ends at displacements `d`, as `relative` has them: end i at 0 + u_i, end j
+    /// at (X_j - X_i) + u_j, and the end rotations (i, j).
+    #[inline(always)]
+    pub fn ends(&self, d: &[f64]) -> ([f64; 2], [f64; 2], [f64; 2]) {
+        let u = |end: usize| {
+            let f = self.first[end] as usize;
+            &d[f..f + 3]
+        };
+        let (ui, uj) = (u(0), u(1));
+        (
+            [0.0 + ui[0], 0.0 + ui[1]],
+            [self.span[0] + uj[0], self.span[1] + uj[1]],
+            [ui[2], uj[2]],
+        )
+    }
 }
 
 /// Everything an assembly needs besides the state.
@@ -415,35 +431,21 @@ fn assemble_kernel(
             && contact_beams.peek().is_none_or(|&c| c >= e + 4)
         {
             let pb: [&PackedBeam; 4] = std::array::from_fn(|k| &ctx.packed[e + k]);
-            let u = |k: usize, end: usize| {
-                let f = pb[k].first[end] as usize;
-                &d[f..f + 3]
-            };
-            let xi = std::array::from_fn(|k| [0.0 + u(k, 0)[0], 0.0 + u(k, 0)[1]]);
-            let xj =
-                std::array::from_fn(|k| [pb[k].span[0] + u(k, 1)[0], pb[k].span[1] + u(k, 1)[1]]);
-            let phi = std::array::from_fn(|k| [u(k, 0)[2], u(k, 1)[2]]);
+            let ends = pb.map(|b| b.ends(d));
             let c = pb.map(|b| &b.constants);
             // SAFETY: `wide` only where the CPU has AVX2 (see `assemble_into`).
-            if let Some(g) = unsafe { super::beam_lanes::evaluate4(c, xi, xj, phi) } {
+            let lanes = unsafe { super::beam_lanes::evaluate4(c, ends) };
+            if let Some(g) = lanes {
                 for (k, b) in pb.into_iter().enumerate() {
-                    let t = with_tangent.then(|| TangentEntries {
-                        t00: g.tangent[0][k],
-                        t01: g.tangent[1][k],
-                        t11: g.tangent[2][k],
-                        c0: g.tangent[3][k],
-                        c1: g.tangent[4][k],
-                        k11: b.constants.k11,
-                        k12: b.constants.k12,
-                    });
+                    let (forces, nodal, t) = g.lane(k, &b.constants);
                     let sink = (
                         &mut *internal,
                         (held.0, &mut *held.1),
                         tangent.as_mut(),
                         &mut *coupling,
                     );
-                    results.beam_forces[e + k] = g.forces.map(|f| f[k]);
-                    let nodal = g.nodal.map(|f| f[k]);
+                    results.beam_forces[e + k] = forces;
+                    let t = with_tangent.then_some(t);
                     add_plain_beam(e + k, b, &nodal, t, (ord, dofs, dp), &mut k6, sink);
                 }
                 e += 4;
@@ -460,13 +462,10 @@ fn assemble_kernel(
             // into the band. Everything it needs is in its packed record (as `relative` would
             // have it: node i at 0 + u_i, node j at (X_j - X_i) + u_j).
             let pb = &ctx.packed[e];
-            let (fi, fj) = (pb.first[0] as usize, pb.first[1] as usize);
-            let (ui, uj) = (&d[fi..fi + 3], &d[fj..fj + 3]);
-            let xi = [0.0 + ui[0], 0.0 + ui[1]];
-            let xj = [pb.span[0] + uj[0], pb.span[1] + uj[1]];
+            let (xi, xj, phi) = pb.ends(d);
             let (r, t) = pb
                 .constants
-                .evaluate_entries(xi, xj, ui[2], uj[2], with_tangent);
+                .evaluate_entries(xi, xj, phi[0], phi[1], with_tangent);
             results.beam_forces[e] = r.forces;
             let sink = (
                 &mut *internal,
@@ -690,16 +689,10 @@ mod tests {
                     for n in 8..12 {
                         s.d[s.dofs.first[n] + 2] += std::f64::consts::TAU;
                     }
-                    let pb = &s.packed[8..12];
-                    let u = |k: usize, end: usize| &s.d[pb[k].first[end] as usize..][..3];
-                    let xi = std::array::from_fn(|k| [0.0 + u(k, 0)[0], 0.0 + u(k, 0)[1]]);
-                    let xj = std::array::from_fn(|k| {
-                        [pb[k].span[0] + u(k, 1)[0], pb[k].span[1] + u(k, 1)[1]]
-                    });
-                    let phi = std::array::from_fn(|k| [u(k, 0)[2], u(k, 1)[2]]);
-                    let c = std::array::from_fn(|k| &pb[k].constants);
+                    let ends: [_; 4] = std::array::from_fn(|k| s.packed[8 + k].ends(&s.d));
+                    let c = std::array::from_fn(|k| &s.packed[8 + k].constants);
                     // SAFETY: the CPU has AVX2 (checked above).
-                    let lanes = unsafe { crate::solver::beam_lanes::evaluate4(c, xi, xj, phi) };
+                    let lanes = unsafe { crate::solver::beam_lanes::evaluate4(c, ends) };
                     assert!(lanes.is_none(), "handed back");
                 }
                 let ord = s.ordering_for(&s.contacts);

@@ -9,26 +9,7 @@
 use core::arch::x86_64::*;
 
 use super::angle::{ATAN_EIGHTHS, HALF_PI, PI};
-use super::beam::ForceConstants;
-
-/// The rounded values of atan(i/8), i = 0..8 (`ATAN_EIGHTHS`), for a gather.
-const ATAN_HI: [f64; 9] = eighths(0);
-/// Their rounding errors.
-const ATAN_LO: [f64; 9] = eighths(1);
-
-const fn eighths(part: usize) -> [f64; 9] {
-    let mut out = [0.0; 9];
-    let mut i = 0;
-    while i < 9 {
-        out[i] = if part == 0 {
-            ATAN_EIGHTHS[i].0
-        } else {
-            ATAN_EIGHTHS[i].1
-        };
-        i += 1;
-    }
-    out
-}
+use super::beam::{ForceConstants, TangentEntries};
 
 /// What `evaluate4` gives for its four elements, lane k for element k: element forces (N, Mi,
 /// Mj), nodal forces U = J S over (u_i, v_i, phi_i, u_j, v_j, phi_j) and the tangent's
@@ -44,19 +25,37 @@ pub struct Group {
     pub tangent: [[f64; 4]; 5],
 }
 
-/// `evaluate_entries` (tangent included) of four elements with constants `c`, end i at `xi`,
-/// end j at `xj` and end rotations `phi` (i, j), or None if a lane needs the scalar path.
+impl Group {
+    /// Element `k`'s forces, nodal forces and tangent entries (`c` its constants, for k11 and
+    /// k12), as `evaluate_entries` gives them.
+    #[inline(always)]
+    pub fn lane(&self, k: usize, c: &ForceConstants) -> ([f64; 3], [f64; 6], TangentEntries) {
+        let [t00, t01, t11, c0, c1] = self.tangent.map(|t| t[k]);
+        let tangent = TangentEntries {
+            t00,
+            t01,
+            t11,
+            c0,
+            c1,
+            k11: c.k11,
+            k12: c.k12,
+        };
+        (self.forces.map(|f| f[k]), self.nodal.map(|f| f[k]), tangent)
+    }
+}
+
+/// The current ends of an element: end i's position, end j's, and the end rotations (i, j).
+pub type Ends = ([f64; 2], [f64; 2], [f64; 2]);
+
+/// `evaluate_entries` (tangent included) of four elements with constants `c` and ends `ends`,
+/// or None if a lane needs the scalar path.
 ///
 /// # Safety
 /// The CPU must have AVX2.
 #[target_feature(enable = "avx2")]
 #[inline]
-pub unsafe fn evaluate4(
-    c: [&ForceConstants; 4],
-    xi: [[f64; 2]; 4],
-    xj: [[f64; 2]; 4],
-    phi: [[f64; 2]; 4],
-) -> Option<Group> {
+pub unsafe fn evaluate4(c: [&ForceConstants; 4], ends: [Ends; 4]) -> Option<Group> {
+    let (xi, xj, phi) = (ends.map(|x| x.0), ends.map(|x| x.1), ends.map(|x| x.2));
     let lanes = |f: &dyn Fn(usize) -> f64| _mm256_set_pd(f(3), f(2), f(1), f(0));
     let splat = _mm256_set1_pd;
     let (add, sub, mul, div) = (_mm256_add_pd, _mm256_sub_pd, _mm256_mul_pd, _mm256_div_pd);
@@ -96,12 +95,15 @@ pub unsafe fn evaluate4(
     series = sub(mul(series, z), splat(1.0 / 5.0));
     series = add(mul(series, z), splat(1.0 / 3.0));
     series = mul(series, z);
+    // Entry [i][0] is the table's f64 number 2 i, [i][1] the next.
     let t = _mm_min_epi32(i, _mm_set1_epi32(8));
-    // SAFETY: every index is in 0..=8, within the nine-entry tables.
+    let t = _mm_add_epi32(t, t);
+    let table = ATAN_EIGHTHS.as_ptr().cast::<f64>();
+    // SAFETY: every index 2 t + 1 <= 17 lies within the 9 x 2 table.
     let (hi, lo) = unsafe {
         (
-            _mm256_i32gather_pd::<8>(ATAN_HI.as_ptr(), t),
-            _mm256_i32gather_pd::<8>(ATAN_LO.as_ptr(), t),
+            _mm256_i32gather_pd::<8>(table, t),
+            _mm256_i32gather_pd::<8>(table.add(1), t),
         )
     };
     let a = add(hi, add(lo, sub(s, mul(s, series))));
@@ -192,7 +194,6 @@ mod tests {
     #[test]
     fn four_lanes_evaluate_like_the_scalar_path_bit_for_bit() {
         if !crate::test_support::has_avx2() {
-            eprintln!("no AVX2: skipped");
             return;
         }
         let section = Section {
@@ -200,13 +201,8 @@ mod tests {
             ei: 2.5,
             gae: 1.0e5,
         };
-        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
-        let mut next = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = crate::test_support::Rng(0x9e37_79b9_7f4a_7c15);
+        let mut next = || rng.unit();
         let mut compared = 0;
         for round in 0..2000 {
             // Any initial direction, a rigid turn of up to 2.5 rad (the end rotations follow
@@ -219,8 +215,8 @@ mod tests {
             });
             let consts = els.map(|e| e.constants());
             let turn: [f64; 4] = std::array::from_fn(|_| (next() * 2.0 - 1.0) * 2.5);
-            let xi = std::array::from_fn(|_| [1e-3 * next(), -1e-3 * next()]);
-            let xj = std::array::from_fn(|k| {
+            let xi: [[f64; 2]; 4] = std::array::from_fn(|_| [1e-3 * next(), -1e-3 * next()]);
+            let xj: [[f64; 2]; 4] = std::array::from_fn(|k| {
                 let a = match round % 5 {
                     0 => (((next() * 8.0) as i32 - 4) as f64) * std::f64::consts::FRAC_PI_4,
                     _ => consts[k].alpha0 + turn[k] + 0.1 * (next() - 0.5),
@@ -228,27 +224,27 @@ mod tests {
                 let l = consts[k].length * (1.0 + 0.01 * (next() - 0.5));
                 [xi[k][0] + l * a.cos(), xi[k][1] + l * a.sin()]
             });
-            let phi = std::array::from_fn(|k| {
+            let phi: [[f64; 2]; 4] = std::array::from_fn(|k| {
                 let bend = 0.2 * (next() - 0.5);
                 [turn[k] + bend, turn[k] - bend]
             });
             let c = [&consts[0], &consts[1], &consts[2], &consts[3]];
             // SAFETY: the CPU has AVX2 (checked above).
-            let Some(g) = (unsafe { evaluate4(c, xi, xj, phi) }) else {
+            let ends = std::array::from_fn(|k| (xi[k], xj[k], phi[k]));
+            let Some(g) = (unsafe { evaluate4(c, ends) }) else {
                 continue;
             };
             for k in 0..4 {
                 let (r, t) = consts[k].evaluate_entries(xi[k], xj[k], phi[k][0], phi[k][1], true);
-                let t = t.expect("tangent");
+                let entries = |t: TangentEntries| [t.t00, t.t01, t.t11, t.c0, t.c1, t.k11, t.k12];
                 let want = [
-                    r.forces.to_vec(),
-                    r.nodal.iter().copied().collect(),
-                    vec![t.t00, t.t01, t.t11, t.c0, t.c1],
+                    &r.forces[..],
+                    r.nodal.as_slice(),
+                    &entries(t.expect("tangent")),
                 ]
                 .concat();
-                let got: Vec<f64> = (g.forces.iter().chain(&g.nodal).chain(&g.tangent))
-                    .map(|v| v[k])
-                    .collect();
+                let (forces, nodal, t) = g.lane(k, &consts[k]);
+                let got = [&forces[..], &nodal[..], &entries(t)].concat();
                 let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
                 assert_eq!(bits(&got), bits(&want), "round {round}, lane {k}");
             }
@@ -263,16 +259,12 @@ mod tests {
         // Handed back: a zero chord, and a chord turned past half a turn from its nodes.
         let el = BeamElement::new([0.0, 0.0], [1.0, 0.0], section, 0.0).constants();
         let c = [&el; 4];
-        let phi = [[0.0; 2]; 4];
-        let xi = [[0.0; 2]; 4];
-        let mut xj = [[1.0, 0.0]; 4];
-        xj[2] = [0.0, 0.0];
+        let mut ends = [([0.0; 2], [1.0, 0.0], [0.0; 2]); 4];
+        ends[2].1 = [0.0, 0.0];
         // SAFETY: the CPU has AVX2 (checked above).
-        assert!(unsafe { evaluate4(c, xi, xj, phi) }.is_none());
-        xj[2] = [-1.0, -1e-3];
-        let mut turned = phi;
-        turned[2] = [3.0, 3.0];
+        assert!(unsafe { evaluate4(c, ends) }.is_none());
+        ends[2] = ([0.0; 2], [-1.0, -1e-3], [3.0, 3.0]);
         // SAFETY: as above.
-        assert!(unsafe { evaluate4(c, xi, xj, turned) }.is_none());
+        assert!(unsafe { evaluate4(c, ends) }.is_none());
     }
 }

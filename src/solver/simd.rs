@@ -8,12 +8,10 @@
 /// AVX2 instance.
 #[inline(always)]
 pub(crate) fn dispatch<R>(kernel: impl FnOnce() -> R) -> R {
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: the CPU has AVX2, checked just above.
-        return unsafe { with_avx2(kernel) };
-    }
-    kernel()
+    dispatch_wide(
+        #[inline(always)]
+        |_| kernel(),
+    )
 }
 
 /// `kernel`, compiled for AVX2.
