@@ -161,13 +161,24 @@ fn a_reset_band_matrix_is_a_fresh_one() {
 }
 
 /// Factor and solve `band` for `b`, and check the solution against the dense solve of the same
-/// matrix to 1e-10 of its largest entry.
+/// matrix to 1e-10 of its largest entry; `factor_and_solve` must give the same solution and
+/// the same factors bit for bit.
 fn solves_like_dense(band: &mut BandMatrix, dense: &[f64], b: &[f64], case: &str) {
     let n = b.len();
     let reference = dense_solve(n, dense, b).expect("nonsingular");
+    let mut at_once = band.clone();
     band.factor(0.0).expect("nonsingular");
     let mut x = b.to_vec();
     band.solve(&mut x);
+    let mut y = b.to_vec();
+    at_once.factor_and_solve(0.0, &mut y).expect("nonsingular");
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&x), bits(&y), "{case}: factor_and_solve");
+    // The factors too: a second right-hand side solves alike with either.
+    let (mut x2, mut y2) = (reference.clone(), reference.clone());
+    band.solve(&mut x2);
+    at_once.solve(&mut y2);
+    assert_eq!(bits(&x2), bits(&y2), "{case}: factors of factor_and_solve");
     let scale = reference.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     let err = x
         .iter()

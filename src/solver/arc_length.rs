@@ -183,8 +183,9 @@ impl Solver {
                 }
                 self.pass_failed(rel, floor, pass_iter, iterations)?;
             }
-            self.factor_tangent(&mut tangent, &ordering)?;
-            // Displacement responses to the reference load and to the unbalanced force.
+            // Displacement responses to the unbalanced force and to the reference load.
+            let mut qr = rhs;
+            self.factor_tangent(&mut tangent, &ordering, Some(&mut qr))?;
             let mut qf = vec![0.0; ordering.n_eq];
             for (g, e) in ordering.free_dofs() {
                 if free(g) {
@@ -192,8 +193,6 @@ impl Solver {
                 }
             }
             tangent.solve(&mut qf);
-            let mut qr = rhs;
-            tangent.solve(&mut qr);
             asm.tangent = Some(tangent);
             let scatter = |v: &[f64]| {
                 let mut out = vec![0.0; self.dofs.len()];

@@ -452,9 +452,36 @@ impl BandMatrix {
         if self.layout != Layout::Lower {
             return self.lu(0, false, tiny);
         }
-        let Some(twist) = twisted_ldlt(&mut self.ab, self.n, self.kl, tiny) else {
-            return self.factor_from_top(tiny);
-        };
+        match twisted_ldlt(&mut self.ab, self.n, self.kl, tiny, None) {
+            Some(twist) => self.factor_middle(twist, tiny),
+            None => self.factor_from_top(tiny),
+        }
+    }
+
+    /// `factor`, then `solve` of `b` (the same factors and the same solution, bit for bit).
+    /// A long symmetric band does the forward substitution inside its twisted factorisation, a
+    /// chunk of columns behind it, so that the substitution reads the factors from cache: one
+    /// pass over the band fewer. On an error `b` holds a partial substitution.
+    pub fn factor_and_solve(&mut self, tiny: f64, b: &mut [f64]) -> Result<(), SingularPivot> {
+        self.finish_assembly();
+        let n = self.n;
+        if self.layout == Layout::Lower {
+            let b = &mut b[..n];
+            if let Some(twist) = twisted_ldlt(&mut self.ab, n, self.kl, tiny, Some(&mut *b)) {
+                self.factor_middle(twist, tiny)?;
+                let middle = self.middle.as_ref().expect("factored just above");
+                twisted_solve(&self.ab, n, self.kl, twist, b, true, |m| middle.solve(m));
+                return Ok(());
+            }
+        }
+        self.factor(tiny)?;
+        self.solve(b);
+        Ok(())
+    }
+
+    /// The rest of `factor` after `twisted_ldlt` factored both ends as far as `twist`: the
+    /// middle block, copied out and factored as a band matrix of its own.
+    fn factor_middle(&mut self, twist: Twist, tiny: f64) -> Result<(), SingularPivot> {
         let range = twist.middle(self.n);
         let mut middle = self
             .middle
@@ -583,7 +610,7 @@ impl BandMatrix {
         if self.layout == Layout::Lower {
             match (self.twist, &self.middle) {
                 (Some(twist), Some(middle)) => {
-                    twisted_solve(&self.ab, n, kl, twist, b, |m| middle.solve(m))
+                    twisted_solve(&self.ab, n, kl, twist, b, false, |m| middle.solve(m))
                 }
                 _ => ldlt_solve(&self.ab, n, kl, b),
             }

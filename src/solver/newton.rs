@@ -8,7 +8,7 @@ use super::contact::ContactSet;
 use super::control::Solver;
 use super::linear::{BandMatrix, NOT_FREE};
 use super::loads::ExternalForce;
-use super::reduce::sum_squares;
+use super::reduce::{negated_with_loads, sum_squares};
 use super::report::{ContactChange, Event, Flow, IterationRecord, Observer};
 
 /// A residual within this factor of the round-off floor counts as stagnated.
@@ -201,15 +201,14 @@ impl Solver {
         ord: &Ordering,
         r: &mut Vec<f64>,
     ) -> (f64, f64) {
-        // -(sum J S) + lambda F: the internal forces negated, then the few loads added.
-        r.clear();
-        r.extend(asm.internal.iter().map(|i| -i));
-        for &(g, f) in &fext.0 {
-            let e = ord.eq[g];
-            if e != NOT_FREE {
-                r[e as usize] += f;
-            }
-        }
+        // -(sum J S) + lambda F: the internal forces negated, the few loads added (at their
+        // equations, ascending), in one pass with the norm.
+        let mut loads: Vec<(usize, f64)> = (fext.0.iter())
+            .filter(|&&(g, _)| ord.eq[g] != NOT_FREE)
+            .map(|&(g, f)| (ord.eq[g] as usize, f))
+            .collect();
+        loads.sort_unstable_by_key(|&(e, _)| e);
+        let norm = negated_with_loads(&asm.internal, &loads, r).sqrt();
         let mut reac2 = 0.0;
         let mut loads = fext.0.iter().peekable();
         for (&g, &i) in self.dofs.held.iter().zip(&asm.held_internal) {
@@ -220,7 +219,6 @@ impl Solver {
             };
             reac2 += (i - f) * (i - f);
         }
-        let norm = sum_squares(r).sqrt();
         let reference = ext2.sqrt().max(reac2.sqrt()).max(self.force_floor);
         (norm, reference)
     }
@@ -415,8 +413,7 @@ impl Solver {
                 }
                 self.pass_failed(rel, floor, pass_iter, iterations)?;
             }
-            self.factor_tangent(&mut tangent, &ordering)?;
-            tangent.solve(&mut rhs);
+            self.factor_tangent(&mut tangent, &ordering, Some(&mut rhs))?;
             asm.tangent = Some(tangent);
             let mut step2 = sum_squares(&rhs);
             if predictor {
@@ -480,13 +477,20 @@ impl Solver {
         )
     }
 
-    /// Factor the tangent in place; a vanishing pivot fails the attempt, naming its dof.
+    /// Factor the tangent in place, and solve for `rhs` with it if given (in one pass where
+    /// the band allows, `BandMatrix::factor_and_solve`); a vanishing pivot fails the attempt,
+    /// naming its dof.
     pub(crate) fn factor_tangent(
         &self,
         tangent: &mut BandMatrix,
         ord: &Ordering,
+        rhs: Option<&mut [f64]>,
     ) -> Result<(), AttemptError> {
-        tangent.factor(0.0).map_err(|sp| {
+        match rhs {
+            Some(rhs) => tangent.factor_and_solve(0.0, rhs),
+            None => tangent.factor(0.0),
+        }
+        .map_err(|sp| {
             AttemptError::Failed(format!(
                 "singular tangent at {}",
                 self.equation_label(ord, sp.equation)
