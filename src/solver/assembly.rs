@@ -92,6 +92,9 @@ pub struct Ordering {
     pub n_eq: usize,
     /// The global dof of every equation (the inverse of `eq`).
     pub dof_of: Vec<u32>,
+    /// `Some(g)` where equation e is dof g + e for every e (a chain numbered along itself,
+    /// supports only at its start): `add_scaled` then works on one run of each vector.
+    pub dofs_in_a_row: Option<usize>,
     /// Half-bandwidth.
     pub band: usize,
     /// The contact topology this ordering was built for.
@@ -149,6 +152,10 @@ impl Ordering {
                 dof_of[e as usize] = u32::try_from(g).expect("dofs fit in u32");
             }
         }
+        let dofs_in_a_row = dof_of
+            .first()
+            .map(|&g| g as usize)
+            .filter(|&g| (dof_of.iter().enumerate()).all(|(e, &d)| d as usize == g + e));
         let mut on_beam = vec![Vec::new(); model.beams.len()];
         for (k, l) in links.iter().enumerate() {
             on_beam[l.beam].push(k);
@@ -168,6 +175,7 @@ impl Ordering {
             eq,
             n_eq,
             dof_of,
+            dofs_in_a_row,
             band: 0,
             links: links.to_vec(),
             on_beam,
@@ -190,6 +198,24 @@ impl Ordering {
         }
         ord.band = band;
         ord
+    }
+
+    /// `d[dof_of[e]] += scale x[e]` for every equation e (x over the equations, d over the
+    /// dofs): in one run over slices where the dofs are in a row (`dofs_in_a_row`), the same
+    /// arithmetic either way.
+    pub fn add_scaled(&self, d: &mut [f64], scale: f64, x: &[f64]) {
+        match self.dofs_in_a_row {
+            Some(g) => {
+                for (v, x) in d[g..g + x.len()].iter_mut().zip(x) {
+                    *v += scale * x;
+                }
+            }
+            None => {
+                for (&g, x) in self.dof_of.iter().zip(x) {
+                    d[g as usize] += scale * x;
+                }
+            }
+        }
     }
 
     /// The equation of global dof `g`, if it is free.
@@ -663,6 +689,28 @@ fn add_coupling(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `add_scaled` adds what the equation-by-equation loop over `dof_of` adds, bit for bit,
+    /// both where the dofs are in a row (the Mattiasson cantilever: clamped at its first node)
+    /// and where they are not (Example 3.2: bodies, supports at both ends, contacts).
+    #[test]
+    fn a_scaled_correction_lands_on_the_dofs_of_its_equations() {
+        for (scene, steps, in_a_row) in [("mattiasson", 0, true), ("example_3_2", 30, false)] {
+            let s = crate::test_support::solver_after(scene, steps);
+            let ord = s.ordering_for(&s.contacts);
+            assert_eq!(ord.dofs_in_a_row.is_some(), in_a_row, "{scene}");
+            let x: Vec<f64> = (0..ord.n_eq).map(|e| 0.37 * e as f64 - 1.1).collect();
+            let d0: Vec<f64> = (0..s.dofs.len()).map(|g| (g as f64).sin()).collect();
+            let mut expected = d0.clone();
+            for (e, &g) in ord.dof_of.iter().enumerate() {
+                expected[g as usize] += 0.7 * x[e];
+            }
+            let mut d = d0;
+            ord.add_scaled(&mut d, 0.7, &x);
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&d), bits(&expected), "{scene}");
+        }
+    }
 
     /// The AVX2 build of the assembly (four plain beams at a time) gives the baseline build's
     /// internal forces, reactions, tangent and K_fp dp bit for bit (the element arithmetic is

@@ -425,9 +425,7 @@ impl Solver {
             } else {
                 1.0
             };
-            for (&g, x) in ordering.dof_of.iter().zip(&rhs) {
-                d[g as usize] += scale * x;
-            }
+            ordering.add_scaled(&mut d, scale, &rhs);
             // No entry moved further than the (scaled) correction's norm; the predictor's
             // prescribed part, which is not scaled, by at most as much again.
             bound.moved(if predictor { 2.0 * step } else { scale * step });
