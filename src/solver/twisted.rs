@@ -3,8 +3,9 @@
 //! of at least 2K equations (K the bandwidth); `BandMatrix` (linear.rs) factors that block.
 //! The substitutions run from both ends the same way. A long chain of elements then waits on
 //! half as many pivot-to-pivot latencies (a division each), which is what limits a narrow band
-//! factorisation, not the arithmetic. The kernels are those of `ldlt.rs`, read reversed for
-//! the bottom.
+//! factorisation, not the arithmetic. Given the right-hand side, the forward substitution runs
+//! inside the factorisation, a chunk of columns behind it, while they are in cache. The kernels
+//! are those of `ldlt.rs`, read reversed for the bottom.
 
 use super::ldlt::{
     backward_block, backward_one, first_column, forward_block, forward_one, ldlt_column, load_ring,
