@@ -4,7 +4,7 @@
 
 use super::beam::{BeamElement, ForceConstants, TangentEntries};
 use super::contact_element::{contact_response, ContactOptions};
-use super::linear::{consecutive_first, reverse_cuthill_mckee, BandMatrix, NOT_FREE};
+use super::linear::{consecutive_first, reverse_cuthill_mckee, BandMatrix, NOT_FREE, ZERO_AHEAD};
 use super::model::Model;
 use super::simd::dispatch_wide;
 
@@ -411,7 +411,7 @@ fn assemble_kernel(
     let model = ctx.model;
     let dofs = ctx.dofs;
     let ord = ctx.ordering;
-    refill(&mut out.internal, ord.n_eq, 0.0);
+    let mut internal = Internal::new(std::mem::take(&mut out.internal), ord.n_eq);
     refill(&mut out.held_internal, dofs.held.len(), 0.0);
     refill(
         &mut out.coupling,
@@ -434,7 +434,6 @@ fn assemble_kernel(
     // Every beam and every contact link writes its entry below: resized, not cleared.
     results.beam_forces.resize(model.beams.len(), [0.0; 3]);
     results.contact_forces.resize(ord.links.len(), (0.0, 0.0));
-    let internal = &mut out.internal;
     let held = (&dofs.held[..], &mut out.held_internal[..]);
     let coupling = &mut out.coupling;
     let mut gdofs: Vec<usize> = Vec::with_capacity(12);
@@ -465,7 +464,7 @@ fn assemble_kernel(
                 for (k, b) in pb.into_iter().enumerate() {
                     let (forces, nodal, t) = g.lane(k, &b.constants);
                     let sink = (
-                        &mut *internal,
+                        &mut internal,
                         (held.0, &mut *held.1),
                         tangent.as_mut(),
                         &mut *coupling,
@@ -494,7 +493,7 @@ fn assemble_kernel(
                 .evaluate_entries(xi, xj, phi[0], phi[1], with_tangent);
             results.beam_forces[e] = r.forces;
             let sink = (
-                &mut *internal,
+                &mut internal,
                 (held.0, &mut *held.1),
                 tangent.as_mut(),
                 &mut *coupling,
@@ -535,7 +534,7 @@ fn assemble_kernel(
                 .as_ref()
                 .map(|k| move |a: usize, b: usize| k[(a, b)]);
             let sink = (
-                &mut *internal,
+                &mut internal,
                 (held.0, &mut *held.1),
                 tangent.as_mut(),
                 &mut *coupling,
@@ -548,6 +547,56 @@ fn assemble_kernel(
         band.finish_assembly();
     }
     out.tangent = tangent;
+    out.internal = internal.finish();
+}
+
+/// The internal forces over the free equations while an assembly adds to them. They are
+/// zeroed a block at a time as the elements reach them (in one pass with the assembly, while in
+/// cache, as the band is: `BandMatrix::reset_symmetric_lazily`), not in a pass of their own.
+struct Internal {
+    /// The forces (stale from the last assembly beyond `zeroed`).
+    v: Vec<f64>,
+    /// Entries before this are valid.
+    zeroed: usize,
+}
+
+impl Internal {
+    /// `n` forces over the storage of the last assembly's (`v`), none yet valid.
+    fn new(mut v: Vec<f64>, n: usize) -> Internal {
+        v.truncate(n);
+        v.resize(n, 0.0);
+        Internal { v, zeroed: 0 }
+    }
+
+    /// Make the entries before `end` valid, at least `ZERO_AHEAD` at a time.
+    #[inline(always)]
+    fn zero_to(&mut self, end: usize) {
+        if end > self.zeroed {
+            let to = end.max(self.zeroed + ZERO_AHEAD).min(self.v.len());
+            self.v[self.zeroed..to].fill(0.0);
+            self.zeroed = to;
+        }
+    }
+
+    /// Add `f` to the force of equation `q`.
+    #[inline(always)]
+    fn add(&mut self, q: usize, f: f64) {
+        self.zero_to(q + 1);
+        self.v[q] += f;
+    }
+
+    /// The forces of the six equations from `first` on, ready to add to.
+    #[inline(always)]
+    fn run6(&mut self, first: usize) -> &mut [f64; 6] {
+        self.zero_to(first + 6);
+        (&mut self.v[first..first + 6]).try_into().unwrap()
+    }
+
+    /// The forces, every one valid (those no element reached zeroed).
+    fn finish(mut self) -> Vec<f64> {
+        self.zero_to(self.v.len());
+        self.v
+    }
 }
 
 /// Add a plain beam's nodal forces and (if given) its tangent entries: straight into six
@@ -570,8 +619,7 @@ fn add_plain_beam(
     if first != NOT_FREE {
         // Six free equations in a row (a chain numbered along itself).
         let first = first as usize;
-        let run: &mut [f64; 6] = (&mut internal[first..first + 6]).try_into().unwrap();
-        for (v, f) in run.iter_mut().zip(nodal) {
+        for (v, f) in internal.run6(first).iter_mut().zip(nodal) {
             *v += f;
         }
     } else {
@@ -600,9 +648,9 @@ type Held<'a> = (&'a [usize], &'a mut [f64]);
 /// Add nodal force `f` at global dof `g`, whose equation is `q` (`NOT_FREE` if it has none):
 /// to the free equations' internal forces, or to those at the held dofs.
 #[inline(always)]
-fn add_nodal_force(q: u32, g: usize, f: f64, internal: &mut [f64], (dofs, forces): Held) {
+fn add_nodal_force(q: u32, g: usize, f: f64, internal: &mut Internal, (dofs, forces): Held) {
     if q != NOT_FREE {
-        internal[q as usize] += f;
+        internal.add(q as usize, f);
     } else {
         let k = dofs
             .binary_search(&g)
@@ -614,7 +662,7 @@ fn add_nodal_force(q: u32, g: usize, f: f64, internal: &mut [f64], (dofs, forces
 /// Where element contributions go: internal forces (free equations, then held dofs), the band
 /// tangent, K_fp dp.
 type Sink<'a> = (
-    &'a mut Vec<f64>,
+    &'a mut Internal,
     Held<'a>,
     Option<&'a mut BandMatrix>,
     &'a mut Vec<f64>,
@@ -709,6 +757,58 @@ mod tests {
             ord.add_scaled(&mut d, 0.7, &x);
             let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
             assert_eq!(bits(&d), bits(&expected), "{scene}");
+        }
+    }
+
+    /// An assembly into the buffers of an earlier one (stale internal forces and band, zeroed
+    /// as the elements reach them) gives what an assembly into fresh buffers gives, bit for
+    /// bit: over the buffers of another state of the same model (a long beam of 1000 elements,
+    /// several blocks of lazy zeroing; Example 3.2 with contacts, its equations reached out of
+    /// order) and over those of a larger model.
+    #[test]
+    fn an_assembly_over_old_buffers_is_a_fresh_one() {
+        let long = crate::scaling::long_beam(1000).solver().expect("stable");
+        let mut larger = Assembled::default();
+        let ord = long.ordering_for(&long.contacts);
+        let bent: Vec<f64> = (0..long.d.len()).map(|g| 1e-3 * (g as f64).sin()).collect();
+        assemble_into(&long.context(&ord), &bent, true, None, &mut larger);
+        let contact = crate::test_support::solver_after("example_3_2", 30);
+        for (s, reuse_larger) in [(&long, false), (&contact, false), (&contact, true)] {
+            let ord = s.ordering_for(&s.contacts);
+            let ctx = s.context(&ord);
+            let mut out = if reuse_larger {
+                larger.clone()
+            } else {
+                let other: Vec<f64> = s.d.iter().map(|v| 1.5 * v + 1e-4).collect();
+                assemble(&ctx, &other, true, None)
+            };
+            // A deformed state (the long beam has not been stepped).
+            let now: Vec<f64> = (s.d.iter().enumerate())
+                .map(|(g, v)| v + 1e-4 * (0.3 * g as f64).cos())
+                .collect();
+            assemble_into(&ctx, &now, true, None, &mut out);
+            let fresh = assemble(&ctx, &now, true, None);
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            let case = format!(
+                "{} equations, over a larger model's: {reuse_larger}",
+                ord.n_eq
+            );
+            assert_eq!(bits(&out.internal), bits(&fresh.internal), "{case}");
+            assert_eq!(
+                bits(&out.held_internal),
+                bits(&fresh.held_internal),
+                "{case}"
+            );
+            assert!(fresh.internal.iter().any(|f| *f != 0.0), "{case}: loaded");
+            let (ko, kf) = (
+                out.tangent.expect("tangent"),
+                fresh.tangent.expect("tangent"),
+            );
+            for i in 0..ord.n_eq {
+                for j in i.saturating_sub(ord.band)..(i + ord.band + 1).min(ord.n_eq) {
+                    assert_eq!(ko.get(i, j).to_bits(), kf.get(i, j).to_bits(), "{case}");
+                }
+            }
         }
     }
 

@@ -17,8 +17,9 @@ use super::twisted::{twisted_ldlt, twisted_solve, Twist};
 /// The equation number of a dof that is not free, in `BandMatrix::add_element`.
 pub const NOT_FREE: u32 = u32::MAX;
 
-/// The fewest storage entries a lazily reset band zeroes at a time (4 KiB).
-const ZERO_AHEAD: usize = 512;
+/// The fewest storage entries a lazily reset band (or the assembly's internal forces) zeroes at
+/// a time (4 KiB).
+pub(super) const ZERO_AHEAD: usize = 512;
 
 /// How a band matrix is stored.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
