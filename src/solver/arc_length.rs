@@ -185,7 +185,7 @@ impl Solver {
             }
             // Displacement responses to the unbalanced force and to the reference load.
             let mut qr = rhs;
-            self.factor_tangent(&mut tangent, &ordering, Some(&mut qr))?;
+            self.factor_and_solve(&mut tangent, &ordering, &mut qr)?;
             let mut qf = vec![0.0; ordering.n_eq];
             for (g, e) in ordering.free_dofs() {
                 if free(g) {

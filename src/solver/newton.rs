@@ -203,12 +203,12 @@ impl Solver {
     ) -> (f64, f64) {
         // -(sum J S) + lambda F: the internal forces negated, the few loads added (at their
         // equations, ascending), in one pass with the norm.
-        let mut loads: Vec<(usize, f64)> = (fext.0.iter())
+        let mut at_equations: Vec<(usize, f64)> = (fext.0.iter())
             .filter(|&&(g, _)| ord.eq[g] != NOT_FREE)
             .map(|&(g, f)| (ord.eq[g] as usize, f))
             .collect();
-        loads.sort_unstable_by_key(|&(e, _)| e);
-        let norm = negated_with_loads(&asm.internal, &loads, r).sqrt();
+        at_equations.sort_unstable_by_key(|&(e, _)| e);
+        let norm = negated_with_loads(&asm.internal, &at_equations, r).sqrt();
         let mut reac2 = 0.0;
         let mut loads = fext.0.iter().peekable();
         for (&g, &i) in self.dofs.held.iter().zip(&asm.held_internal) {
@@ -413,7 +413,7 @@ impl Solver {
                 }
                 self.pass_failed(rel, floor, pass_iter, iterations)?;
             }
-            self.factor_tangent(&mut tangent, &ordering, Some(&mut rhs))?;
+            self.factor_and_solve(&mut tangent, &ordering, &mut rhs)?;
             asm.tangent = Some(tangent);
             let mut step2 = sum_squares(&rhs);
             if predictor {
@@ -475,20 +475,16 @@ impl Solver {
         )
     }
 
-    /// Factor the tangent in place, and solve for `rhs` with it if given (in one pass where
-    /// the band allows, `BandMatrix::factor_and_solve`); a vanishing pivot fails the attempt,
-    /// naming its dof.
-    pub(crate) fn factor_tangent(
+    /// Factor the tangent in place and solve for `rhs` with it (in one pass where the band
+    /// allows, `BandMatrix::factor_and_solve`); a vanishing pivot fails the attempt, naming its
+    /// dof.
+    pub(crate) fn factor_and_solve(
         &self,
         tangent: &mut BandMatrix,
         ord: &Ordering,
-        rhs: Option<&mut [f64]>,
+        rhs: &mut [f64],
     ) -> Result<(), AttemptError> {
-        match rhs {
-            Some(rhs) => tangent.factor_and_solve(0.0, rhs),
-            None => tangent.factor(0.0),
-        }
-        .map_err(|sp| {
+        tangent.factor_and_solve(0.0, rhs).map_err(|sp| {
             AttemptError::Failed(format!(
                 "singular tangent at {}",
                 self.equation_label(ord, sp.equation)
