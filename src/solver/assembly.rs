@@ -4,7 +4,7 @@
 
 use super::beam::{BeamElement, ForceConstants, TangentEntries};
 use super::contact_element::{contact_response, ContactOptions};
-use super::linear::{consecutive_first, reverse_cuthill_mckee, BandMatrix, NOT_FREE, ZERO_AHEAD};
+use super::linear::{consecutive_first, reverse_cuthill_mckee, zero_ahead, BandMatrix, NOT_FREE};
 use super::model::Model;
 use super::simd::dispatch_wide;
 
@@ -568,14 +568,10 @@ impl Internal {
         Internal { v, zeroed: 0 }
     }
 
-    /// Make the entries before `end` valid, at least `ZERO_AHEAD` at a time.
+    /// Make the entries before `end` valid (`zero_ahead`).
     #[inline(always)]
     fn zero_to(&mut self, end: usize) {
-        if end > self.zeroed {
-            let to = end.max(self.zeroed + ZERO_AHEAD).min(self.v.len());
-            self.v[self.zeroed..to].fill(0.0);
-            self.zeroed = to;
-        }
+        zero_ahead(&mut self.v, &mut self.zeroed, end);
     }
 
     /// Add `f` to the force of equation `q`.

@@ -17,9 +17,23 @@ use super::twisted::{twisted_ldlt, twisted_solve, Twist};
 /// The equation number of a dof that is not free, in `BandMatrix::add_element`.
 pub const NOT_FREE: u32 = u32::MAX;
 
-/// The fewest storage entries a lazily reset band (or the assembly's internal forces) zeroes at
-/// a time (4 KiB).
-pub(super) const ZERO_AHEAD: usize = 512;
+/// The fewest entries `zero_ahead` zeroes at a time (4 KiB).
+const ZERO_AHEAD: usize = 512;
+
+/// Make the entries of `v` before `end` valid, where those before `*zeroed` are and the rest
+/// are left over from an earlier use: zero from the mark to `end`, but at least `ZERO_AHEAD`
+/// entries (no element has reached those beyond the mark yet), and move the mark. An assembly
+/// that reaches its storage in order so clears it in a few hundred large fills, each while in
+/// cache, rather than in a pass of its own or one small fill per element. (The lazily reset
+/// band, and the assembly's internal forces.)
+#[inline(always)]
+pub(super) fn zero_ahead(v: &mut [f64], zeroed: &mut usize, end: usize) {
+    if end > *zeroed {
+        let to = end.max(*zeroed + ZERO_AHEAD).min(v.len());
+        v[*zeroed..to].fill(0.0);
+        *zeroed = to;
+    }
+}
 
 /// How a band matrix is stored.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -146,16 +160,10 @@ impl BandMatrix {
         self.zero_to(self.ab.len());
     }
 
-    /// Make the storage entries before `end` valid. Zeroes at least `ZERO_AHEAD` entries at a
-    /// time (no element has reached the entries beyond the mark yet), so that an assembly
-    /// clears its band in a few hundred large fills rather than one small fill per element.
+    /// Make the storage entries before `end` valid (`zero_ahead`).
     #[inline]
     fn zero_to(&mut self, end: usize) {
-        if end > self.zeroed {
-            let to = end.max(self.zeroed + ZERO_AHEAD).min(self.ab.len());
-            self.ab[self.zeroed..to].fill(0.0);
-            self.zeroed = to;
-        }
+        zero_ahead(&mut self.ab, &mut self.zeroed, end);
     }
 
     /// Panics if the storage is read while `reset_symmetric_lazily` has left some of it stale.
