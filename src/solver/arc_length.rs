@@ -124,13 +124,16 @@ impl Solver {
         // The assembly buffers (band tangent included) are reused by every iteration.
         let mut asm = Assembled::default();
         loop {
+            let fext = self.external_force(lambda);
+            let loads = Self::loads_at_equations(&fext, &ordering);
             let ctx = AssemblyContext {
                 contact: p.contact_options(pass_iter + 1),
+                loads: &loads,
                 ..self.context(&ordering)
             };
             assemble_into(&ctx, &d, true, None, &mut asm);
-            let fext = self.external_force(lambda);
-            let (rhs, norm, reference) = self.residual(&asm, &fext, &ordering);
+            let (norm, reference) = self.residual_norms(&asm, &fext, fext.sum_squares());
+            let rhs = asm.unbalanced.clone();
             let mut tangent = asm.tangent.take().expect("tangent requested");
             let (scale, floor) = self.roundoff_floor(&tangent, &d, reference);
             if !predictor {

@@ -1,11 +1,13 @@
 //! Assembly: the dof map (which global dofs are free, supported or prescribed), the equation
 //! ordering (reverse Cuthill-McKee over the current element graph, contacts included), and the
-//! global internal force vector and band tangent summed from beam and contact elements.
+//! unbalanced force (loads minus the internal forces, with its norm, settled block by block as
+//! the elements finish with it) and band tangent summed from beam and contact elements.
 
 use super::beam::{BeamElement, ForceConstants, TangentEntries};
 use super::contact_element::{contact_response, ContactOptions};
 use super::linear::{consecutive_first, reverse_cuthill_mckee, zero_ahead, BandMatrix, NOT_FREE};
 use super::model::Model;
+use super::reduce::sum_squares;
 use super::simd::dispatch_wide;
 
 /// What a global dof is.
@@ -111,6 +113,11 @@ pub struct Ordering {
     /// consecutively in local order (`consecutive_first`), else `NOT_FREE`: all the assembly
     /// reads of a beam's equations in the usual case.
     pub beam_first: Vec<u32>,
+    /// For every beam e, and one past the last: no beam from e on (contact nodes included)
+    /// reaches an equation below `final_before[e]` (the smallest equation they reach; `n_eq`
+    /// past the last). The assembly settles the unbalanced force below it (`Internal::settle`)
+    /// as soon as beam e - 1 is in.
+    pub final_before: Vec<u32>,
 }
 
 impl Ordering {
@@ -182,6 +189,7 @@ impl Ordering {
             contact_beams,
             beam_eqs,
             beam_first,
+            final_before: vec![n_eq as u32; model.beams.len() + 1],
         };
         let mut band = 0;
         for (e, b) in model.beams.iter().enumerate() {
@@ -194,7 +202,11 @@ impl Ordering {
                 .collect();
             if let (Some(lo), Some(hi)) = (eqs.iter().min(), eqs.iter().max()) {
                 band = band.max(hi - lo);
+                ord.final_before[e] = *lo as u32;
             }
+        }
+        for e in (0..model.beams.len()).rev() {
+            ord.final_before[e] = ord.final_before[e].min(ord.final_before[e + 1]);
         }
         ord.band = band;
         ord
@@ -248,8 +260,15 @@ pub struct ElementResults {
 /// The assembled global quantities at one state.
 #[derive(Clone, Debug, Default)]
 pub struct Assembled {
-    /// Internal nodal forces sum J S over the free equations (by equation number).
-    pub internal: Vec<f64>,
+    /// The unbalanced force over the free equations (by equation number): the loads given to
+    /// the assembly (`AssemblyContext::loads`) minus the internal nodal forces sum J S.
+    pub unbalanced: Vec<f64>,
+    /// The sum of squares of `unbalanced`, accumulated as `sum_squares` accumulates it (bit for
+    /// bit), in one pass with the assembly.
+    pub unbalanced_norm2: f64,
+    /// Each loaded equation of `unbalanced` and its entry before the load was added (in the
+    /// order added), so that `reload` can load the same internal forces differently.
+    pub unloaded: Vec<(usize, f64)>,
     /// Internal nodal forces sum J S at the dofs that are not free, in the order of
     /// `DofMap::held` (where they balance the reactions).
     pub held_internal: Vec<f64>,
@@ -259,6 +278,25 @@ pub struct Assembled {
     pub coupling: Vec<f64>,
     /// Element results.
     pub elements: ElementResults,
+}
+
+impl Assembled {
+    /// Load the same internal forces with `loads` instead (at equations, ascending): the
+    /// unbalanced force and its sum of squares become, bit for bit, those an assembly given
+    /// `loads` would have. (The next increment's predictor, starting from the converged state
+    /// under a new load factor.)
+    pub fn reload(&mut self, loads: &[(usize, f64)]) {
+        // Undone newest first, so an equation loaded twice gets its first entry back.
+        for &(k, v) in self.unloaded.iter().rev() {
+            self.unbalanced[k] = v;
+        }
+        self.unloaded.clear();
+        for &(k, f) in loads {
+            self.unloaded.push((k, self.unbalanced[k]));
+            self.unbalanced[k] += f;
+        }
+        self.unbalanced_norm2 = sum_squares(&self.unbalanced);
+    }
 }
 
 /// What the assembly reads of a beam with no contact on it, packed into one cache line: the
@@ -324,6 +362,9 @@ pub struct AssemblyContext<'a> {
     pub ordering: &'a Ordering,
     /// Contact element options.
     pub contact: ContactOptions,
+    /// The external forces at their equations (ascending), for the unbalanced force; none
+    /// leaves it `-sum J S`.
+    pub loads: &'a [(usize, f64)],
 }
 
 /// Current position of node `n` and its rotation (0 for 2-dof nodes).
@@ -411,7 +452,12 @@ fn assemble_kernel(
     let model = ctx.model;
     let dofs = ctx.dofs;
     let ord = ctx.ordering;
-    let mut internal = Internal::new(std::mem::take(&mut out.internal), ord.n_eq);
+    let mut internal = Internal::new(
+        std::mem::take(&mut out.unbalanced),
+        ord.n_eq,
+        ctx.loads,
+        std::mem::take(&mut out.unloaded),
+    );
     refill(&mut out.held_internal, dofs.held.len(), 0.0);
     refill(
         &mut out.coupling,
@@ -474,6 +520,7 @@ fn assemble_kernel(
                     add_plain_beam(e + k, b, &nodal, t, (ord, dofs, dp), &mut k6, sink);
                 }
                 e += 4;
+                internal.settle(ord.final_before[e] as usize);
                 continue;
             }
             one_by_one = e + 4;
@@ -542,30 +589,59 @@ fn assemble_kernel(
             add_element(&gdofs, r.nodal.as_slice(), k, ord, dofs, dp, sink);
         }
         e += 1;
+        internal.settle(ord.final_before[e] as usize);
     }
     if let Some(band) = tangent.as_mut() {
         band.finish_assembly();
     }
     out.tangent = tangent;
-    out.internal = internal.finish();
+    (out.unbalanced, out.unbalanced_norm2, out.unloaded) = internal.finish();
 }
 
-/// The internal forces over the free equations while an assembly adds to them. They are
-/// zeroed a block at a time as the elements reach them (in one pass with the assembly, while in
-/// cache, as the band is: `BandMatrix::reset_symmetric_lazily`), not in a pass of their own.
-struct Internal {
-    /// The forces (stale from the last assembly beyond `zeroed`).
+/// The internal forces over the free equations while an assembly adds to them, turned into
+/// the unbalanced force (negated, loaded and summed) block by block as the assembly finishes
+/// with them. They are zeroed a block at a time as the elements reach them (in one pass with
+/// the assembly, while in cache, as the band is: `BandMatrix::reset_symmetric_lazily`), not
+/// in a pass of their own; and settled (`settle`) while still in cache, not in a pass of
+/// their own either.
+struct Internal<'a> {
+    /// The forces (stale from the last assembly beyond `zeroed`; the unbalanced force before
+    /// `settled`).
     v: Vec<f64>,
     /// Entries before this are valid.
     zeroed: usize,
+    /// Entries before this (a multiple of 4 until `finish`) are final: negated, loaded and
+    /// summed into `acc`.
+    settled: usize,
+    /// The loads not yet added (at equations, ascending).
+    loads: &'a [(usize, f64)],
+    /// The loaded equations and their entries before the load (`Assembled::unloaded`).
+    unloaded: Vec<(usize, f64)>,
+    /// The sum of squares of the settled entries in four partial sums, entry k in `acc[k % 4]`
+    /// (as `sum_squares` has them).
+    acc: [f64; 4],
 }
 
-impl Internal {
-    /// `n` forces over the storage of the last assembly's (`v`), none yet valid.
-    fn new(mut v: Vec<f64>, n: usize) -> Internal {
+impl<'a> Internal<'a> {
+    /// `n` forces over the storage of the last assembly's (`v`, and `unloaded`), none yet
+    /// valid, to be loaded with `loads`.
+    fn new(
+        mut v: Vec<f64>,
+        n: usize,
+        loads: &'a [(usize, f64)],
+        mut unloaded: Vec<(usize, f64)>,
+    ) -> Internal<'a> {
         v.truncate(n);
         v.resize(n, 0.0);
-        Internal { v, zeroed: 0 }
+        unloaded.clear();
+        Internal {
+            v,
+            zeroed: 0,
+            settled: 0,
+            loads,
+            unloaded,
+            acc: [0.0; 4],
+        }
     }
 
     /// Make the entries before `end` valid (`zero_ahead`).
@@ -577,6 +653,10 @@ impl Internal {
     /// Add `f` to the force of equation `q`.
     #[inline(always)]
     fn add(&mut self, q: usize, f: f64) {
+        debug_assert!(
+            q >= self.settled,
+            "equation {q} added to after it was settled"
+        );
         self.zero_to(q + 1);
         self.v[q] += f;
     }
@@ -584,14 +664,82 @@ impl Internal {
     /// The forces of the six equations from `first` on, ready to add to.
     #[inline(always)]
     fn run6(&mut self, first: usize) -> &mut [f64; 6] {
+        debug_assert!(
+            first >= self.settled,
+            "equation {first} added to after it was settled"
+        );
         self.zero_to(first + 6);
         (&mut self.v[first..first + 6]).try_into().unwrap()
     }
 
-    /// The forces, every one valid (those no element reached zeroed).
-    fn finish(mut self) -> Vec<f64> {
-        self.zero_to(self.v.len());
-        self.v
+    /// No element adds to the equations before `end` any more (`Ordering::final_before`):
+    /// settle their whole blocks of four.
+    #[inline(always)]
+    fn settle(&mut self, end: usize) {
+        if end >= self.settled + 4 {
+            self.settle_blocks(end & !3);
+        }
+    }
+
+    /// Settle the entries from `settled` to `end` (a multiple of 4): negate each block of
+    /// four, add its loads, and add the squares to the partial sums, as
+    /// `reduce::negated_with_loads` does.
+    #[inline(always)]
+    fn settle_blocks(&mut self, end: usize) {
+        self.zero_to(end);
+        let start = self.settled;
+        let mut acc = self.acc;
+        let blocks = self.v[start..end].chunks_exact_mut(4);
+        if self.loads.first().is_none_or(|&(k, _)| k >= end) {
+            // No load among them (the usual case).
+            for o in blocks {
+                for (a, x) in acc.iter_mut().zip(o) {
+                    *x = -*x;
+                    *a += *x * *x;
+                }
+            }
+        } else {
+            for (b, o) in blocks.enumerate() {
+                let base = start + 4 * b;
+                for x in o.iter_mut() {
+                    *x = -*x;
+                }
+                while let Some((&(k, f), rest)) = self.loads.split_first() {
+                    if k >= base + 4 {
+                        break;
+                    }
+                    self.unloaded.push((k, o[k - base]));
+                    o[k - base] += f;
+                    self.loads = rest;
+                }
+                for (a, x) in acc.iter_mut().zip(o.iter()) {
+                    *a += x * x;
+                }
+            }
+        }
+        self.acc = acc;
+        self.settled = end;
+    }
+
+    /// The unbalanced force, its sum of squares and the loaded equations' entries before
+    /// their loads: the rest settled (those no element reached zeroed).
+    fn finish(mut self) -> (Vec<f64>, f64, Vec<(usize, f64)>) {
+        let n = self.v.len();
+        self.zero_to(n);
+        self.settle_blocks(n & !3);
+        let whole = self.settled;
+        for x in &mut self.v[whole..] {
+            *x = -*x;
+        }
+        for &(k, f) in self.loads {
+            self.unloaded.push((k, self.v[k]));
+            self.v[k] += f;
+        }
+        let acc = self.acc;
+        let norm2 = self.v[whole..]
+            .iter()
+            .fold((acc[0] + acc[1]) + (acc[2] + acc[3]), |s, x| s + x * x);
+        (self.v, norm2, self.unloaded)
     }
 }
 
@@ -644,7 +792,7 @@ type Held<'a> = (&'a [usize], &'a mut [f64]);
 /// Add nodal force `f` at global dof `g`, whose equation is `q` (`NOT_FREE` if it has none):
 /// to the free equations' internal forces, or to those at the held dofs.
 #[inline(always)]
-fn add_nodal_force(q: u32, g: usize, f: f64, internal: &mut Internal, (dofs, forces): Held) {
+fn add_nodal_force(q: u32, g: usize, f: f64, internal: &mut Internal<'_>, (dofs, forces): Held) {
     if q != NOT_FREE {
         internal.add(q as usize, f);
     } else {
@@ -657,8 +805,8 @@ fn add_nodal_force(q: u32, g: usize, f: f64, internal: &mut Internal, (dofs, for
 
 /// Where element contributions go: internal forces (free equations, then held dofs), the band
 /// tangent, K_fp dp.
-type Sink<'a> = (
-    &'a mut Internal,
+type Sink<'a, 'b> = (
+    &'a mut Internal<'b>,
     Held<'a>,
     Option<&'a mut BandMatrix>,
     &'a mut Vec<f64>,
@@ -733,6 +881,8 @@ fn add_coupling(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::solver::reduce::negated_with_loads;
+    use crate::solver::Solver;
 
     /// `add_scaled` adds what the equation-by-equation loop over `dof_of` adds, bit for bit,
     /// both where the dofs are in a row (the Mattiasson cantilever: clamped at its first node)
@@ -789,13 +939,13 @@ mod tests {
                 "{} equations, over a larger model's: {reuse_larger}",
                 ord.n_eq
             );
-            assert_eq!(bits(&out.internal), bits(&fresh.internal), "{case}");
+            assert_eq!(bits(&out.unbalanced), bits(&fresh.unbalanced), "{case}");
             assert_eq!(
                 bits(&out.held_internal),
                 bits(&fresh.held_internal),
                 "{case}"
             );
-            assert!(fresh.internal.iter().any(|f| *f != 0.0), "{case}: loaded");
+            assert!(fresh.unbalanced.iter().any(|f| *f != 0.0), "{case}: loaded");
             let (ko, kf) = (
                 out.tangent.expect("tangent"),
                 fresh.tangent.expect("tangent"),
@@ -804,6 +954,92 @@ mod tests {
                 for j in i.saturating_sub(ord.band)..(i + ord.band + 1).min(ord.n_eq) {
                     assert_eq!(ko.get(i, j).to_bits(), kf.get(i, j).to_bits(), "{case}");
                 }
+            }
+        }
+    }
+
+    /// The unbalanced force settled block by block during the assembly is, bit for bit, the
+    /// separate pass over the internal forces (`reduce::negated_with_loads`, which Newton
+    /// used before) and its sum of squares: on a chain of 1000 elements (equations in a row,
+    /// settled as the elements go) and on Example 3.2 with contacts (equations reached out of
+    /// order, most settled at the end), with the scene's own loads (none for Example 3.2) and with loads at the first
+    /// equation, on both sides of a block boundary, in the middle and in the last,
+    /// incomplete block. `reload` then gives what an assembly with the other loads gives.
+    #[test]
+    fn the_unbalanced_force_settled_during_assembly_is_the_separate_pass() {
+        let long = crate::scaling::long_beam(1002).solver().expect("stable");
+        let contact = crate::test_support::solver_after("example_3_2", 30);
+        for s in [&long, &contact] {
+            let ord = s.ordering_for(&s.contacts);
+            let n = ord.n_eq;
+            assert!(
+                n % 4 != 0,
+                "{n} equations: the last block must be incomplete"
+            );
+            let now: Vec<f64> = (s.d.iter().enumerate())
+                .map(|(g, v)| v + 1e-4 * (0.3 * g as f64).cos())
+                .collect();
+            let bare = assemble(&s.context(&ord), &now, true, None);
+            let internal: Vec<f64> = bare.unbalanced.iter().map(|u| -u).collect();
+            assert_eq!(
+                bare.unbalanced_norm2.to_bits(),
+                sum_squares(&bare.unbalanced).to_bits()
+            );
+            let scene = Solver::loads_at_equations(&s.external_force(1.0), &ord);
+            let mut spread: Vec<(usize, f64)> = [0, 3, 4, n / 2, n - 2, n - 1]
+                .iter()
+                .map(|&k| (k, 0.25 + k as f64))
+                .collect();
+            spread.dedup_by_key(|l| l.0);
+            let mut last: Option<Assembled> = None;
+            // The long beam is loaded; Example 3.2 is driven by a prescribed displacement.
+            assert_eq!(scene.is_empty(), s.model.beams.len() != 1002);
+            for loads in [&scene, &spread] {
+                let ctx = AssemblyContext {
+                    loads,
+                    ..s.context(&ord)
+                };
+                let asm = assemble(&ctx, &now, true, None);
+                let mut expected = Vec::new();
+                let norm2 = negated_with_loads(&internal, loads, &mut expected);
+                let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                assert_eq!(bits(&asm.unbalanced), bits(&expected), "{n} equations");
+                assert_eq!(asm.unbalanced_norm2.to_bits(), norm2.to_bits());
+                if let Some(mut other) = last.take() {
+                    other.reload(loads);
+                    assert_eq!(bits(&other.unbalanced), bits(&expected), "reloaded");
+                    assert_eq!(other.unbalanced_norm2.to_bits(), norm2.to_bits());
+                }
+                last = Some(asm);
+            }
+        }
+    }
+
+    /// `Ordering::final_before` is the smallest equation any beam from e on reaches, its
+    /// contact nodes included (found here by looking at every later beam): on a chain and on
+    /// Example 3.2 with contacts.
+    #[test]
+    fn no_beam_reaches_below_its_final_equation() {
+        for (scene, steps) in [("mattiasson", 0), ("example_3_2", 30)] {
+            let s = crate::test_support::solver_after(scene, steps);
+            let ord = s.ordering_for(&s.contacts);
+            assert!(!ord.links.is_empty() || scene == "mattiasson");
+            let reach = |e: usize| -> Vec<u32> {
+                let b = &s.model.beams[e];
+                let mut nodes = vec![b.i, b.j];
+                nodes.extend(ord.on_beam[e].iter().map(|&k| ord.links[k].node));
+                (nodes.iter())
+                    .flat_map(|&n| (0..s.model.node_dofs(n)).map(move |o| (n, o)))
+                    .map(|(n, o)| ord.eq[s.dofs.dof(n, o)])
+                    .filter(|&q| q != NOT_FREE)
+                    .collect()
+            };
+            let nb = s.model.beams.len();
+            assert_eq!(ord.final_before.len(), nb + 1);
+            assert_eq!(ord.final_before[nb] as usize, ord.n_eq);
+            for e in 0..nb {
+                let lowest = (e..nb).flat_map(reach).min().unwrap_or(ord.n_eq as u32);
+                assert_eq!(ord.final_before[e], lowest, "{scene}: beam {e}");
             }
         }
     }
@@ -855,12 +1091,12 @@ mod tests {
                     )
                 };
                 let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-                assert_eq!(bits(&base.internal), bits(&wide.internal), "{scene}");
+                assert_eq!(bits(&base.unbalanced), bits(&wide.unbalanced), "{scene}");
                 assert_eq!(bits(&base.held_internal), bits(&wide.held_internal));
                 assert_eq!(bits(&base.coupling), bits(&wide.coupling), "{scene}");
                 let forces = |a: &Assembled| bits(a.elements.beam_forces.concat().as_slice());
                 assert_eq!(forces(&base), forces(&wide), "{scene}");
-                let all = base.internal.iter().chain(&base.held_internal);
+                let all = base.unbalanced.iter().chain(&base.held_internal);
                 let biggest = all.fold(0.0f64, |m, f| m.max(f.abs()));
                 assert!(biggest > 1e-6, "{scene}: a loaded state ({biggest})");
                 if scene == "example_3_2" {

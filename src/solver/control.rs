@@ -193,6 +193,7 @@ impl Solver {
             dofs: &self.dofs,
             ordering: ord,
             contact: self.params.contact_options(usize::MAX),
+            loads: &[],
         }
     }
 
@@ -230,10 +231,11 @@ impl Solver {
         let asm = assemble(&ctx, d, true, None);
         let fext = self.external_force(self.load_factor);
         let free: Vec<usize> = ord.dof_of.iter().map(|&g| g as usize).collect();
+        // Assembled with no loads: the unbalanced force is -sum J S.
         let r = free
             .iter()
-            .zip(&asm.internal)
-            .map(|(&g, i)| fext.at(g) - i)
+            .zip(&asm.unbalanced)
+            .map(|(&g, u)| fext.at(g) + u)
             .collect();
         let k = asm.tangent.expect("tangent");
         let dense = nalgebra::DMatrix::from_fn(ord.n_eq, ord.n_eq, |i, j| k.get(i, j));
@@ -414,7 +416,9 @@ impl Solver {
             .collect();
         let contacts = self.contacts.states(self, &c.assembled);
         let Assembled {
-            internal,
+            unbalanced,
+            unbalanced_norm2,
+            unloaded,
             held_internal,
             tangent,
             elements,
@@ -423,7 +427,9 @@ impl Solver {
         self.converged_assembly.keep(
             self.increment,
             Assembled {
-                internal,
+                unbalanced,
+                unbalanced_norm2,
+                unloaded,
                 held_internal,
                 tangent,
                 coupling: Vec::new(),

@@ -8,7 +8,7 @@ use super::contact::ContactSet;
 use super::control::Solver;
 use super::linear::{BandMatrix, NOT_FREE};
 use super::loads::ExternalForce;
-use super::reduce::{negated_with_loads, sum_squares};
+use super::reduce::sum_squares;
 use super::report::{ContactChange, Event, Flow, IterationRecord, Observer};
 
 /// A residual within this factor of the round-off floor counts as stagnated.
@@ -176,39 +176,26 @@ impl IterationLog {
 }
 
 impl Solver {
-    /// The unbalanced force over the free equations, its norm and the reference force, for a
-    /// given assembly.
-    pub(crate) fn residual(
-        &self,
-        asm: &Assembled,
-        fext: &ExternalForce,
-        ord: &Ordering,
-    ) -> (Vec<f64>, f64, f64) {
-        let mut r = Vec::new();
-        let (norm, reference) = self.residual_into(asm, fext, fext.sum_squares(), ord, &mut r);
-        (r, norm, reference)
+    /// The external force `fext` at its equations in `ord`, ascending (dofs that are not free
+    /// left out): what the assembly loads the unbalanced force with (`AssemblyContext::loads`).
+    pub(crate) fn loads_at_equations(fext: &ExternalForce, ord: &Ordering) -> Vec<(usize, f64)> {
+        let mut at: Vec<(usize, f64)> = (fext.0.iter())
+            .filter(|&&(g, _)| ord.eq[g] != NOT_FREE)
+            .map(|&(g, f)| (ord.eq[g] as usize, f))
+            .collect();
+        at.sort_unstable_by_key(|&(e, _)| e);
+        at
     }
 
-    /// `residual` into a reused vector, for the external force `fext` whose sum of squares is
-    /// `ext2` (constant over an attempt): returns the residual norm and the reference force.
-    /// The reference is the larger of the external force and the reactions (internal minus
-    /// external force at the held dofs).
-    pub(crate) fn residual_into(
+    /// The norm of the unbalanced force of `asm` (assembled, or reloaded, with the external
+    /// force `fext`, whose sum of squares is `ext2`) and the reference force: the larger of
+    /// the external force and the reactions (internal minus external force at the held dofs).
+    pub(crate) fn residual_norms(
         &self,
         asm: &Assembled,
         fext: &ExternalForce,
         ext2: f64,
-        ord: &Ordering,
-        r: &mut Vec<f64>,
     ) -> (f64, f64) {
-        // -(sum J S) + lambda F: the internal forces negated, the few loads added (at their
-        // equations, ascending), in one pass with the norm.
-        let mut at_equations: Vec<(usize, f64)> = (fext.0.iter())
-            .filter(|&&(g, _)| ord.eq[g] != NOT_FREE)
-            .map(|&(g, f)| (ord.eq[g] as usize, f))
-            .collect();
-        at_equations.sort_unstable_by_key(|&(e, _)| e);
-        let norm = negated_with_loads(&asm.internal, &at_equations, r).sqrt();
         let mut reac2 = 0.0;
         let mut loads = fext.0.iter().peekable();
         for (&g, &i) in self.dofs.held.iter().zip(&asm.held_internal) {
@@ -220,7 +207,7 @@ impl Solver {
             reac2 += (i - f) * (i - f);
         }
         let reference = ext2.sqrt().max(reac2.sqrt()).max(self.force_floor);
-        (norm, reference)
+        (asm.unbalanced_norm2.sqrt(), reference)
     }
 
     /// The error for a node found deeper through a body than `max_penetration` at a converged
@@ -321,14 +308,18 @@ impl Solver {
             }
         }
         loop {
+            let loads = Self::loads_at_equations(&fext, &ordering);
             let ctx = AssemblyContext {
                 contact: p.contact_options(pass_iter + 1),
+                loads: &loads,
                 ..self.context(&ordering)
             };
-            if !std::mem::take(&mut reuse) {
+            if std::mem::take(&mut reuse) {
+                asm.reload(&loads);
+            } else {
                 assemble_into(&ctx, &d, true, predictor.then_some(dp.as_slice()), &mut asm);
             }
-            let (norm, reference) = self.residual_into(&asm, &fext, ext2, &ordering, &mut rhs);
+            let (norm, reference) = self.residual_norms(&asm, &fext, ext2);
             if springback && !predictor && !contacts.one_at_a_time {
                 let released =
                     contacts.release_tensile(self, &asm, increment, iterations, &mut events);
@@ -340,10 +331,10 @@ impl Solver {
             }
             let mut tangent = asm.tangent.take().expect("tangent requested");
             if predictor {
-                for (e, c) in rhs.iter_mut().zip(&asm.coupling) {
+                for (e, c) in asm.unbalanced.iter_mut().zip(&asm.coupling) {
                     *e -= c;
                 }
-                log.r0 = Some(sum_squares(&rhs).sqrt());
+                log.r0 = Some(sum_squares(&asm.unbalanced).sqrt());
             } else {
                 let rel = norm / reference;
                 log.record(
@@ -413,6 +404,9 @@ impl Solver {
                 }
                 self.pass_failed(rel, floor, pass_iter, iterations)?;
             }
+            // The unbalanced force is the right-hand side, which the solve overwrites; the next
+            // assembly gets the last right-hand side's storage.
+            std::mem::swap(&mut rhs, &mut asm.unbalanced);
             self.factor_and_solve(&mut tangent, &ordering, &mut rhs)?;
             asm.tangent = Some(tangent);
             let mut step2 = sum_squares(&rhs);
