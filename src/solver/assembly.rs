@@ -598,6 +598,10 @@ fn assemble_kernel(
     (out.unbalanced, out.unbalanced_norm2, out.unloaded) = internal.finish();
 }
 
+/// The fewest equations `Internal::settle` takes at a time: enough to pay for the call, few
+/// enough (1 KiB) to be in L1 still.
+const SETTLE_BATCH: usize = 128;
+
 /// The internal forces over the free equations while an assembly adds to them, turned into
 /// the unbalanced force (negated, loaded and summed) block by block as the assembly finishes
 /// with them. They are zeroed a block at a time as the elements reach them (in one pass with
@@ -673,10 +677,10 @@ impl<'a> Internal<'a> {
     }
 
     /// No element adds to the equations before `end` any more (`Ordering::final_before`):
-    /// settle their whole blocks of four.
+    /// settle their whole blocks of four, in batches of at least `SETTLE_BATCH` equations.
     #[inline(always)]
     fn settle(&mut self, end: usize) {
-        if end >= self.settled + 4 {
+        if end >= self.settled + SETTLE_BATCH {
             self.settle_blocks(end & !3);
         }
     }
