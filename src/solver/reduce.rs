@@ -19,7 +19,8 @@ pub fn sum_squares(v: &[f64]) -> f64 {
 /// `out = -v` with `f` added at each `(k, f)` of `loads` (ascending k, each k once), and the
 /// sum of squares of `out`, in one pass over the vectors: the sum is accumulated as
 /// `sum_squares(out)` accumulates it, bit for bit. (The unbalanced force of a Newton iteration
-/// and its norm: the internal forces negated, the few loads added.)
+/// and its norm from the internal forces, in a pass of its own: the assembly now settles the same
+/// arithmetic block by block as it goes, and is tested against this.)
 pub fn negated_with_loads(v: &[f64], loads: &[(usize, f64)], out: &mut Vec<f64>) -> f64 {
     let n = v.len();
     if out.len() != n {
