@@ -686,8 +686,8 @@ impl<'a> Internal<'a> {
     }
 
     /// Settle the entries from `settled` to `end` (a multiple of 4): negate each block of
-    /// four, add its loads, and add the squares to the partial sums, as
-    /// `reduce::negated_with_loads` does.
+    /// four, add its loads, and add the squares to the partial sums (entry k into `acc[k % 4]`,
+    /// as `sum_squares` sums).
     #[inline(always)]
     fn settle_blocks(&mut self, end: usize) {
         self.zero_to(end);
@@ -885,7 +885,6 @@ fn add_coupling(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::solver::reduce::negated_with_loads;
     use crate::solver::Solver;
 
     /// `add_scaled` adds what the equation-by-equation loop over `dof_of` adds, bit for bit,
@@ -962,9 +961,9 @@ mod tests {
         }
     }
 
-    /// The unbalanced force settled block by block during the assembly is, bit for bit, the
-    /// separate pass over the internal forces (`reduce::negated_with_loads`, which Newton
-    /// used before) and its sum of squares: on a chain of 1000 elements (equations in a row,
+    /// The unbalanced force settled block by block during the assembly is, bit for bit, what
+    /// separate passes over the internal forces give (negate them, add the loads, then
+    /// `sum_squares`, as Newton did before): on a chain of 1000 elements (equations in a row,
     /// settled as the elements go) and on Example 3.2 with contacts (equations reached out of
     /// order, most settled at the end), with the scene's own loads (none for Example 3.2) and with loads at the first
     /// equation, on both sides of a block boundary, in the middle and in the last,
@@ -1004,8 +1003,11 @@ mod tests {
                     ..s.context(&ord)
                 };
                 let asm = assemble(&ctx, &now, true, None);
-                let mut expected = Vec::new();
-                let norm2 = negated_with_loads(&internal, loads, &mut expected);
+                let mut expected: Vec<f64> = internal.iter().map(|i| -i).collect();
+                for &(k, f) in loads.iter() {
+                    expected[k] += f;
+                }
+                let norm2 = sum_squares(&expected);
                 let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
                 assert_eq!(bits(&asm.unbalanced), bits(&expected), "{n} equations");
                 assert_eq!(asm.unbalanced_norm2.to_bits(), norm2.to_bits());
