@@ -150,7 +150,7 @@ impl Solver {
                         active_contacts: contacts.active.len(),
                     },
                 )?;
-                let at_floor = stall.at_floor(rel, floor, last_step, scale);
+                let at_floor = stall.at_floor(rel, floor, ordering.n_eq, last_step, scale);
                 if rel <= p.tolerance.max(p.roundoff_factor * floor) || at_floor {
                     let changed = contacts.after_convergence(
                         self,

@@ -21,10 +21,18 @@ const STALL_ITERATIONS: usize = 3;
 /// ... and once the displacement correction has shrunk below this fraction of the coordinates.
 const STALL_STEP: f64 = 1e-10;
 
-/// Round-off stagnation of one Newton pass: once the residual is below the floor estimate and
-/// has stopped falling (no halving of the best value for `STALL_ITERATIONS` iterations) while the
-/// corrections have vanished, Newton cannot get closer: the state is accepted and its residual
-/// reported.
+/// The factor by which the round-off of a residual norm over `n_eq` equations can exceed the
+/// floor estimate, which is that of one equation (`eps max|K_ii| |x|`): each equation rounds
+/// on its own, and the norm sums their squares, so up to sqrt(n_eq).
+pub(crate) fn norm_spread(n_eq: usize) -> f64 {
+    (n_eq.max(1) as f64).sqrt()
+}
+
+/// Round-off stagnation of one Newton pass: once the residual has stopped falling (no halving
+/// of the best value for `STALL_ITERATIONS` iterations) while the corrections have vanished,
+/// and lies within `STAGNATION` times the round-off a residual norm over all the equations can
+/// have (the floor estimate times `norm_spread`), Newton cannot get closer: the state is
+/// accepted and its residual reported.
 pub(crate) struct Stall {
     best: f64,
     count: usize,
@@ -39,15 +47,25 @@ impl Stall {
     }
 
     /// Record the relative residual `rel` of an iteration; true if the pass has stalled at the
-    /// round-off floor `floor`, with a last correction `step` against coordinates of size `scale`.
-    pub(crate) fn at_floor(&mut self, rel: f64, floor: f64, step: f64, scale: f64) -> bool {
+    /// round-off floor `floor` of a system of `n_eq` equations, with a last correction `step`
+    /// against coordinates of size `scale`.
+    pub(crate) fn at_floor(
+        &mut self,
+        rel: f64,
+        floor: f64,
+        n_eq: usize,
+        step: f64,
+        scale: f64,
+    ) -> bool {
         if rel < 0.5 * self.best {
             self.count = 0;
         } else {
             self.count += 1;
         }
         self.best = self.best.min(rel);
-        self.count >= STALL_ITERATIONS && rel <= STAGNATION * floor && step <= STALL_STEP * scale
+        self.count >= STALL_ITERATIONS
+            && rel <= STAGNATION * norm_spread(n_eq) * floor
+            && step <= STALL_STEP * scale
     }
 }
 
@@ -96,7 +114,7 @@ impl FloorBound {
         params: &super::params::SolverParams,
         pass_iter: usize,
     ) -> bool {
-        let widest = STAGNATION.max(params.roundoff_factor);
+        let widest = (STAGNATION * norm_spread(tangent.len())).max(params.roundoff_factor);
         !(rel > params.tolerance
             && pass_iter < params.max_iterations
             && rel > widest * self.get(tangent, reference).1)
@@ -354,7 +372,7 @@ impl Solver {
                 } else {
                     bound.get(&tangent, reference)
                 };
-                let at_floor = stall.at_floor(rel, floor, last_step, scale);
+                let at_floor = stall.at_floor(rel, floor, ordering.n_eq, last_step, scale);
                 let accepted = rel <= p.tolerance.max(p.roundoff_factor * floor) || at_floor;
                 // At the round-off floor the state is as converged as it can be: let the contact
                 // state settle there too (e.g. a node that must slide off a tip), even if the
