@@ -8,6 +8,7 @@ pub mod app;
 pub mod contact_scaling;
 pub mod history;
 pub mod interactive;
+pub mod pin_elastica;
 pub mod plain_chain;
 pub mod scaling;
 pub mod scene;

@@ -28,7 +28,7 @@ fn solve_piped_into_head_exits_quietly() {
 }
 
 /// `bench --quick --out DIR` makes DIR (two levels that do not exist yet) and writes the CSV
-/// there, one line per measured point after the header (32 points in the quick report: 4
+/// there, one line per measured point after the header (40 points in the quick report: 5
 /// problems, 2 formulations, 4 meshes). An output path below a regular file cannot be a folder:
 /// exit status 2 and an error that names the path, before any measuring.
 #[test]
@@ -47,7 +47,7 @@ fn bench_makes_its_output_folder_or_names_it() {
     let stderr = String::from_utf8_lossy(&made.stderr);
     assert_eq!(made.status.code(), Some(0), "stderr: {stderr}");
     let csv = std::fs::read_to_string(out.join("work-precision.csv")).expect("CSV written");
-    assert_eq!(csv.lines().count(), 1 + 32, "{csv}");
+    assert_eq!(csv.lines().count(), 1 + 40, "{csv}");
     assert!(out.join("work-precision.svg").is_file());
     let file = root.join("a-file");
     std::fs::write(&file, "not a folder").expect("writable");

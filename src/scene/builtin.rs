@@ -29,6 +29,10 @@ pub const BUILTIN: &[(&str, &str)] = &[
         include_str!("../../assets/scenes/lee_frame.ron"),
     ),
     ("comb.ron", include_str!("../../assets/scenes/comb.ron")),
+    (
+        "pin_on_cantilever.ron",
+        include_str!("../../assets/scenes/pin_on_cantilever.ron"),
+    ),
 ];
 
 /// The RON text of a built-in scene by file name (with or without `.ron`).
