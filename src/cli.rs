@@ -363,7 +363,7 @@ fn bench(quick: bool, out: &Path) -> i32 {
     if let Err(code) = output_folder(out) {
         return code;
     }
-    let points = wp::measure(quick);
+    let (points, failed) = wp::measure(quick);
     let write = |name: &str, text: String| {
         let path = out.join(name);
         tsm_contact::history::write_atomic(&path, text.as_bytes())
@@ -381,6 +381,7 @@ fn bench(quick: bool, out: &Path) -> i32 {
         out.display(),
         points.len()
     );
+    out!("{}", wp::failures(&failed));
     use tsm_contact::interactive;
     let repeats = if quick { 3 } else { 11 };
     let rows: Vec<_> = interactive::SCENES

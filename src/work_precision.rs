@@ -238,8 +238,22 @@ fn point(
     }
 }
 
-/// Every point of the report. `quick` uses fewer meshes and repeats.
-pub fn measure(quick: bool) -> Vec<Point> {
+/// A run of the report that did not converge (no point for it).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Failed {
+    /// Problem name.
+    pub problem: String,
+    /// Element formulation.
+    pub formulation: Formulation,
+    /// Elements in the mesh.
+    pub elements: usize,
+    /// Newton tolerance (relative residual).
+    pub tolerance: f64,
+}
+
+/// Every point of the report, and the runs that did not converge. `quick` uses fewer meshes
+/// and repeats.
+pub fn measure(quick: bool) -> (Vec<Point>, Vec<Failed>) {
     let meshes: &[usize] = if quick {
         &[4, 8, 16, 32]
     } else {
@@ -247,19 +261,44 @@ pub fn measure(quick: bool) -> Vec<Point> {
     };
     let tols: &[f64] = if quick { &[1e-8] } else { &[1e-6, 1e-8, 1e-10] };
     let repeats = if quick { 1 } else { 5 };
-    let mut out = Vec::new();
+    let (mut out, mut failed) = (Vec::new(), Vec::new());
     for f in [Formulation::BernoulliEuler, Formulation::Timoshenko] {
         for &tol in tols {
             for &n in meshes {
-                for k in 0..MATTIASSON.len() {
-                    out.extend(mattiasson(k, n, f, tol, repeats));
+                let mut take = |problem: String, p: Option<Point>| match p {
+                    Some(p) => out.push(p),
+                    None => failed.push(Failed {
+                        problem,
+                        formulation: f,
+                        elements: n,
+                        tolerance: tol,
+                    }),
+                };
+                for (k, (load, _, _)) in MATTIASSON.iter().enumerate() {
+                    take(
+                        format!("Mattiasson k={load}"),
+                        mattiasson(k, n, f, tol, repeats),
+                    );
                 }
-                out.extend(end_moment(n, f, tol, repeats));
-                out.extend(pin_contact(n, f, tol, repeats));
+                take("End moment 2 pi".into(), end_moment(n, f, tol, repeats));
+                take("Pin contact".into(), pin_contact(n, f, tol, repeats));
             }
         }
     }
-    out
+    (out, failed)
+}
+
+/// The runs that did not converge, a line each (empty if none).
+pub fn failures(failed: &[Failed]) -> String {
+    let mut s = String::new();
+    for r in failed {
+        let _ = writeln!(
+            s,
+            "did not converge: {}, {:?}, {} elements, tolerance {:e}",
+            r.problem, r.formulation, r.elements, r.tolerance
+        );
+    }
+    s
 }
 
 /// CSV text of the points.
