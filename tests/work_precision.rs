@@ -94,3 +94,21 @@ fn pin_contact_converges_to_reissners_beam() {
         "Bernoulli-Euler: force {force:e} arc {arc:e}"
     );
 }
+
+/// The roll-up on 1024 elements (3,072 equations) stalls at its round-off floor in every
+/// increment, at about 12 times one equation's floor: Newton's stall test must allow for the
+/// round-off of a residual norm over all the equations (sqrt(n) times one equation's), or the
+/// run fails after its cut-backs. It converges, and to the regular polygon (the middle node
+/// within 1e-6 of the polygon's error, 5.0e-7 L).
+#[test]
+fn roll_up_on_1024_elements_converges_at_round_off() {
+    use std::f64::consts::PI;
+    let n = 1024;
+    let p = end_moment(n, Formulation::BernoulliEuler, 1e-8, 1).expect("converges");
+    let polygon = (1.0 / n as f64) / (PI / n as f64).sin() - 1.0 / PI;
+    assert!(
+        (p.error - polygon).abs() <= 1e-6 * polygon,
+        "error {} polygon {polygon}",
+        p.error
+    );
+}
