@@ -39,6 +39,17 @@ pub const MATTIASSON: [(f64, f64, f64); 3] = [
     (10.0, 0.554995598, 0.810609025),
 ];
 
+/// The report's name of the end-moment problem.
+const END_MOMENT: &str = "End moment 2 pi";
+
+/// The report's name of the contact problem.
+const PIN_CONTACT: &str = "Pin contact";
+
+/// The report's name of Mattiasson's problem at load k.
+fn mattiasson_name(k: f64) -> String {
+    format!("Mattiasson k={k}")
+}
+
 fn builtin_text(file: &str) -> &'static str {
     crate::scene::builtin::text(file).expect("built-in scene")
 }
@@ -117,15 +128,7 @@ pub fn mattiasson(
     let recs = recs?;
     let tip = recs.last()?.nodes[n];
     let error = ((1.0 - tip[0]) - u_ref).abs().max((-tip[1] - w_ref).abs());
-    Some(point(
-        format!("Mattiasson k={k}"),
-        f,
-        n,
-        tol,
-        &recs,
-        error,
-        seconds,
-    ))
+    Some(point(mattiasson_name(k), f, n, tol, &recs, error, seconds))
 }
 
 /// End moment 2 pi EI/L, the whole roll-up: the beam closes into a circle of radius L / 2 pi
@@ -138,15 +141,7 @@ pub fn end_moment(n: usize, f: Formulation, tol: f64, repeats: usize) -> Option<
     let recs = recs?;
     let middle = recs.last()?.nodes[n / 2];
     let error = middle[0].hypot(middle[1] - 1.0 / std::f64::consts::PI);
-    Some(point(
-        "End moment 2 pi".into(),
-        f,
-        n,
-        tol,
-        &recs,
-        error,
-        seconds,
-    ))
+    Some(point(END_MOMENT.into(), f, n, tol, &recs, error, seconds))
 }
 
 /// The contact problem: a frictionless pin driven down onto a cantilever
@@ -206,7 +201,7 @@ pub fn pin_contact_errors(
     let force_error = (force[0] - reference.force[0]).hypot(force[1] - reference.force[1]) / size;
     let arc_error = (arc - reference.arc).abs() / length;
     let p = point(
-        "Pin contact".into(),
+        PIN_CONTACT.into(),
         f,
         n,
         tol,
@@ -274,14 +269,11 @@ pub fn measure(quick: bool) -> (Vec<Point>, Vec<Failed>) {
                         tolerance: tol,
                     }),
                 };
-                for (k, (load, _, _)) in MATTIASSON.iter().enumerate() {
-                    take(
-                        format!("Mattiasson k={load}"),
-                        mattiasson(k, n, f, tol, repeats),
-                    );
+                for (k, &(load, _, _)) in MATTIASSON.iter().enumerate() {
+                    take(mattiasson_name(load), mattiasson(k, n, f, tol, repeats));
                 }
-                take("End moment 2 pi".into(), end_moment(n, f, tol, repeats));
-                take("Pin contact".into(), pin_contact(n, f, tol, repeats));
+                take(END_MOMENT.into(), end_moment(n, f, tol, repeats));
+                take(PIN_CONTACT.into(), pin_contact(n, f, tol, repeats));
             }
         }
     }

@@ -39,6 +39,14 @@ fn report_errors_fall_as_h_squared_on_small_meshes() {
     }
 }
 
+/// The middle node's distance from the circle's (0, L / pi) when the nodes make a regular
+/// n-gon of side L / n through the clamp (L = 1): the n-gon's diameter (L / n) / sin(pi / n)
+/// less the circle's.
+fn polygon_error(n: usize) -> f64 {
+    use std::f64::consts::PI;
+    (1.0 / n as f64) / (PI / n as f64).sin() - 1.0 / PI
+}
+
 /// Under the end moment 2 pi EI / L every element's chord keeps its length and turns by the
 /// same angle (no axial or shear force, the same moment everywhere), so the nodes make a
 /// regular n-gon of side L / n through the clamp: its middle node lies at the n-gon's
@@ -46,11 +54,10 @@ fn report_errors_fall_as_h_squared_on_small_meshes() {
 /// must be that difference.
 #[test]
 fn end_moment_error_is_the_regular_polygons() {
-    use std::f64::consts::PI;
     for f in [Formulation::BernoulliEuler, Formulation::Timoshenko] {
         for n in [4usize, 8, 16, 64] {
             let p = end_moment(n, f, 1e-10, 1).expect("converges");
-            let polygon = (1.0 / n as f64) / (PI / n as f64).sin() - 1.0 / PI;
+            let polygon = polygon_error(n);
             assert!(
                 (p.error - polygon).abs() <= 1e-9 * polygon,
                 "{f:?} n {n}: error {} polygon {polygon}",
@@ -102,10 +109,9 @@ fn pin_contact_converges_to_reissners_beam() {
 /// within 1e-6 of the polygon's error, 5.0e-7 L).
 #[test]
 fn roll_up_on_1024_elements_converges_at_round_off() {
-    use std::f64::consts::PI;
     let n = 1024;
     let p = end_moment(n, Formulation::BernoulliEuler, 1e-8, 1).expect("converges");
-    let polygon = (1.0 / n as f64) / (PI / n as f64).sin() - 1.0 / PI;
+    let polygon = polygon_error(n);
     assert!(
         (p.error - polygon).abs() <= 1e-6 * polygon,
         "error {} polygon {polygon}",

@@ -24,7 +24,7 @@ const STALL_STEP: f64 = 1e-10;
 /// The factor by which the round-off of a residual norm over `n_eq` equations can exceed the
 /// floor estimate, which is that of one equation (`eps max|K_ii| |x|`): each equation rounds
 /// on its own, and the norm sums their squares, so up to sqrt(n_eq).
-pub(crate) fn norm_spread(n_eq: usize) -> f64 {
+fn norm_spread(n_eq: usize) -> f64 {
     (n_eq.max(1) as f64).sqrt()
 }
 
