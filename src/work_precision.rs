@@ -146,7 +146,8 @@ pub fn end_moment(n: usize, f: Formulation, tol: f64, repeats: usize) -> Option<
 
 /// The contact problem: a frictionless pin driven down onto a cantilever
 /// (`pin_on_cantilever.ron`), against Reissner's beam solved by shooting (`pin_elastica`; with
-/// the section's shear for Timoshenko, without for Bernoulli-Euler). Error: the larger of the
+/// the section's shear for Timoshenko, without for Bernoulli-Euler; the pin's normal in the shear
+/// kink under it chosen as the contact element chooses it). Error: the larger of the
 /// pin force's error over its size and the contact point's error along the beam over L, at
 /// the last increment.
 pub fn pin_contact(n: usize, f: Formulation, tol: f64, repeats: usize) -> Option<Point> {
@@ -184,10 +185,13 @@ pub fn pin_contact_errors(
             Formulation::BernoulliEuler => f64::INFINITY,
         },
     };
-    let reference = pin_on_cantilever(at, length, stiffness)?;
     let (seconds, recs) = timed(repeats, || run(&sc));
     let recs = recs?;
     let last = recs.last()?;
+    let contact = last.contacts.first()?;
+    // The shear kink under the pin: the element's force is normal to its chord, which weights
+    // the tangents on either side of the pin by li / l (`pin_elastica`'s module comment).
+    let reference = pin_on_cantilever(at, length, stiffness, contact.xi)?;
     let user = sc.model.nodes[pin.node].id;
     let reaction = |dof: &str| {
         (last.reactions.iter())
@@ -195,7 +199,6 @@ pub fn pin_contact_errors(
             .map(|r| r.value)
     };
     let force = [reaction("u")?, reaction("v")?];
-    let contact = last.contacts.first()?;
     let arc = (contact.element as f64 + contact.xi) * length / n as f64;
     let size = reference.force[0].hypot(reference.force[1]);
     let force_error = (force[0] - reference.force[0]).hypot(force[1] - reference.force[1]) / size;
@@ -378,36 +381,118 @@ pub fn svg(points: &[Point]) -> String {
     let colours = [
         "#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#17becf", "#7f7f7f",
     ];
-    let mut keys: Vec<(String, Formulation)> = Vec::new();
+    // One colour per problem, solid for Bernoulli-Euler and dashed for Timoshenko; a dot per mesh.
+    let mut problems: Vec<&str> = Vec::new();
     for p in &pts {
-        if !keys.contains(&(p.problem.clone(), p.formulation)) {
-            keys.push((p.problem.clone(), p.formulation));
+        if !problems.contains(&p.problem.as_str()) {
+            problems.push(&p.problem);
         }
     }
-    for (k, (prob, f)) in keys.iter().enumerate() {
+    let styles = [
+        (Formulation::BernoulliEuler, "Bernoulli-Euler", ""),
+        (
+            Formulation::Timoshenko,
+            "Timoshenko",
+            " stroke-dasharray=\"6 3\"",
+        ),
+    ];
+    for (k, prob) in problems.iter().enumerate() {
         let c = colours[k % colours.len()];
-        let dash = if *f == Formulation::Timoshenko {
-            " stroke-dasharray=\"6 3\""
-        } else {
-            ""
-        };
-        let line: Vec<String> = pts
-            .iter()
-            .filter(|p| &p.problem == prob && p.formulation == *f)
-            .map(|p| format!("{:.1},{:.1}", sx(p.seconds), sy(p.error)))
-            .collect();
+        for (f, _, dash) in styles {
+            let line: Vec<(f64, f64)> = (pts.iter())
+                .filter(|p| p.problem == *prob && p.formulation == f)
+                .map(|p| (sx(p.seconds), sy(p.error)))
+                .collect();
+            let joined: Vec<String> = line.iter().map(|(x, y)| format!("{x:.1},{y:.1}")).collect();
+            let _ = writeln!(
+                s,
+                "<polyline points=\"{}\" fill=\"none\" stroke=\"{c}\" stroke-width=\"2\"{dash}/>",
+                joined.join(" ")
+            );
+            for (x, y) in line {
+                let _ = writeln!(
+                    s,
+                    "<circle cx=\"{x:.1}\" cy=\"{y:.1}\" r=\"2.5\" fill=\"{c}\"/>"
+                );
+            }
+        }
+        let y = m + 16.0 * (k as f64 + 1.0);
         let _ = writeln!(
             s,
-            "<polyline points=\"{}\" fill=\"none\" stroke=\"{c}\" stroke-width=\"2\"{dash}/>",
-            line.join(" ")
-        );
-        let _ = writeln!(
-            s,
-            "<text x=\"{}\" y=\"{}\" fill=\"{c}\">{prob} ({f:?})</text>",
-            w - m - 230.0,
-            m + 16.0 * (k as f64 + 1.0)
+            "<text x=\"{}\" y=\"{y}\" fill=\"{c}\">{prob}</text>",
+            w - m - 190.0
         );
     }
+    for (i, (_, name, dash)) in styles.iter().enumerate() {
+        let y = m + 16.0 * (problems.len() as f64 + 1.5 + i as f64);
+        let x = w - m - 190.0;
+        let _ = writeln!(
+            s,
+            "<line x1=\"{x}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"#444\" stroke-width=\"2\"{dash}/><text x=\"{}\" y=\"{y}\" fill=\"#444\">{name}</text>",
+            y - 4.0,
+            x + 30.0,
+            y - 4.0,
+            x + 36.0
+        );
+    }
+    let _ = writeln!(
+        s,
+        "<text x=\"{}\" y=\"{}\" fill=\"#444\">dots: meshes of 4 to 1024 elements, tolerance 1e-8</text>",
+        m + 10.0,
+        h - m - 10.0
+    );
     s.push_str("</svg>\n");
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn at(problem: &str, formulation: Formulation, error: f64, seconds: f64) -> Point {
+        Point {
+            problem: problem.into(),
+            formulation,
+            elements: 4,
+            tolerance: 1e-8,
+            increments: 10,
+            iterations: 40,
+            error,
+            seconds,
+        }
+    }
+
+    /// The plot: one line per problem and formulation, a dot per point, both formulations of
+    /// a problem in its colour (Timoshenko dashed), and a dot on the grid line of its decade:
+    /// error 1e-3 at 1e-2 s sits where the 1e-3 and 1e-2 s grid lines cross (to 0.1 px).
+    #[test]
+    fn svg_places_points_on_log_axes() {
+        let pts = [
+            at("A", Formulation::BernoulliEuler, 1e-2, 1e-3),
+            at("A", Formulation::BernoulliEuler, 1e-3, 1e-2),
+            at("A", Formulation::Timoshenko, 1e-4, 1e-1),
+            at("B", Formulation::BernoulliEuler, 1e-5, 1e-3),
+        ];
+        let s = svg(&pts);
+        assert_eq!(
+            s.matches("<polyline").count(),
+            4,
+            "2 problems x 2 formulations"
+        );
+        assert_eq!(s.matches("<circle").count(), 4);
+        assert_eq!(
+            s.matches("stroke-dasharray").count(),
+            3,
+            "2 lines and a legend"
+        );
+        // Decades 1e-3..1e-1 s over 900 - 2 * 70 px; 1e-5..1e-2 over 600 - 2 * 70 px.
+        let x = 70.0 + (-2.0 + 3.0) / 2.0 * 760.0;
+        let y = 600.0 - 70.0 - (-3.0 + 5.0) / 3.0 * 460.0;
+        assert!(
+            s.contains(&format!("<circle cx=\"{x:.1}\" cy=\"{y:.1}\"")),
+            "{s}"
+        );
+        let dots_of_a = s.matches("fill=\"#1f77b4\"/>").count();
+        assert_eq!(dots_of_a, 3);
+    }
 }
