@@ -63,6 +63,11 @@ enum Command {
         /// on (1 = always, the default; 0 = never).
         #[arg(long)]
         unsymmetric_from: Option<usize>,
+        /// The stretch correction (the chords' second-order gaps taken out of every Newton
+        /// update): true always, false never (as the scene's `control: (stretch_correction:
+        /// ...)`); by default on from the run's first cut-back.
+        #[arg(long)]
+        stretch_correction: Option<bool>,
     },
     /// List the built-in scenes.
     Scenes,
@@ -140,7 +145,16 @@ pub fn run() -> i32 {
             json,
             verbose,
             unsymmetric_from,
-        }) => solve(&scene, steps, formulation, json, verbose, unsymmetric_from),
+            stretch_correction,
+        }) => solve(
+            &scene,
+            steps,
+            formulation,
+            json,
+            verbose,
+            unsymmetric_from,
+            stretch_correction,
+        ),
         Some(Command::Bench { quick, out }) => bench(quick, &out),
         Some(Command::Stress { long, out }) => stress(long, &out),
         Some(Command::Scale { max, contact: true }) => {
@@ -272,6 +286,7 @@ fn solve(
     json: Option<PathBuf>,
     verbose: bool,
     unsymmetric_from: Option<usize>,
+    stretch_correction: Option<bool>,
 ) -> i32 {
     let mut scene = match load_scene(name) {
         Ok(s) => s,
@@ -288,6 +303,10 @@ fn solve(
     }
     if let Some(k) = unsymmetric_from {
         scene.params.unsymmetric_from = if k == 0 { usize::MAX } else { k };
+    }
+    if let Some(on) = stretch_correction {
+        scene.params.stretch_correction = on;
+        scene.params.stretch_correction_on_cutback = false;
     }
     let steps = steps.unwrap_or(scene.steps);
     let mut solver = match scene.solver() {
