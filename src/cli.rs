@@ -63,11 +63,11 @@ enum Command {
         /// on (1 = always, the default; 0 = never).
         #[arg(long)]
         unsymmetric_from: Option<usize>,
-        /// The stretch correction (the chords' second-order gaps taken out of every Newton
-        /// update): true always, false never (as the scene's `control: (stretch_correction:
-        /// ...)`); by default on from the run's first cut-back.
+        /// Take the chords' second-order gaps out of every Newton update (as the scene's
+        /// `control: (stretch_correction: true)`): for fine meshes of axially stiff beams in
+        /// large rotation.
         #[arg(long)]
-        stretch_correction: Option<bool>,
+        stretch_correction: bool,
     },
     /// List the built-in scenes.
     Scenes,
@@ -286,7 +286,7 @@ fn solve(
     json: Option<PathBuf>,
     verbose: bool,
     unsymmetric_from: Option<usize>,
-    stretch_correction: Option<bool>,
+    stretch_correction: bool,
 ) -> i32 {
     let mut scene = match load_scene(name) {
         Ok(s) => s,
@@ -304,10 +304,7 @@ fn solve(
     if let Some(k) = unsymmetric_from {
         scene.params.unsymmetric_from = if k == 0 { usize::MAX } else { k };
     }
-    if let Some(on) = stretch_correction {
-        scene.params.stretch_correction = on;
-        scene.params.stretch_correction_on_cutback = false;
-    }
+    scene.params.stretch_correction |= stretch_correction;
     let steps = steps.unwrap_or(scene.steps);
     let mut solver = match scene.solver() {
         Ok(s) => s,

@@ -176,10 +176,9 @@ pub struct ControlDef {
     pub tolerance: Option<f64>,
     /// Largest displacement correction per Newton iteration (m), if any.
     pub max_step: Option<f64>,
-    /// The stretch correction (the chords' second-order gaps taken out of every Newton
-    /// update, for fine meshes of axially stiff beams in large rotation): `true` always,
-    /// `false` never; left out, on from the run's first cut-back.
-    pub stretch_correction: Option<bool>,
+    /// Take the chords' second-order gaps out of every Newton update (default false): for
+    /// fine meshes of axially stiff beams in large rotation.
+    pub stretch_correction: bool,
     /// Arc-length control (load-driven scenes): length of one increment along the equilibrium
     /// path as the root-mean-square change of the free dofs (m, rad). Each step is one arc; the load factor is solved for.
     pub arc_length: Option<f64>,
@@ -192,7 +191,7 @@ impl Default for ControlDef {
             load_per_step: None,
             tolerance: None,
             max_step: None,
-            stretch_correction: None,
+            stretch_correction: false,
             arc_length: None,
         }
     }

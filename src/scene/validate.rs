@@ -471,10 +471,7 @@ fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
         positive(&ctx, "control.max_step".into(), Some("max_step".into()), s)?;
         params.max_step = s;
     }
-    if let Some(on) = c.stretch_correction {
-        params.stretch_correction = on;
-        params.stretch_correction_on_cutback = false;
-    }
+    params.stretch_correction = c.stretch_correction;
     if let Some(s) = c.arc_length {
         positive(
             &ctx,

@@ -365,14 +365,6 @@ impl Solver {
                     }
                     cutbacks += 1;
                     h *= 0.5;
-                    let reason = if self.params.stretch_correction_on_cutback
-                        && !self.params.stretch_correction
-                    {
-                        self.params.stretch_correction = true;
-                        format!("{reason}; the stretch correction is on from here")
-                    } else {
-                        reason
-                    };
                     obs.event(&Event::CutBack {
                         increment: number,
                         reason,

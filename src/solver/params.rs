@@ -27,13 +27,12 @@ pub struct SolverParams {
     /// take_out_stretch`; one more band solve an iteration). A linear update that turns an
     /// element lengthens its chord by about l dpsi^2 / 2 and turns it by less than meant; on
     /// fine meshes of axially stiff beams in large rotation the spurious forces make Newton
-    /// zig-zag and load steps fail. Off at the start of a run (plain Newton) unless set;
-    /// `stretch_correction_on_cutback` turns it on. Mattiasson k = 10 on 10^4 elements needs
-    /// 17 increments and 155 iterations with it on throughout, 88 and 921 with it off.
+    /// zig-zag and load steps fail. Off by default (plain Newton). Mattiasson k = 10 on 10^4
+    /// elements needs 17 increments and 155 iterations with it, 88 and 921 without. Known
+    /// hazard: it lets the Bernoulli-Euler pin on 1024 elements (which fails without it) run
+    /// on until a contact force made of round-off (K44 ~ 3 EI / li^3 at li/l = 0.9988)
+    /// releases the pin and the beam springs back through it undetected.
     pub stretch_correction: bool,
-    /// Turn `stretch_correction` on at the first cut-back, for the rest of the run (the
-    /// cut-back's reason says so). On by default: a run that never cuts back is plain Newton.
-    pub stretch_correction_on_cutback: bool,
     /// Contact state changes allowed within one increment, beyond four per candidate node, before
     /// it is cut back (chattering). Cycling itself is caught earlier: a repeated active set
     /// switches the attempt to one change per pass.
@@ -73,7 +72,6 @@ impl Default for SolverParams {
             divergence: 1e6,
             max_step: f64::MAX,
             stretch_correction: false,
-            stretch_correction_on_cutback: true,
             max_active_set_changes: 24,
             unsymmetric_from: 1,
             xi_min: 1e-6,
