@@ -222,18 +222,24 @@ mod tests {
         }
     }
 
+    /// The pin of the report's last increment on its section (EA L^2 / EI = 1e6, G Ae = 0.4
+    /// EA).
+    fn large_deflection() -> ([f64; 2], Stiffness) {
+        let k = Stiffness {
+            ea: 1e6,
+            ei: 1.0,
+            gae: 4e5,
+        };
+        ([0.7, -0.299], k)
+    }
+
     /// Large deflection: the solution meets its four conditions when integrated again with
     /// twice the steps (so the step does not matter at this accuracy), the clamp moment is the
     /// moment of the pin's force about the clamp (global equilibrium), and the force is normal
     /// to a beam sloping down (here to the section: share 0), so it leans toward the clamp.
     #[test]
     fn large_deflection_meets_its_conditions() {
-        let pin = [0.7, -0.299];
-        let k = Stiffness {
-            ea: 1e6,
-            ei: 1.0,
-            gae: 4e5,
-        };
+        let (pin, k) = large_deflection();
         let r = pin_on_cantilever(pin, 1.0, k, 0.0).expect("converges");
         let u = [r.force[0], r.force[1], r.clamp_moment, r.arc];
         let z = shoot(u, k, 2 * STEPS);
@@ -261,12 +267,7 @@ mod tests {
     /// the force, measured 1.5e-12). Without shear the share changes nothing.
     #[test]
     fn kink_share_spans_the_shear_strain() {
-        let pin = [0.7, -0.299];
-        let k = Stiffness {
-            ea: 1e6,
-            ei: 1.0,
-            gae: 4e5,
-        };
+        let (pin, k) = large_deflection();
         let at = |w: f64| pin_on_cantilever(pin, 1.0, k, w).expect("converges");
         let (r0, r1, rh) = (at(0.0), at(1.0), at(0.5));
         let u = [r1.force[0], r1.force[1], r1.clamp_moment, r1.arc];
