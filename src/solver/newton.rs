@@ -309,7 +309,8 @@ impl Solver {
         let mut springback = false;
         let mut stall = Stall::new();
         let mut bound = FloorBound::new(self.coordinate_scale(&d));
-        // The displacements before each update, for the stretch correction.
+        // The stretch correction (`take_out_stretch`), and the displacements before each
+        // update that it starts from.
         let correcting = p.stretch_correction;
         let mut before = Vec::new();
         // Buffers reused by every iteration: the assembly (band tangent included) and the
