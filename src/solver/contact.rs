@@ -635,10 +635,16 @@ impl ContactSet {
     ) -> Option<(Probe, f64)> {
         let p = self.probe_near(solver, d, n, b, Some(&views.now))?;
         if let Some((side, was)) = self.side_of(solver, n, b, Some(&views.before)) {
+            // On the other side of an element next to the remembered one, shallow or with a
+            // swept path; on the other side of one further along (a beam springing back past a
+            // node that let go two elements away), only with a swept path: a beam that curls
+            // brings far elements round a node without passing through it.
             let crossed = p.gap * side < -1e-10 * p.length
-                && Self::adjacent(solver, b, was, p.beam)
-                && (-p.gap * side < SHAPE_MARGIN * p.length
-                    || Self::swept_through(solver, d, n, b));
+                && if Self::adjacent(solver, b, was, p.beam) {
+                    -p.gap * side < SHAPE_MARGIN * p.length || Self::swept_through(solver, d, n, b)
+                } else {
+                    Self::swept_through(solver, d, n, b)
+                };
             return crossed.then_some((p, side));
         }
         if p.gap.abs() <= 1e-10 * p.length {

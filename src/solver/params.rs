@@ -28,10 +28,7 @@ pub struct SolverParams {
     /// element lengthens its chord by about l dpsi^2 / 2 and turns it by less than meant; on
     /// fine meshes of axially stiff beams in large rotation the spurious forces make Newton
     /// zig-zag and load steps fail. Off by default (plain Newton). Mattiasson k = 10 on 10^4
-    /// elements needs 17 increments and 155 iterations with it, 88 and 921 without. Known
-    /// hazard: it lets the Bernoulli-Euler pin on 1024 elements (which fails without it) run
-    /// on until a contact force made of round-off (K44 ~ 3 EI / li^3 at li/l = 0.9988)
-    /// releases the pin and the beam springs back through it undetected.
+    /// elements needs 17 increments and 155 iterations with it, 88 and 921 without.
     pub stretch_correction: bool,
     /// Contact state changes allowed within one increment, beyond four per candidate node, before
     /// it is cut back (chattering). Cycling itself is caught earlier: a repeated active set
