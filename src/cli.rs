@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use clap::{Parser, Subcommand, ValueEnum};
+use clap::{Args, Parser, Subcommand, ValueEnum};
 
 /// `println!` that ends the program quietly when stdout is closed (output piped into `head`)
 /// instead of panicking.
@@ -41,34 +41,38 @@ enum FormulationArg {
     BernoulliEuler,
 }
 
+/// The `solve` command's arguments.
+#[derive(Args)]
+struct SolveArgs {
+    /// Scene file (RON) or the name of a built-in scene.
+    scene: String,
+    /// Number of steps (default: the scene's).
+    #[arg(long)]
+    steps: Option<usize>,
+    /// Override the element formulation.
+    #[arg(long, value_enum)]
+    formulation: Option<FormulationArg>,
+    /// Write the full history as JSON.
+    #[arg(long)]
+    json: Option<PathBuf>,
+    /// Print every Newton iteration's residual.
+    #[arg(long)]
+    verbose: bool,
+    /// Use the contact element's unsymmetric tangent term from this iteration of each pass
+    /// on (1 = always, the default; 0 = never).
+    #[arg(long)]
+    unsymmetric_from: Option<usize>,
+    /// Take the chords' second-order gaps out of every Newton update (as the scene's
+    /// `control: (stretch_correction: true)`): for fine meshes of axially stiff beams in
+    /// large rotation.
+    #[arg(long)]
+    stretch_correction: bool,
+}
+
 #[derive(Subcommand)]
 enum Command {
     /// Solve a scene headless: one line per increment, contact events as they happen.
-    Solve {
-        /// Scene file (RON) or the name of a built-in scene.
-        scene: String,
-        /// Number of steps (default: the scene's).
-        #[arg(long)]
-        steps: Option<usize>,
-        /// Override the element formulation.
-        #[arg(long, value_enum)]
-        formulation: Option<FormulationArg>,
-        /// Write the full history as JSON.
-        #[arg(long)]
-        json: Option<PathBuf>,
-        /// Print every Newton iteration's residual.
-        #[arg(long)]
-        verbose: bool,
-        /// Use the contact element's unsymmetric tangent term from this iteration of each pass
-        /// on (1 = always, the default; 0 = never).
-        #[arg(long)]
-        unsymmetric_from: Option<usize>,
-        /// Take the chords' second-order gaps out of every Newton update (as the scene's
-        /// `control: (stretch_correction: true)`): for fine meshes of axially stiff beams in
-        /// large rotation.
-        #[arg(long)]
-        stretch_correction: bool,
-    },
+    Solve(SolveArgs),
     /// List the built-in scenes.
     Scenes,
     /// Work-precision report: error against wall time for reference problems, formulations,
@@ -138,23 +142,7 @@ pub fn load_scene(name: &str) -> Result<Scene, SceneError> {
 pub fn run() -> i32 {
     let cli = Cli::parse();
     match cli.command {
-        Some(Command::Solve {
-            scene,
-            steps,
-            formulation,
-            json,
-            verbose,
-            unsymmetric_from,
-            stretch_correction,
-        }) => solve(
-            &scene,
-            steps,
-            formulation,
-            json,
-            verbose,
-            unsymmetric_from,
-            stretch_correction,
-        ),
+        Some(Command::Solve(args)) => solve(args),
         Some(Command::Bench { quick, out }) => bench(quick, &out),
         Some(Command::Stress { long, out }) => stress(long, &out),
         Some(Command::Scale { max, contact: true }) => {
@@ -279,15 +267,17 @@ impl Observer for Printer {
     }
 }
 
-fn solve(
-    name: &str,
-    steps: Option<usize>,
-    formulation: Option<FormulationArg>,
-    json: Option<PathBuf>,
-    verbose: bool,
-    unsymmetric_from: Option<usize>,
-    stretch_correction: bool,
-) -> i32 {
+fn solve(args: SolveArgs) -> i32 {
+    let SolveArgs {
+        scene: name,
+        steps,
+        formulation,
+        json,
+        verbose,
+        unsymmetric_from,
+        stretch_correction,
+    } = args;
+    let name = name.as_str();
     let mut scene = match load_scene(name) {
         Ok(s) => s,
         Err(e) => {

@@ -167,6 +167,26 @@ pub fn pin_contact_errors(
     // element's stiffness (G Ae / li, 3 EI / li^3 for Bernoulli-Euler) makes that floor huge,
     // and a state far from equilibrium would pass. Stalls at round-off are still accepted.
     sc.params.roundoff_factor = 0.0;
+    let (seconds, recs) = timed(repeats, || run(&sc));
+    let recs = recs?;
+    let [force_error, arc_error] = pin_errors(&sc, &recs)?;
+    let p = point(
+        PIN_CONTACT.into(),
+        f,
+        n,
+        tol,
+        &recs,
+        force_error.max(arc_error),
+        seconds,
+    );
+    Some((p, [force_error, arc_error]))
+}
+
+/// The errors of a run `recs` of a pin-on-cantilever scene `sc` (one prescribed pin, one
+/// straight cantilever numbered from its clamp, any mesh and formulation) at its last
+/// increment, against Reissner's beam: (pin force error over the force's size, contact point
+/// error over L). `None` if the pin is not on the beam at the end.
+pub fn pin_errors(sc: &Scene, recs: &[IncrementRecord]) -> Option<[f64; 2]> {
     let pin = sc.model.prescribed.first()?;
     let start = sc.model.position(pin.node);
     let at = [start[0], start[1] + pin.per_step * sc.steps as f64];
@@ -180,13 +200,11 @@ pub fn pin_contact_errors(
     let stiffness = Stiffness {
         ea: beam.ea,
         ei: beam.ei,
-        gae: match f {
+        gae: match sc.model.formulation {
             Formulation::Timoshenko => beam.gae,
             Formulation::BernoulliEuler => f64::INFINITY,
         },
     };
-    let (seconds, recs) = timed(repeats, || run(&sc));
-    let recs = recs?;
     let last = recs.last()?;
     let contact = last.contacts.first()?;
     // The shear kink under the pin: the element's force is normal to its chord, which weights
@@ -199,20 +217,11 @@ pub fn pin_contact_errors(
             .map(|r| r.value)
     };
     let force = [reaction("u")?, reaction("v")?];
-    let arc = (contact.element as f64 + contact.xi) * length / n as f64;
+    let arc = (contact.element as f64 + contact.xi) * length / sc.model.beams.len() as f64;
     let size = reference.force[0].hypot(reference.force[1]);
     let force_error = (force[0] - reference.force[0]).hypot(force[1] - reference.force[1]) / size;
     let arc_error = (arc - reference.arc).abs() / length;
-    let p = point(
-        PIN_CONTACT.into(),
-        f,
-        n,
-        tol,
-        &recs,
-        force_error.max(arc_error),
-        seconds,
-    );
-    Some((p, [force_error, arc_error]))
+    Some([force_error, arc_error])
 }
 
 fn point(

@@ -86,34 +86,12 @@ fn roll_up_converges_in_a_third_of_the_iterations() {
 /// 1.7e-6; increments near element ends are accepted at residuals up to 2e-3).
 #[test]
 fn bernoulli_euler_pin_on_1024_elements_stays_on_the_beam() {
-    use tsm_contact::pin_elastica::{pin_on_cantilever, Stiffness};
     use tsm_contact::solver::Formulation;
+    use tsm_contact::work_precision::pin_errors;
     let mut sc = variant("pin_on_cantilever.ron", 16, 1024, true);
     sc.model.formulation = Formulation::BernoulliEuler;
     sc.params.roundoff_factor = 0.0;
     let recs = run(&sc);
-    let last = recs.last().expect("record");
-    let contact = last.contacts.first().expect("the pin ends on the beam");
-    let section = sc.model.beams[0].section;
-    let k = Stiffness {
-        ea: section.ea,
-        ei: section.ei,
-        gae: f64::INFINITY,
-    };
-    let reference = pin_on_cantilever([0.7, 0.001 - 0.3], 1.0, k, 0.0).expect("converges");
-    let arc = (contact.element as f64 + contact.xi) / 1024.0;
-    let reaction = |dof: &str| {
-        (last.reactions.iter())
-            .find(|r| r.node == 100000 && r.dof == dof)
-            .expect("pin reaction")
-            .value
-    };
-    let force = [reaction("u"), reaction("v")];
-    let size = reference.force[0].hypot(reference.force[1]);
-    let force_error = (force[0] - reference.force[0]).hypot(force[1] - reference.force[1]) / size;
-    assert!(
-        (arc - reference.arc).abs() < 1e-7 && force_error < 5e-6,
-        "arc {arc} against {}, force error {force_error:e}",
-        reference.arc
-    );
+    let [force, arc] = pin_errors(&sc, &recs).expect("the pin ends on the beam");
+    assert!(arc < 1e-7 && force < 5e-6, "arc {arc:e}, force {force:e}");
 }

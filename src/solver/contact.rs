@@ -639,12 +639,11 @@ impl ContactSet {
             // swept path; on the other side of one further along (a beam springing back past a
             // node that let go two elements away), only with a swept path: a beam that curls
             // brings far elements round a node without passing through it.
-            let crossed = p.gap * side < -1e-10 * p.length
-                && if Self::adjacent(solver, b, was, p.beam) {
-                    -p.gap * side < SHAPE_MARGIN * p.length || Self::swept_through(solver, d, n, b)
-                } else {
-                    Self::swept_through(solver, d, n, b)
-                };
+            let wrong_side = p.gap * side < -1e-10 * p.length;
+            let crossed = wrong_side
+                && ((-p.gap * side < SHAPE_MARGIN * p.length
+                    && Self::adjacent(solver, b, was, p.beam))
+                    || Self::swept_through(solver, d, n, b));
             return crossed.then_some((p, side));
         }
         if p.gap.abs() <= 1e-10 * p.length {
