@@ -22,7 +22,7 @@ macro_rules! out {
 use tsm_contact::history::History;
 use tsm_contact::scene::{self, Scene, SceneError};
 use tsm_contact::solver::report::{ContactChange, Flow};
-use tsm_contact::solver::{Event, Formulation, IncrementRecord, Observer};
+use tsm_contact::solver::{Event, Formulation, IncrementRecord, Observer, StretchCorrection};
 
 #[derive(Parser)]
 #[command(
@@ -39,6 +39,14 @@ struct Cli {
 enum FormulationArg {
     Timoshenko,
     BernoulliEuler,
+}
+
+/// `--stretch-correction`'s values (`StretchCorrection`).
+#[derive(Clone, Copy, ValueEnum)]
+enum StretchArg {
+    Never,
+    AfterCutBack,
+    Always,
 }
 
 /// The `solve` command's arguments.
@@ -62,11 +70,11 @@ struct SolveArgs {
     /// on (1 = always, the default; 0 = never).
     #[arg(long)]
     unsymmetric_from: Option<usize>,
-    /// Take the chords' second-order gaps out of every Newton update (as the scene's
-    /// `control: (stretch_correction: true)`): for fine meshes of axially stiff beams in
-    /// large rotation.
-    #[arg(long)]
-    stretch_correction: bool,
+    /// When Newton's updates take the chords' second-order gaps out (the scene's
+    /// `control: (stretch_correction: ...)`, by default after the run's first cut-back): for
+    /// fine meshes of axially stiff beams in large rotation. Given without a value: always.
+    #[arg(long, num_args = 0..=1, default_missing_value = "always")]
+    stretch_correction: Option<StretchArg>,
 }
 
 #[derive(Subcommand)]
@@ -250,6 +258,9 @@ impl Observer for Printer {
             } => {
                 out!("      cut-back in increment {increment}: {reason}; now trying {fraction} of the step")
             }
+            Event::StretchCorrectionOn { increment } => {
+                out!("      stretch correction on from increment {increment} (the run's first cut-back)")
+            }
             Event::Contact(c) => {
                 let what = match c.change {
                     ContactChange::Activated => "touches",
@@ -294,7 +305,13 @@ fn solve(args: SolveArgs) -> i32 {
     if let Some(k) = unsymmetric_from {
         scene.params.unsymmetric_from = if k == 0 { usize::MAX } else { k };
     }
-    scene.params.stretch_correction |= stretch_correction;
+    if let Some(m) = stretch_correction {
+        scene.params.stretch_correction = match m {
+            StretchArg::Never => StretchCorrection::Never,
+            StretchArg::AfterCutBack => StretchCorrection::AfterCutBack,
+            StretchArg::Always => StretchCorrection::Always,
+        };
+    }
     let steps = steps.unwrap_or(scene.steps);
     let mut solver = match scene.solver() {
         Ok(s) => s,

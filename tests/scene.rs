@@ -137,3 +137,39 @@ fn out_of_range_stiffness_and_vanishing_elements_name_the_field() {
         );
     }
 }
+
+/// `control.stretch_correction` takes a mode or, as scenes written before the automatic mode
+/// did, a flag; it defaults to `AfterCutBack`, and anything else names the field's line.
+#[test]
+fn stretch_correction_takes_a_mode_or_a_flag() {
+    use tsm_contact::solver::StretchCorrection as S;
+    let with = |v: &str| {
+        GOOD.replace(
+            "loads: [(node: 3, fy: 1.0)],",
+            &format!("loads: [(node: 3, fy: 1.0)],\n    control: (stretch_correction: {v}),"),
+        )
+    };
+    let mode = |v: &str| {
+        parse(&with(v), "t.ron")
+            .unwrap_or_else(|e| panic!("{v}: {e}"))
+            .params
+            .stretch_correction
+    };
+    assert_eq!(
+        parse(GOOD, "t.ron")
+            .expect("good")
+            .params
+            .stretch_correction,
+        S::AfterCutBack
+    );
+    assert_eq!(mode("Never"), S::Never);
+    assert_eq!(mode("AfterCutBack"), S::AfterCutBack);
+    assert_eq!(mode("Always"), S::Always);
+    assert_eq!(mode("true"), S::Always);
+    assert_eq!(mode("false"), S::Never);
+    let e = err(&with("Sometimes"));
+    assert!(
+        e.starts_with("bad.ron:7:") && e.contains("Sometimes"),
+        "{e}"
+    );
+}

@@ -105,5 +105,6 @@ fn event_text(e: &crate::solver::Event) -> Option<String> {
             ))
         }
         crate::solver::Event::CutBack { fraction, .. } => Some(format!("cut-back to {fraction}")),
+        crate::solver::Event::StretchCorrectionOn { .. } => Some("stretch correction on".into()),
     }
 }

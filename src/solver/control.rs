@@ -13,7 +13,7 @@ use super::beam::BeamElement;
 use super::contact::ContactSet;
 use super::model::Model;
 use super::newton::{AttemptError, Converged};
-use super::params::SolverParams;
+use super::params::{SolverParams, StretchCorrection};
 use super::report::{Event, Flow, IncrementRecord, Observer, Reaction, SolveError};
 
 /// Up to this many equations a singular structure gets every dof of its null space named (dense
@@ -92,6 +92,8 @@ pub struct Solver {
     pub(crate) candidate_nodes: usize,
     /// The beam elements at each node.
     pub(crate) node_beams: Vec<Vec<usize>>,
+    /// Whether the run has cut an increment back (`StretchCorrection::AfterCutBack`).
+    cut_back: bool,
 }
 
 impl Solver {
@@ -126,6 +128,7 @@ impl Solver {
             candidates: ContactSet::candidates_of(&model),
             candidate_nodes: 0,
             node_beams: model.node_beams(),
+            cut_back: false,
             elements,
             packed,
             dofs,
@@ -370,10 +373,25 @@ impl Solver {
                         reason,
                         fraction: h,
                     });
+                    if !std::mem::replace(&mut self.cut_back, true)
+                        && self.params.stretch_correction == StretchCorrection::AfterCutBack
+                    {
+                        obs.event(&Event::StretchCorrectionOn { increment: number });
+                    }
                 }
             }
         }
         Ok(out)
+    }
+
+    /// Whether this attempt's Newton updates take the chords' stretch out
+    /// (`SolverParams::stretch_correction`).
+    pub fn stretch_correcting(&self) -> bool {
+        match self.params.stretch_correction {
+            StretchCorrection::Never => false,
+            StretchCorrection::AfterCutBack => self.cut_back,
+            StretchCorrection::Always => true,
+        }
     }
 
     pub(crate) fn commit(

@@ -30,7 +30,7 @@ pub use control::Solver;
 pub use model::{
     Beam, Body, ContactPair, Dof, Formulation, Load, Model, Node, Prescribed, Section, Support,
 };
-pub use params::SolverParams;
+pub use params::{SolverParams, StretchCorrection};
 pub use report::{
     ContactChange, Event, Flow, IncrementRecord, IterationRecord, Observer, Silent, SolveError,
 };

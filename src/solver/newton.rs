@@ -311,7 +311,7 @@ impl Solver {
         let mut bound = FloorBound::new(self.coordinate_scale(&d));
         // The stretch correction (`take_out_stretch`), and the displacements before each
         // update that it starts from.
-        let correcting = p.stretch_correction;
+        let correcting = self.stretch_correcting();
         let mut before = Vec::new();
         // Buffers reused by every iteration: the assembly (band tangent included) and the
         // right-hand side.

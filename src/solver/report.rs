@@ -37,6 +37,12 @@ pub enum Event {
     },
     /// A contact changed state.
     Contact(ContactEvent),
+    /// The stretch correction (`StretchCorrection::AfterCutBack`) is on from this increment's
+    /// next attempt to the end of the run.
+    StretchCorrectionOn {
+        /// Increment number being attempted.
+        increment: usize,
+    },
 }
 
 /// Kinds of contact state change.
