@@ -15,6 +15,7 @@ use crate::solver::beam::BeamElement;
 use crate::solver::report::Flow;
 use crate::solver::{
     Event, Formulation, IncrementRecord, IterationRecord, Observer, SolveError, Solver,
+    StretchCorrection,
 };
 
 /// Capacity of the worker's outgoing message channel.
@@ -45,6 +46,8 @@ pub enum Command {
     },
     /// Reload the scene with this element formulation.
     SetFormulation(Formulation),
+    /// Reload the scene with this stretch-correction mode (`SolverParams::stretch_correction`).
+    SetStretchCorrection(StretchCorrection),
     /// Back to the undeformed state of the current scene.
     Reset,
     /// Abandon the current work at once (the last converged state is kept).
@@ -249,6 +252,12 @@ impl Thread {
             Command::SetFormulation(f) => {
                 if let Some(s) = &mut self.scene {
                     s.model.formulation = f;
+                }
+                self.reload();
+            }
+            Command::SetStretchCorrection(m) => {
+                if let Some(s) = &mut self.scene {
+                    s.params.stretch_correction = m;
                 }
                 self.reload();
             }

@@ -222,3 +222,46 @@ fn arc_length_scene_runs_as_arcs() {
     let max = lambdas.iter().cloned().fold(f64::MIN, f64::max);
     assert!(max > 1.8 && *lambdas.last().unwrap() < max);
 }
+
+/// `SetStretchCorrection` reloads the scene in that mode: the roll-up (end moment, 16
+/// elements, 10 steps) then takes the iterations a direct `Solver` run in that mode takes
+/// (20 always, measured; 60 for plain Newton, the default's here since it never cuts back),
+/// node for node the same states.
+#[test]
+fn stretch_correction_mode_reloads_and_runs_in_that_mode() {
+    use tsm_contact::solver::{Silent, StretchCorrection};
+    let direct = |mode| {
+        let mut sc = scene("end_moment");
+        sc.params.stretch_correction = mode;
+        let mut s = sc.solver().expect("stable");
+        (0..sc.steps)
+            .flat_map(|_| s.step(&mut Silent).expect("converges"))
+            .collect::<Vec<_>>()
+    };
+    let w = Worker::spawn(None);
+    load(&w, "end_moment");
+    for mode in [StretchCorrection::Always, StretchCorrection::Never] {
+        w.send(Command::SetStretchCorrection(mode));
+        let t0 = Instant::now();
+        let mut loaded = None;
+        while loaded.is_none() && t0.elapsed() < Duration::from_secs(20) {
+            if let Some(Message::Loaded(l)) = w.recv_timeout(Duration::from_millis(50)) {
+                loaded = Some(l.scene.params.stretch_correction);
+            }
+        }
+        assert_eq!(loaded, Some(mode));
+        w.send(Command::Run);
+        let (incs, errors) = until_idle(&w, Duration::from_secs(60));
+        assert!(errors.is_empty(), "{errors:?}");
+        let want = direct(mode);
+        assert_eq!(incs.len(), want.len());
+        for (a, b) in incs.iter().zip(&want) {
+            assert_eq!((a.iterations, &a.nodes), (b.iterations, &b.nodes));
+        }
+        let total: usize = incs.iter().map(|r| r.iterations).sum();
+        match mode {
+            StretchCorrection::Always => assert!(total <= 30, "always: {total}"),
+            _ => assert!(total >= 50, "never: {total}"),
+        }
+    }
+}

@@ -1,12 +1,41 @@
 //! The toolbar (scene picker, "Open..." path, formulation toggle, fit, exports, screenshot,
 //! status) and the sliders that drive each prescribed dof through `Command::SetTarget`.
 
-use crate::solver::Formulation;
+use crate::solver::{Formulation, StretchCorrection};
 use crate::worker::Command;
 
 use super::export;
 use super::screenshot::Shot;
 use super::state::TsmApp;
+
+/// The stretch-correction mode of Newton's updates (`StretchCorrection`): a change reloads
+/// the scene, as the formulation toggle does.
+fn stretch_correction(app: &mut TsmApp, mode: StretchCorrection, ui: &mut egui::Ui) {
+    let label = |m| match m {
+        StretchCorrection::Never => "never",
+        StretchCorrection::AfterCutBack => "after a cut-back",
+        StretchCorrection::Always => "always",
+    };
+    egui::ComboBox::from_label("Stretch correction")
+        .selected_text(label(mode))
+        .show_ui(ui, |ui| {
+            for m in [
+                StretchCorrection::Never,
+                StretchCorrection::AfterCutBack,
+                StretchCorrection::Always,
+            ] {
+                if ui.selectable_label(mode == m, label(m)).clicked() && mode != m {
+                    app.send(Command::SetStretchCorrection(m));
+                }
+            }
+        })
+        .response
+        .on_hover_text(
+            "Take the chords' second-order stretch out of Newton's updates: fewer iterations \
+             and cut-backs on fine meshes of stiff beams in large rotation; one more solve \
+             an iteration",
+        );
+}
 
 /// The top bar.
 pub fn toolbar(app: &mut TsmApp, ui: &mut egui::Ui) {
@@ -37,6 +66,7 @@ pub fn toolbar(app: &mut TsmApp, ui: &mut egui::Ui) {
         if let Some(l) = &app.loaded {
             ui.label("Element:");
             let f = l.scene.model.formulation;
+            let mode = l.scene.params.stretch_correction;
             for (label, value) in [
                 ("Timoshenko", Formulation::Timoshenko),
                 ("Bernoulli-Euler", Formulation::BernoulliEuler),
@@ -45,6 +75,7 @@ pub fn toolbar(app: &mut TsmApp, ui: &mut egui::Ui) {
                     app.send(Command::SetFormulation(value));
                 }
             }
+            stretch_correction(app, mode, ui);
         }
         ui.separator();
         if ui.button("Fit").clicked() {

@@ -86,7 +86,8 @@ impl Default for SolverParams {
 /// Mattiasson's cantilever (k = 10 in 10 steps) on 10^4 elements: 88 increments and 921
 /// iterations never, 19 and 184 after the first cut-back, 17 and 155 always. The correction
 /// costs one more band solve an iteration (2.3 times the iteration of a long beam) and does not
-/// shorten Newton where it has no zig-zag to remove, hence the default.
+/// shorten Newton where it has no zig-zag to remove, hence the default. Load and
+/// displacement steps only: the arc-length control's attempts (`arc_length`) do not use it.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub enum StretchCorrection {
     /// Plain Newton: the linear update only.
