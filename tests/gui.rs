@@ -475,3 +475,42 @@ fn plot_keys_stay_in_their_column_in_a_narrow_window() {
         );
     }
 }
+
+#[test]
+fn stretch_correction_selector_reloads_in_the_chosen_mode() {
+    // The roll-up never cuts back, so the default runs plain Newton (6 iterations an
+    // increment); chosen "always", each increment takes what a direct run in that mode takes.
+    let mut h = harness_on("end_moment", false);
+    loaded(&mut h);
+    h.get_by_label("Stretch correction").click();
+    h.run();
+    h.get_by_label("always").click();
+    wait(&mut h, "the reload", Duration::from_secs(30), |h| {
+        h.query_by_label("always").is_some() && shown_increment(h) == Some((0, 0))
+    });
+    h.get_by_label("Run").click();
+    let mut scene = builtin("end_moment").unwrap().unwrap();
+    wait(&mut h, "the run", Duration::from_secs(60), |h| {
+        shown_increment(h).is_some_and(|(k, n)| k == n && n >= scene.steps)
+    });
+    let run = |scene: &tsm_contact::scene::Scene| {
+        let mut solver = scene.solver().unwrap();
+        let mut out = Vec::new();
+        for _ in 0..scene.steps {
+            out.extend(solver.step(&mut Silent).unwrap());
+        }
+        out
+    };
+    let plain = run(&scene);
+    scene.params.stretch_correction = tsm_contact::solver::StretchCorrection::Always;
+    let always = run(&scene);
+    let (a, p) = (always.last().unwrap(), plain.last().unwrap());
+    assert_ne!(a.iterations, p.iterations, "the modes must differ here");
+    let shown = label(&h, "iterations ").unwrap();
+    assert!(
+        shown.starts_with(&format!("iterations {} ", a.iterations)),
+        "{shown} (always: {}, plain: {})",
+        a.iterations,
+        p.iterations
+    );
+}
