@@ -151,13 +151,25 @@ fn shown_number(h: &Harness<'static, TsmApp>, prefix: &str) -> f64 {
 
 /// A direct headless run of the same scene: the records of the first `steps` steps.
 fn reference(steps: usize) -> Vec<IncrementRecord> {
-    let scene = builtin(SCENE).unwrap().unwrap();
+    direct(&builtin(SCENE).unwrap().unwrap(), steps)
+}
+
+/// A direct headless run of `scene`: the records of its first `steps` steps.
+fn direct(scene: &tsm_contact::scene::Scene, steps: usize) -> Vec<IncrementRecord> {
     let mut solver = scene.solver().unwrap();
     let mut out = Vec::new();
     for _ in 0..steps {
         out.extend(solver.step(&mut Silent).unwrap());
     }
     out
+}
+
+/// Click Run and wait until every step of `steps` is shown.
+fn run_all(h: &mut Harness<'static, TsmApp>, steps: usize, limit: Duration) {
+    h.get_by_label("Run").click();
+    wait(h, "the run", limit, |h| {
+        shown_increment(h).is_some_and(|(k, n)| k == n && n >= steps)
+    });
 }
 
 fn loaded(h: &mut Harness<'static, TsmApp>) {
@@ -304,18 +316,11 @@ fn formulation_toggle_reloads_and_exports_write_the_shown_run() {
     wait(&mut h, "the reload", Duration::from_secs(30), |h| {
         h.query_by_label_contains("(Timoshenko)").is_some() && shown_increment(h) == Some((0, 0))
     });
-    h.get_by_label("Run").click();
     let mut scene = builtin("mattiasson").unwrap().unwrap();
-    wait(&mut h, "the run", Duration::from_secs(120), |h| {
-        shown_increment(h).is_some_and(|(k, n)| k == n && n >= scene.steps)
-    });
+    run_all(&mut h, scene.steps, Duration::from_secs(120));
     // Independent reference: the same scene solved directly with the Timoshenko element.
     scene.model.formulation = tsm_contact::solver::Formulation::Timoshenko;
-    let mut solver = scene.solver().unwrap();
-    let mut reference = Vec::new();
-    for _ in 0..scene.steps {
-        reference.extend(solver.step(&mut Silent).unwrap());
-    }
+    let reference = direct(&scene, scene.steps);
     let n = reference.len();
     assert_eq!(shown_increment(&h), Some((n, n)));
     let last = reference.last().unwrap();
@@ -488,22 +493,11 @@ fn stretch_correction_selector_reloads_in_the_chosen_mode() {
     wait(&mut h, "the reload", Duration::from_secs(30), |h| {
         h.query_by_label("always").is_some() && shown_increment(h) == Some((0, 0))
     });
-    h.get_by_label("Run").click();
     let mut scene = builtin("end_moment").unwrap().unwrap();
-    wait(&mut h, "the run", Duration::from_secs(60), |h| {
-        shown_increment(h).is_some_and(|(k, n)| k == n && n >= scene.steps)
-    });
-    let run = |scene: &tsm_contact::scene::Scene| {
-        let mut solver = scene.solver().unwrap();
-        let mut out = Vec::new();
-        for _ in 0..scene.steps {
-            out.extend(solver.step(&mut Silent).unwrap());
-        }
-        out
-    };
-    let plain = run(&scene);
+    run_all(&mut h, scene.steps, Duration::from_secs(60));
+    let plain = direct(&scene, scene.steps);
     scene.params.stretch_correction = tsm_contact::solver::StretchCorrection::Always;
-    let always = run(&scene);
+    let always = direct(&scene, scene.steps);
     let (a, p) = (always.last().unwrap(), plain.last().unwrap());
     assert_ne!(a.iterations, p.iterations, "the modes must differ here");
     let shown = label(&h, "iterations ").unwrap();
