@@ -5,19 +5,11 @@
 //! Run with `cargo bench --no-default-features --bench solver`.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
-use tsm_contact::scene::{builtin::builtin, builtin::BUILTIN, parse};
+use tsm_contact::scene::builtin::{builtin, with_elements};
 use tsm_contact::solver::Silent;
 
 fn cantilever(n: usize) -> tsm_contact::scene::Scene {
-    let text = BUILTIN
-        .iter()
-        .find(|(f, _)| *f == "mattiasson.ron")
-        .unwrap()
-        .1;
-    let text = text
-        .replace("elements: 32", &format!("elements: {n}"))
-        .replace("loads: [(node: 33,", &format!("loads: [(node: {},", n + 1));
-    let mut sc = parse(&text, "bench").unwrap();
+    let mut sc = with_elements("mattiasson", n).unwrap().unwrap();
     // One increment of k = 0.1. EA/l grows with n and so does the round-off floor of the
     // residual (eps EA/l |x| / P ~ 2e-6 at n = 1000): a tolerance of 1e-5 is reachable at every
     // n, so no attempt is cut back and the time divides cleanly by the iterations.

@@ -7,7 +7,8 @@ use std::fmt::Write as _;
 use std::time::Instant;
 
 use crate::pin_elastica::{pin_on_cantilever, Stiffness};
-use crate::scene::{parse, Scene};
+use crate::scene::builtin::with_elements;
+use crate::scene::Scene;
 use crate::solver::{Formulation, IncrementRecord, Silent};
 
 /// One measured point.
@@ -50,10 +51,6 @@ fn mattiasson_name(k: f64) -> String {
     format!("Mattiasson k={k}")
 }
 
-fn builtin_text(file: &str) -> &'static str {
-    crate::scene::builtin::text(file).expect("built-in scene")
-}
-
 fn cantilever(
     file: &str,
     n: usize,
@@ -61,15 +58,9 @@ fn cantilever(
     tol: f64,
     load: Option<f64>,
 ) -> Scene {
-    // Every scene but Mattiasson's has 16 elements.
-    let default_n = if file == "mattiasson.ron" { 32 } else { 16 };
-    let text = builtin_text(file)
-        .replace(&format!("elements: {default_n}"), &format!("elements: {n}"))
-        .replace(
-            &format!("(node: {},", default_n + 1),
-            &format!("(node: {},", n + 1),
-        );
-    let mut sc = parse(&text, file).expect("valid variant");
+    let mut sc = with_elements(file, n)
+        .expect("a one-body built-in scene")
+        .expect("valid variant");
     sc.model.formulation = formulation;
     sc.params.tolerance = tol;
     // Fine meshes of an axially stiff beam hit the round-off floor eps EA/l |x| / P; accept

@@ -173,3 +173,30 @@ fn stretch_correction_takes_a_mode_or_a_flag() {
         "{e}"
     );
 }
+
+/// `builtin::with_elements` re-meshes a one-body scene: 1000 elements of Mattiasson's 1 m
+/// cantilever, its tip load moved to the new last node at x = 1 m (to 1e-12); its own count
+/// gives the scene back unchanged; a scene of several bodies is refused.
+#[test]
+fn one_body_scenes_re_mesh() {
+    use tsm_contact::scene::builtin::{builtin, with_elements};
+    let sc = with_elements("mattiasson", 1000)
+        .expect("one body")
+        .expect("valid");
+    assert_eq!(sc.model.beams.len(), 1000);
+    let load = &sc.model.loads[0];
+    let tip = sc.model.position(load.node);
+    assert!(
+        (tip[0] - 1.0).abs() < 1e-12 && tip[1].abs() < 1e-12,
+        "{tip:?}"
+    );
+    let own = with_elements("pin_on_cantilever", 16)
+        .expect("one body")
+        .expect("valid");
+    assert_eq!(
+        own.model,
+        builtin("pin_on_cantilever").unwrap().unwrap().model
+    );
+    assert!(with_elements("example_3_2", 10).is_none());
+    assert!(with_elements("lee_frame", 10).is_none());
+}

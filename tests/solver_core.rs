@@ -33,24 +33,14 @@ const MATTIASSON: [(f64, f64, f64); 10] = [
 ];
 
 fn mattiasson_tips(n: usize) -> Vec<(f64, f64)> {
-    let text = builtin_text("mattiasson.ron")
-        .replace("elements: 32", &format!("elements: {n}"))
-        .replace("loads: [(node: 33,", &format!("loads: [(node: {},", n + 1));
-    let sc = parse(&text, "mattiasson-variant").expect("valid");
+    let sc = tsm_contact::scene::builtin::with_elements("mattiasson", n)
+        .expect("one body")
+        .expect("valid");
     let tip = sc.model.nodes.len() - 1;
     run(&sc, 10)
         .iter()
         .map(|r| (-(r.nodes[tip][0] - 1.0), -r.nodes[tip][1]))
         .collect()
-}
-
-fn builtin_text(file: &str) -> String {
-    tsm_contact::scene::builtin::BUILTIN
-        .iter()
-        .find(|(f, _)| *f == file)
-        .unwrap()
-        .1
-        .to_string()
 }
 
 #[test]

@@ -4,22 +4,16 @@
 //! roll-up, against the regular polygon. The default mode switches it on at a run's first
 //! cut-back and leaves runs without one as plain Newton's, bit for bit.
 
-use tsm_contact::scene::{builtin, parse, Scene};
+use tsm_contact::scene::{builtin, Scene};
 use tsm_contact::solver::{Event, IncrementRecord, Observer, StretchCorrection};
 
 use StretchCorrection::{AfterCutBack, Always, Never};
 
-/// Built-in scene `file` on `n` elements (its default mesh `default_n`), with the
-/// correction in `mode`.
-fn variant(file: &str, default_n: usize, n: usize, mode: StretchCorrection) -> Scene {
-    let text = builtin::text(file)
-        .expect("built-in")
-        .replace(&format!("elements: {default_n}"), &format!("elements: {n}"))
-        .replace(
-            &format!("(node: {},", default_n + 1),
-            &format!("(node: {},", n + 1),
-        );
-    let mut sc = parse(&text, file).expect("valid variant");
+/// Built-in scene `file` on `n` elements, with the correction in `mode`.
+fn variant(file: &str, n: usize, mode: StretchCorrection) -> Scene {
+    let mut sc = builtin::with_elements(file, n)
+        .expect("a one-body built-in scene")
+        .expect("valid variant");
     sc.params.stretch_correction = mode;
     sc
 }
@@ -78,7 +72,7 @@ fn switches(events: &[Event]) -> usize {
 /// relative residuals up to 5e-6, the round-off floor of 1 mm elements).
 #[test]
 fn mattiasson_on_1000_elements_converges_in_fewer_iterations() {
-    let recs = |mode| run_with_events(&variant("mattiasson.ron", 32, 1000, mode));
+    let recs = |mode| run_with_events(&variant("mattiasson.ron", 1000, mode));
     let ((plain, plain_events), (auto, events)) = (recs(Never), recs(AfterCutBack));
     let always = recs(Always).0;
     assert!(iterations(&plain) >= 130, "plain {}", iterations(&plain));
@@ -109,8 +103,8 @@ fn mattiasson_on_1000_elements_converges_in_fewer_iterations() {
 /// (measured 2e-15).
 #[test]
 fn roll_up_converges_in_a_third_of_the_iterations() {
-    let plain = run(&variant("end_moment.ron", 16, 16, Never));
-    let always = run(&variant("end_moment.ron", 16, 16, Always));
+    let plain = run(&variant("end_moment.ron", 16, Never));
+    let always = run(&variant("end_moment.ron", 16, Always));
     assert!(iterations(&plain) >= 50, "plain {}", iterations(&plain));
     assert!(iterations(&always) <= 30, "always {}", iterations(&always));
     let middle = |r: &[IncrementRecord]| r.last().expect("record").nodes[8];
@@ -133,7 +127,7 @@ fn roll_up_converges_in_a_third_of_the_iterations() {
 fn bernoulli_euler_pin_on_1024_elements_stays_on_the_beam() {
     use tsm_contact::solver::Formulation;
     use tsm_contact::work_precision::pin_errors;
-    let mut sc = variant("pin_on_cantilever.ron", 16, 1024, Always);
+    let mut sc = variant("pin_on_cantilever.ron", 1024, Always);
     sc.model.formulation = Formulation::BernoulliEuler;
     sc.params.roundoff_factor = 0.0;
     let recs = run(&sc);
@@ -194,8 +188,8 @@ fn example_3_2_is_plain_newton_until_its_first_cut_back() {
 /// for bit in the default mode: the same iterations, the same node positions, no switch.
 #[test]
 fn without_a_cut_back_the_default_is_plain_newton() {
-    let (plain, _) = run_with_events(&variant("end_moment.ron", 16, 16, Never));
-    let (auto, events) = run_with_events(&variant("end_moment.ron", 16, 16, AfterCutBack));
+    let (plain, _) = run_with_events(&variant("end_moment.ron", 16, Never));
+    let (auto, events) = run_with_events(&variant("end_moment.ron", 16, AfterCutBack));
     assert!(events.is_empty(), "{events:?}");
     assert_eq!(plain.len(), auto.len());
     for (a, b) in plain.iter().zip(&auto) {

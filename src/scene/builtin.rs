@@ -44,6 +44,37 @@ pub fn text(name: &str) -> Option<&'static str> {
         .map(|(_, t)| *t)
 }
 
+/// A built-in scene of one straight body numbered from 1 (Mattiasson's cantilever, the end
+/// moment, the pin on a cantilever) divided into `n` elements instead of its own K: the
+/// body's `elements` and every reference to its last node (`(node: K + 1,`, where loads and
+/// supports name it) follow. `None` for an unknown name or any other kind of scene (more
+/// than one body, or a polyline whose element count is not the body's).
+pub fn with_elements(name: &str, n: usize) -> Option<Result<Scene, SceneError>> {
+    let text = text(name)?;
+    let mut counts = text.match_indices("elements: ").map(|(at, key)| {
+        let digits = &text[at + key.len()..];
+        let end = digits
+            .find(|c: char| !c.is_ascii_digit())
+            .unwrap_or(digits.len());
+        digits[..end].parse::<usize>().ok()
+    });
+    let own = match (counts.next(), counts.next()) {
+        (Some(Some(k)), None) => k,
+        _ => return None,
+    };
+    let text = text
+        .replace(&format!("elements: {own}"), &format!("elements: {n}"))
+        .replace(
+            &format!("(node: {},", own + 1),
+            &format!("(node: {},", n + 1),
+        );
+    let file = format!("assets/scenes/{}.ron", name.trim_end_matches(".ron"));
+    match parse(&text, &format!("{file} on {n} elements")) {
+        Ok(sc) if sc.model.beams.len() != n => None,
+        parsed => Some(parsed),
+    }
+}
+
 /// Parse a built-in scene by file name (with or without `.ron`).
 pub fn builtin(name: &str) -> Option<Result<Scene, SceneError>> {
     let want = name.trim_end_matches(".ron");

@@ -164,32 +164,6 @@ pub struct ContactDef {
     pub bodies: Vec<String>,
 }
 
-/// The stretch correction as a scene gives it (`StretchCorrection`): a mode, or `true` and
-/// `false` for `Always` and `Never` (the flag of scenes written before the automatic mode).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-pub enum StretchDef {
-    /// Plain Newton (`false`).
-    #[serde(alias = "false")]
-    Never,
-    /// From the run's first cut-back on (the default).
-    #[default]
-    AfterCutBack,
-    /// Every update (`true`).
-    #[serde(alias = "true")]
-    Always,
-}
-
-impl StretchDef {
-    /// The solver's mode.
-    pub fn mode(self) -> StretchCorrection {
-        match self {
-            StretchDef::Never => StretchCorrection::Never,
-            StretchDef::AfterCutBack => StretchCorrection::AfterCutBack,
-            StretchDef::Always => StretchCorrection::Always,
-        }
-    }
-}
-
 /// Increment control.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -204,7 +178,7 @@ pub struct ControlDef {
     pub max_step: Option<f64>,
     /// When Newton's updates take the chords' second-order gaps out: `Never`, `AfterCutBack`
     /// (the default) or `Always`; `true` and `false` mean `Always` and `Never`.
-    pub stretch_correction: StretchDef,
+    pub stretch_correction: StretchCorrection,
     /// Arc-length control (load-driven scenes): length of one increment along the equilibrium
     /// path as the root-mean-square change of the free dofs (m, rad). Each step is one arc; the load factor is solved for.
     pub arc_length: Option<f64>,
@@ -217,7 +191,7 @@ impl Default for ControlDef {
             load_per_step: None,
             tolerance: None,
             max_step: None,
-            stretch_correction: StretchDef::AfterCutBack,
+            stretch_correction: StretchCorrection::AfterCutBack,
             arc_length: None,
         }
     }

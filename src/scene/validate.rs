@@ -471,7 +471,7 @@ fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
         positive(&ctx, "control.max_step".into(), Some("max_step".into()), s)?;
         params.max_step = s;
     }
-    params.stretch_correction = c.stretch_correction.mode();
+    params.stretch_correction = c.stretch_correction;
     if let Some(s) = c.arc_length {
         positive(
             &ctx,

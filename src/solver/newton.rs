@@ -688,17 +688,15 @@ mod tests {
                 d[first[b.j]] = offset[0];
                 d[first[b.j] + 1] = offset[1];
             }
+            let chord = |d: &[f64], b: &crate::solver::Beam| {
+                let (i, j) = (at(d, b.i), at(d, b.j));
+                [j[0] - i[0], j[1] - i[1]]
+            };
             let chords = |d: &[f64]| -> Vec<(f64, f64)> {
                 let beams = s.model.beams.iter();
                 beams
                     .map(|b| {
-                        let (c0, c1) = (
-                            [
-                                at(&rest, b.j)[0] - at(&rest, b.i)[0],
-                                at(&rest, b.j)[1] - at(&rest, b.i)[1],
-                            ],
-                            [at(d, b.j)[0] - at(d, b.i)[0], at(d, b.j)[1] - at(d, b.i)[1]],
-                        );
+                        let (c0, c1) = (chord(&rest, b), chord(d, b));
                         let l0 = c0[0].hypot(c0[1]);
                         let turn =
                             (c0[0] * c1[1] - c0[1] * c1[0]).atan2(c0[0] * c1[0] + c0[1] * c1[1]);

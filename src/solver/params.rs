@@ -90,13 +90,16 @@ impl Default for SolverParams {
 /// displacement steps only: the arc-length control's attempts (`arc_length`) do not use it.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub enum StretchCorrection {
-    /// Plain Newton: the linear update only.
+    /// Plain Newton: the linear update only (`false` in a scene file, the form of scenes
+    /// written before the modes).
+    #[serde(alias = "false")]
     Never,
     /// Plain Newton until the run's first cut-back, corrected from then on (reported as
     /// `Event::StretchCorrectionOn`). Runs without cut-backs are plain Newton's, bit for bit.
     #[default]
     AfterCutBack,
-    /// Every update of every increment.
+    /// Every update of every increment (`true` in a scene file).
+    #[serde(alias = "true")]
     Always,
 }
 
