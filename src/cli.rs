@@ -22,7 +22,9 @@ macro_rules! out {
 use tsm_contact::history::History;
 use tsm_contact::scene::{self, Scene, SceneError};
 use tsm_contact::solver::report::{ContactChange, Flow};
-use tsm_contact::solver::{Event, Formulation, IncrementRecord, Observer, StretchCorrection};
+use tsm_contact::solver::{
+    Event, Formulation, IncrementRecord, IncrementStatus, Observer, StretchCorrection,
+};
 
 #[derive(Parser)]
 #[command(
@@ -236,13 +238,19 @@ impl Observer for Printer {
                 .join(" ")
         };
         let it8 = r.iterations_8_orders.map_or("-".into(), |v| v.to_string());
+        // A relative residual accepted at the round-off floor (above the tolerance) is marked.
+        let mark = match r.status {
+            IncrementStatus::Converged => ' ',
+            IncrementStatus::RoundOff { .. } => 'r',
+        };
         out!(
-            "{:>5}  {}  {:>4}  {:>4}  {:>9.2e}  {:>3}  {:>3}  {:>8.2}",
+            "{:>5}  {}  {:>4}  {:>4}  {:>9.2e}{}  {:>3}  {:>3}  {:>8.2}",
             r.increment,
             driven,
             r.iterations,
             it8,
             r.relative_residual,
+            mark,
             r.cutbacks,
             r.contacts.len(),
             r.seconds * 1e3
@@ -327,7 +335,7 @@ fn solve(args: SolveArgs) -> i32 {
         steps,
         scene.params.tolerance
     );
-    out!("# step  prescribed/load  iter  it8  rel.resid  cut  act   ms");
+    out!("# incr  prescribed/load  iter  it8  rel.resid   cut  act   ms   (r: accepted at the round-off floor)");
     let mut printer = Printer {
         history: History {
             scene: scene.file.name.clone(),
@@ -360,6 +368,10 @@ fn solve(args: SolveArgs) -> i32 {
         total,
         t0.elapsed().as_secs_f64() * 1e3
     );
+    out!(
+        "# {}",
+        acceptance_summary(&printer.history.increments, code != 0)
+    );
     if let Some(path) = json {
         if let Err(e) = printer.history.write_json(&path) {
             eprintln!("error: cannot write {}: {e}", path.display());
@@ -367,6 +379,21 @@ fn solve(args: SolveArgs) -> i32 {
         }
     }
     code
+}
+
+/// One line on how the increments met the acceptance rule: how many converged to the tolerance,
+/// how many were accepted at the round-off floor, the worst relative residual, and whether the
+/// run stopped on a failure.
+fn acceptance_summary(increments: &[IncrementRecord], failed: bool) -> String {
+    let roundoff = (increments.iter())
+        .filter(|r| matches!(r.status, IncrementStatus::RoundOff { .. }))
+        .count();
+    let worst = (increments.iter()).fold(0.0f64, |w, r| w.max(r.relative_residual));
+    format!(
+        "{} increments converged, {roundoff} accepted at round-off, worst relative residual {worst:.2e}{}",
+        increments.len() - roundoff,
+        if failed { "; the run stopped on a failure" } else { "" }
+    )
 }
 
 /// Make the output folder `out` (and its parents) before any measuring, so that a folder that

@@ -501,14 +501,10 @@ pub fn initial_record(solver: &Solver) -> IncrementRecord {
         relative_residual: 0.0,
         reference: 0.0,
         roundoff_floor: 0.0,
+        status: Default::default(),
         cutbacks: 0,
         residuals: Vec::new(),
-        nodes: (0..model.nodes.len())
-            .map(|n| {
-                let (x, phi) = solver.node_state(n);
-                [x[0], x[1], phi]
-            })
-            .collect(),
+        nodes: solver.node_states(solver.displacements()),
         element_forces: vec![[0.0; 3]; model.beams.len()],
         reactions: Vec::new(),
         contacts: Vec::new(),

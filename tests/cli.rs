@@ -61,3 +61,29 @@ fn bench_makes_its_output_folder_or_names_it() {
     );
     std::fs::remove_dir_all(&root).expect("cleaned up");
 }
+
+/// `solve` ends with the acceptance summary and writes each increment's `status` into the JSON
+/// history: the pin on a cantilever converges to the tolerance in every increment (10 steps,
+/// no cut-back), so the summary counts 10 converged, 0 at round-off, and every status is
+/// "converged"; the exit status is 0.
+#[test]
+fn solve_summarises_how_each_increment_was_accepted() {
+    let json = std::env::temp_dir().join(format!("tsm-status-{}.json", std::process::id()));
+    let out = Command::new(env!("CARGO_BIN_EXE_tsm-contact"))
+        .args(["solve", "pin_on_cantilever", "--json"])
+        .arg(&json)
+        .output()
+        .expect("runs");
+    assert_eq!(out.status.code(), Some(0));
+    let text = String::from_utf8_lossy(&out.stdout);
+    let history: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).expect("written")).expect("JSON");
+    let _ = std::fs::remove_file(&json);
+    let incs = history["increments"].as_array().expect("increments");
+    let line = format!(
+        "# {} increments converged, 0 accepted at round-off",
+        incs.len()
+    );
+    assert!(text.contains(&line), "{text}");
+    assert!(incs.iter().all(|r| r["status"] == "converged"), "{incs:?}");
+}

@@ -170,10 +170,22 @@ fn timoshenko_contact_converges_near_element_ends_and_bernoulli_euler_fails_clea
         if xi >= 0.97 {
             assert!(t.row.transfers >= 1, "li/l = {xi}: no transfer");
         }
+        // Bernoulli-Euler: K44 ~ 3 EI / li^3 puts the residual's round-off floor far above the
+        // tolerance near the element end. The run converges, or stops with a typed error (no
+        // convergence, or a stall at a round-off floor above the bound); it never accepts a
+        // state beyond the bound.
         let b = stress::pin_near_end(xi, Formulation::BernoulliEuler);
+        assert!(
+            b.row.max_residual <= 1e-5,
+            "li/l = {xi}: {}",
+            b.row.max_residual
+        );
         match &b.row.error {
             None => assert!(b.row.increments >= 10),
-            Some(e) => assert!(e.contains("no convergence"), "{e}"),
+            Some(e) => assert!(
+                e.contains("no convergence") || e.contains("Newton stalls"),
+                "{e}"
+            ),
         }
         eprintln!(
             "li/l {xi}: Timoshenko {} increments, {} transfers; Bernoulli-Euler {}",
@@ -274,7 +286,7 @@ fn slender_and_stubby_members_match_their_references() {
                 "{f:?} L/h {s}: {w} vs {exact}"
             );
         }
-        for ratio in [1e1, 1e2, 1e3] {
+        for ratio in [1e1, 1e2] {
             let r = stress::short_next_to_long(ratio, f);
             let (_, w, w_ref) = r.row.measure.clone().expect("converged");
             assert!(
@@ -282,6 +294,15 @@ fn slender_and_stubby_members_match_their_references() {
                 "{f:?} ratio {ratio}: w/L {w} vs {w_ref}"
             );
         }
+        // Element lengths 1000 : 1: the residual's round-off floor (about 2e-4) lies above the
+        // bound for acceptance at round-off (1e-5), so the run stops with that typed error
+        // instead of accepting a state out of equilibrium.
+        let r = stress::short_next_to_long(1e3, f);
+        let e = r.row.error.clone().unwrap_or_default();
+        assert!(
+            e.contains("Newton stalls") && e.contains("above the bound"),
+            "{f:?}: {e}"
+        );
     }
 }
 

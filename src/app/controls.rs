@@ -100,9 +100,11 @@ pub fn toolbar(app: &mut TsmApp, ui: &mut egui::Ui) {
             egui::Spinner::new().paint_at(ui, slot);
             egui::RichText::new("solving...")
         } else {
-            match &app.error {
-                Some(e) => egui::RichText::new(e).color(ui.visuals().error_fg_color),
-                None => egui::RichText::new(&app.status),
+            match (&app.error, app.roundoff_summary()) {
+                (Some(e), _) => egui::RichText::new(e).color(ui.visuals().error_fg_color),
+                (None, Some(s)) => egui::RichText::new(format!("{}; {s}", app.status))
+                    .color(super::plots::ROUNDOFF),
+                (None, None) => egui::RichText::new(&app.status),
             }
         };
         // The rest of the row (a row of its own when little is left), whatever the text.

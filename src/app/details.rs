@@ -1,10 +1,12 @@
 //! The details panel for the selected increment: "Increment k / n", prescribed values,
-//! iterations, "residual 3.2e-11", the active contacts (li/l, Yc) and the reactions.
+//! iterations, "residual 3.2e-11 (converged)" or its acceptance at the round-off floor, the active contacts (li/l, Yc) and the reactions.
 
 use egui::RichText;
 
+use super::plots::ROUNDOFF;
 use super::state::TsmApp;
 use super::units::num;
+use crate::solver::IncrementStatus;
 
 /// Show the details of the selected increment.
 pub fn show(app: &TsmApp, ui: &mut egui::Ui) {
@@ -28,7 +30,19 @@ pub fn show(app: &TsmApp, ui: &mut egui::Ui) {
     if r.increment > 0 {
         let it8 = r.iterations_8_orders.map_or("-".into(), |v| v.to_string());
         ui.label(format!("iterations {} (8 orders: {it8})", r.iterations));
-        ui.label(format!("residual {:.1e}", r.relative_residual));
+        match r.status {
+            IncrementStatus::Converged => {
+                ui.label(format!("residual {:.1e} (converged)", r.relative_residual));
+            }
+            // Never called converged: the state is as close to equilibrium as round-off allows.
+            IncrementStatus::RoundOff { ratio } => {
+                let text = format!(
+                    "residual {:.1e}: accepted at the round-off floor, {ratio:.0} x the tolerance",
+                    r.relative_residual
+                );
+                ui.label(RichText::new(text).color(ROUNDOFF));
+            }
+        }
         if r.cutbacks > 0 {
             ui.label(format!("cut-backs {}", r.cutbacks));
         }

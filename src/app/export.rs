@@ -7,7 +7,7 @@ use std::path::Path;
 use egui::ColorImage;
 
 use crate::history::{write_atomic, History};
-use crate::solver::{Event, IncrementRecord};
+use crate::solver::{Event, IncrementRecord, IncrementStatus};
 use crate::worker::Loaded;
 
 /// The history of the current run in the `History` schema (increment 0 left out).
@@ -33,13 +33,13 @@ pub fn history(
 }
 
 /// One CSV row per increment: number, prescribed values, load factor, iterations, residual,
-/// cut-backs, active contacts, then every reaction.
+/// status (converged or roundoff), cut-backs, active contacts, then every reaction.
 pub fn csv(loaded: &Loaded, records: &[IncrementRecord]) -> String {
     let mut out = String::from("increment");
     for l in &loaded.prescribed_labels {
         let _ = write!(out, ",{}", l.replace(' ', "_"));
     }
-    out.push_str(",load_factor,iterations,relative_residual,cutbacks,active_contacts");
+    out.push_str(",load_factor,iterations,relative_residual,status,cutbacks,active_contacts");
     let reactions: Vec<(u32, String)> = records
         .iter()
         .rev()
@@ -62,10 +62,14 @@ pub fn csv(loaded: &Loaded, records: &[IncrementRecord]) -> String {
         }
         let _ = write!(
             out,
-            ",{:.12e},{},{:.6e},{},{}",
+            ",{:.12e},{},{:.6e},{},{},{}",
             r.load_factor,
             r.iterations,
             r.relative_residual,
+            match r.status {
+                IncrementStatus::Converged => "converged",
+                IncrementStatus::RoundOff { .. } => "roundoff",
+            },
             r.cutbacks,
             r.contacts.len()
         );

@@ -6,7 +6,7 @@
 use egui::Color32;
 use egui_plot::{GridInput, GridMark, HLine, HoverPosition, Line, MarkerShape, Plot, Points};
 
-use crate::solver::{Dof, Event, IncrementRecord, IterationRecord};
+use crate::solver::{Dof, Event, IncrementRecord, IncrementStatus, IterationRecord};
 
 use super::state::TsmApp;
 
@@ -14,6 +14,8 @@ const RESIDUAL: Color32 = Color32::from_rgb(40, 90, 170);
 const SELECTED: Color32 = Color32::from_rgb(230, 120, 0);
 const CUT: Color32 = Color32::from_rgb(200, 30, 30);
 const CONTACT: Color32 = Color32::from_rgb(20, 150, 70);
+/// Increments accepted at the round-off floor, above the tolerance (also on the timeline).
+pub(crate) const ROUNDOFF: Color32 = Color32::from_rgb(200, 120, 0);
 
 /// Show both plots side by side.
 pub fn show(app: &mut TsmApp, ui: &mut egui::Ui) {
@@ -66,6 +68,8 @@ struct Series {
     selected: Vec<[f64; 2]>,
     cuts: Vec<[f64; 2]>,
     contacts: Vec<[f64; 2]>,
+    /// The last residual of each increment accepted at the round-off floor.
+    roundoff: Vec<[f64; 2]>,
 }
 
 /// Most points a plotted line gets (long runs are reduced to keep frames fast).
@@ -113,6 +117,7 @@ fn series(history: &[IncrementRecord], live: &[IterationRecord], selected: usize
         selected: Vec::new(),
         cuts: Vec::new(),
         contacts: Vec::new(),
+        roundoff: Vec::new(),
     };
     let mut x = 0.0;
     for (k, r) in history.iter().enumerate().skip(1) {
@@ -140,6 +145,9 @@ fn series(history: &[IncrementRecord], live: &[IterationRecord], selected: usize
         if r.cutbacks > 0 {
             s.cuts.push([start + 1.0, y_at(1)]);
         }
+        if matches!(r.status, IncrementStatus::RoundOff { .. }) {
+            s.roundoff.push([x, lg(r.relative_residual)]);
+        }
         for e in &r.events {
             if let Event::Contact(c) = e {
                 let i = c.iteration.max(1);
@@ -156,6 +164,7 @@ fn series(history: &[IncrementRecord], live: &[IterationRecord], selected: usize
     s.all = envelope(s.all, MAX_POINTS);
     s.cuts = thin(s.cuts, MAX_POINTS / 4);
     s.contacts = thin(s.contacts, MAX_POINTS / 4);
+    s.roundoff = thin(s.roundoff, MAX_POINTS / 4);
     s
 }
 
@@ -256,11 +265,16 @@ fn convergence(app: &mut TsmApp, ui: &mut egui::Ui) {
                     .collect()
             })
             .unwrap_or_default();
+        let roundoff = (app.record())
+            .filter(|r| matches!(r.status, IncrementStatus::RoundOff { .. }))
+            .map(|r| vec![[r.residuals.len() as f64, lg(r.relative_residual)]])
+            .unwrap_or_default();
         Series {
             all: pts,
             selected: Vec::new(),
             cuts: Vec::new(),
             contacts: Vec::new(),
+            roundoff,
         }
     };
     let x_label = if app.plot_all {
@@ -314,6 +328,15 @@ fn convergence(app: &mut TsmApp, ui: &mut egui::Ui) {
                         .shape(MarkerShape::Diamond)
                         .color(CONTACT)
                         .radius(4.0),
+                );
+            }
+            if !s.roundoff.is_empty() {
+                p.points(
+                    Points::new("accepted at round-off", s.roundoff)
+                        .shape(MarkerShape::Square)
+                        .color(ROUNDOFF)
+                        .radius(5.0)
+                        .filled(true),
                 );
             }
         });

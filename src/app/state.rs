@@ -221,6 +221,22 @@ impl TsmApp {
         self.gpu
     }
 
+    /// "K increments accepted at the round-off floor (worst 4.1e-6)" when the history has any
+    /// (they are in equilibrium only to that residual, not to the tolerance).
+    pub(crate) fn roundoff_summary(&self) -> Option<String> {
+        let at_floor: Vec<f64> = (self.history.iter())
+            .filter(|r| matches!(r.status, crate::solver::IncrementStatus::RoundOff { .. }))
+            .map(|r| r.relative_residual)
+            .collect();
+        let worst = at_floor.iter().copied().fold(0.0f64, f64::max);
+        (!at_floor.is_empty()).then(|| {
+            format!(
+                "{} increments accepted at the round-off floor (worst residual {worst:.1e})",
+                at_floor.len()
+            )
+        })
+    }
+
     /// Apply every waiting worker message. Never blocks.
     fn drain(&mut self) {
         while let Some(m) = self.worker.try_recv() {

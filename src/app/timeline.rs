@@ -1,6 +1,7 @@
 //! The timeline: a slider over the converged increments ("Increment") and the buttons
 //! "Step back", "Step" (next stored increment, or one more solved step at the end), "Play" /
-//! "Pause" (replay), "Run" (solve the scene's remaining steps) and "Reset".
+//! "Pause" (replay), "Run" (solve the scene's remaining steps) and "Reset". Increments accepted
+//! at the round-off floor are ticked under the slider.
 
 use crate::worker::Command;
 
@@ -21,6 +22,7 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui) {
             app.selected = sel;
             app.playing = false;
         }
+        roundoff_ticks(app, ui, r.rect, last);
         let loaded = app.loaded.is_some();
         if ui
             .add_enabled(app.selected > 0, egui::Button::new("Step back"))
@@ -58,4 +60,26 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui) {
             app.worker.send(Command::Reset);
         }
     });
+}
+
+/// A tick under the slider at every increment accepted at the round-off floor (the colour of
+/// their markers in the convergence plot), so that they are seen before they are selected.
+fn roundoff_ticks(app: &TsmApp, ui: &egui::Ui, rect: egui::Rect, last: usize) {
+    if last == 0 {
+        return;
+    }
+    // The slider's track: its rect less the value text on the right.
+    let track = ui.spacing().slider_width;
+    let (x0, y) = (rect.left() + 6.0, rect.bottom() - 1.0);
+    let span = (track - 12.0).max(1.0);
+    let painter = ui.painter();
+    for (k, r) in app.history.iter().enumerate() {
+        if matches!(r.status, crate::solver::IncrementStatus::RoundOff { .. }) {
+            let x = x0 + span * k as f32 / last as f32;
+            painter.line_segment(
+                [egui::pos2(x, y - 4.0), egui::pos2(x, y + 1.0)],
+                egui::Stroke::new(2.0, super::plots::ROUNDOFF),
+            );
+        }
+    }
 }

@@ -174,6 +174,9 @@ pub struct ControlDef {
     pub load_per_step: Option<f64>,
     /// Newton tolerance on the relative residual (default 1e-8).
     pub tolerance: Option<f64>,
+    /// Largest relative residual accepted where Newton stalls at the round-off floor
+    /// (default 1e-5; such increments are marked `roundoff` in the history).
+    pub roundoff_bound: Option<f64>,
     /// Largest displacement correction per Newton iteration (m), if any.
     pub max_step: Option<f64>,
     /// When Newton's updates take the chords' second-order gaps out: `Never`, `AfterCutBack`
@@ -190,6 +193,7 @@ impl Default for ControlDef {
             steps: 10,
             load_per_step: None,
             tolerance: None,
+            roundoff_bound: None,
             max_step: None,
             stretch_correction: StretchCorrection::AfterCutBack,
             arc_length: None,

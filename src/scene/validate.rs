@@ -467,6 +467,15 @@ fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
         )?;
         params.tolerance = t;
     }
+    if let Some(b) = c.roundoff_bound {
+        positive(
+            &ctx,
+            "control.roundoff_bound".into(),
+            Some("roundoff_bound".into()),
+            b,
+        )?;
+        params.roundoff_bound = b;
+    }
     if let Some(s) = c.max_step {
         positive(&ctx, "control.max_step".into(), Some("max_step".into()), s)?;
         params.max_step = s;

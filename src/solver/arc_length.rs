@@ -49,12 +49,19 @@ impl Solver {
         let clock = Instant::now();
         loop {
             let number = self.increment() + 1;
-            match self.arc_attempt(ds, number, obs) {
-                Ok((conv, lambda)) => {
+            let accepted = self
+                .arc_attempt(ds, number, obs)
+                .and_then(|(conv, lambda)| {
+                    let checked = self.acceptance(&conv)?;
+                    Ok((conv, lambda, checked))
+                });
+            match accepted {
+                Ok((conv, lambda, checked)) => {
                     let before = self.displacements().to_vec();
                     let easy = conv.iterations <= 6;
                     let p = self.prescribed_values().to_vec();
-                    let rec = self.commit(conv, p, lambda, cutbacks, clock.elapsed().as_secs_f64());
+                    let secs = clock.elapsed().as_secs_f64();
+                    let rec = self.commit(conv, checked, p, lambda, cutbacks, secs);
                     let dd: Vec<f64> = self.d.iter().zip(&before).map(|(a, b)| a - b).collect();
                     self.arc.last = Some(dd);
                     self.arc.ds = Some(if easy { (2.0 * ds).min(nominal) } else { ds });
@@ -65,15 +72,12 @@ impl Solver {
                     return Ok(vec![rec]);
                 }
                 Err(AttemptError::Stopped) => return Err(SolveError::Stopped),
-                Err(AttemptError::Failed(reason)) => {
+                Err(e) => {
                     cutbacks += 1;
                     if cutbacks > self.params.max_cutbacks {
-                        return Err(SolveError::NoConvergence {
-                            increment: number,
-                            cutbacks: cutbacks - 1,
-                            reason,
-                        });
+                        return Err(self.give_up(number, cutbacks - 1, e));
                     }
+                    let reason = self.failure_reason(&e);
                     ds *= 0.5;
                     self.arc.ds = Some(ds);
                     obs.event(&Event::CutBack {
@@ -151,7 +155,7 @@ impl Solver {
                     },
                 )?;
                 let at_floor = stall.at_floor(rel, floor, ordering.n_eq, last_step, scale);
-                if rel <= p.tolerance.max(p.roundoff_factor * floor) || at_floor {
+                if self.equilibrium_reached(rel, floor, at_floor)? {
                     let changed = contacts.after_convergence(
                         self,
                         &d,

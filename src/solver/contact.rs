@@ -23,6 +23,14 @@ use super::report::{ContactChange, ContactEvent, ContactState, Event};
 /// without the swept test: the chords used by that test miss the elements' own deflection.
 const SHAPE_MARGIN: f64 = 0.05;
 
+/// A gap within this fraction of the element length (plus the round-off of the positions,
+/// `Solver::touching`) is touching when sides are recorded: it tells no side.
+const SIDE: f64 = 1e-10;
+
+/// A node must be this fraction of the element length (plus the positions' round-off) on the
+/// wrong side of an element to have crossed it.
+const THROUGH: f64 = 1e-10;
+
 /// Bodies of more elements than this are probed through the element grid.
 const GRID_MIN_ELEMENTS: usize = 32;
 
@@ -189,7 +197,7 @@ impl ContactSet {
             .collect()
     }
 
-    fn is_active(&self, node: usize, body: usize) -> bool {
+    pub(crate) fn is_active(&self, node: usize, body: usize) -> bool {
         self.active.iter().any(|a| a.node == node && a.body == body)
     }
 
@@ -370,7 +378,7 @@ impl ContactSet {
                 continue;
             }
             match self.probe_near(solver, d, n, b, Some(&view)) {
-                Some(p) if p.gap.abs() > 1e-12 * p.length => {
+                Some(p) if p.gap.abs() > solver.touching(SIDE, p.length) => {
                     // Every crossing since the last converged state was caught by
                     // `after_convergence`, so the side now is the side to keep.
                     self.sides.insert((n, b), (p.gap.signum(), p.beam));
@@ -423,7 +431,7 @@ impl ContactSet {
             return Some(s);
         }
         let p = self.probe_near(solver, &solver.d, n, b, view)?;
-        (p.gap.abs() > 1e-12 * p.length).then(|| (p.gap.signum(), p.beam))
+        (p.gap.abs() > solver.touching(SIDE, p.length)).then(|| (p.gap.signum(), p.beam))
     }
 
     /// The side of body `b` on which the beam neighbours of node `n` lie, if they agree and are
@@ -445,7 +453,7 @@ impl ContactSet {
         {
             let other = if beam.i == n { beam.j } else { beam.i };
             let p = self.probe_near(solver, d, other, b, view)?;
-            if p.gap.abs() <= 1e-12 * p.length {
+            if p.gap.abs() <= solver.touching(SIDE, p.length) {
                 return None;
             }
             match side {
@@ -639,25 +647,26 @@ impl ContactSet {
             // swept path; on the other side of one further along (a beam springing back past a
             // node that let go two elements away), only with a swept path: a beam that curls
             // brings far elements round a node without passing through it.
-            let wrong_side = p.gap * side < -1e-10 * p.length;
+            let wrong_side = p.gap * side < -solver.touching(THROUGH, p.length);
             let crossed = wrong_side
                 && ((-p.gap * side < SHAPE_MARGIN * p.length
                     && Self::adjacent(solver, b, was, p.beam))
                     || Self::swept_through(solver, d, n, b));
             return crossed.then_some((p, side));
         }
-        if p.gap.abs() <= 1e-10 * p.length {
+        if p.gap.abs() <= solver.touching(THROUGH, p.length) {
             return None;
+        }
+        if let Some(q) = self.probe_near(solver, &solver.d, n, b, Some(&views.before)) {
+            // It projected onto the body before, so it touched it then (no side was recorded)
+            // or was in contact and slid off a tip in this increment. A node that touched with
+            // no side comes from the side opposite to its motion (the zero-gap rule): it is
+            // activated, and released again at the next pass if the contact pulls.
+            let touched = q.gap.abs() <= solver.touching(SIDE, q.length);
+            let was_active = solver.contacts.is_active(n, b);
+            return (touched && !was_active).then_some((p, -p.gap.signum()));
         }
         let e = Self::swept_crossing(solver, d, n, b, 0.0)?;
-        if self
-            .probe_near(solver, &solver.d, n, b, Some(&views.before))
-            .is_some()
-        {
-            // It projected onto the body before: touching then, so no side was recorded, or a
-            // contact that slid off a tip in this increment.
-            return None;
-        }
         let m = &solver.model;
         // A node of the crossed element resting on the node's own beam: the two chords meet at
         // that contact (e.g. a tip resting on a beam as one of the beam's nodes passes under
@@ -677,7 +686,7 @@ impl ContactSet {
         let l2 = dx * dx + dy * dy;
         let t = (((c[0] - xi[0]) * dx + (c[1] - xi[1]) * dy) / l2).clamp(0.0, 1.0);
         let clear = (c[0] - xi[0] - t * dx).hypot(c[1] - xi[1] - t * dy);
-        (clear > 1e-10 * l2.sqrt() && Self::adjacent(solver, b, e, p.beam))
+        (clear > solver.touching(THROUGH, l2.sqrt()) && Self::adjacent(solver, b, e, p.beam))
             .then_some((p, -p.gap.signum()))
     }
 

@@ -5,6 +5,7 @@
 use std::sync::Arc;
 use std::time::Instant;
 
+use super::acceptance::{CrossingCheck, IncrementStatus, NodeState};
 use super::arc_length::ArcState;
 use super::assembly::{
     assemble, current, Assembled, AssemblyContext, DofMap, Ordering, PackedBeam,
@@ -66,7 +67,8 @@ impl std::fmt::Debug for ConvergedAssembly {
 /// The TSM solver for one model: converged state plus everything needed to advance it.
 #[derive(Clone, Debug)]
 pub struct Solver {
-    /// The model being solved.
+    /// The model being solved, its coordinates measured from `origin` (the scene's own, unless
+    /// the scene lies far from the origin: see `Model::recentred`).
     pub model: Model,
     /// Parameters.
     pub params: SolverParams,
@@ -94,11 +96,19 @@ pub struct Solver {
     pub(crate) node_beams: Vec<Vec<usize>>,
     /// Whether the run has cut an increment back (`StretchCorrection::AfterCutBack`).
     cut_back: bool,
+    /// Where the model's coordinates are measured from (`Model::recentred`): positions handed out
+    /// (`node_state`, `node_states`, the records) add it back.
+    origin: [f64; 2],
+    /// The acceptance check's geometric test, at the last accepted state.
+    pub(crate) crossing: CrossingCheck,
+    /// The round-off of a node position: 64 units of the largest initial coordinate.
+    position_roundoff: f64,
 }
 
 impl Solver {
     /// Set up a solver at the undeformed state; fails if the structure is a mechanism.
     pub fn new(model: Model, params: SolverParams) -> Result<Solver, SolveError> {
+        let (model, origin) = model.recentred();
         let elements: Vec<BeamElement> = model
             .beams
             .iter()
@@ -129,6 +139,11 @@ impl Solver {
             candidate_nodes: 0,
             node_beams: model.node_beams(),
             cut_back: false,
+            origin,
+            crossing: CrossingCheck::default(),
+            position_roundoff: 64.0
+                * f64::EPSILON
+                * (model.nodes.iter()).fold(0.0f64, |m, n| m.max(n.x.abs()).max(n.y.abs())),
             elements,
             packed,
             dofs,
@@ -146,7 +161,28 @@ impl Solver {
         let mut contacts = std::mem::take(&mut solver.contacts);
         contacts.remember_sides(&solver, &solver.d);
         solver.contacts = contacts;
+        if !solver.candidates.is_empty() {
+            let start = solver.node_states(&solver.d);
+            solver.crossing = CrossingCheck::new(&solver.model, solver.candidates.clone(), start);
+        }
         Ok(solver)
+    }
+
+    /// The gap below which a node touches an element of chord `length`: `fraction` of the
+    /// length plus the round-off of the positions at the model's scale (64 units of the
+    /// largest initial coordinate), so that a translated scene decides alike.
+    pub(crate) fn touching(&self, fraction: f64, length: f64) -> f64 {
+        fraction * length + self.position_roundoff
+    }
+
+    /// Position and rotation of every node at displacements `d`.
+    pub fn node_states(&self, d: &[f64]) -> Vec<NodeState> {
+        (0..self.model.nodes.len())
+            .map(|n| {
+                let (x, phi) = current(&self.model, &self.dofs, d, n);
+                [x[0] + self.origin[0], x[1] + self.origin[1], phi]
+            })
+            .collect()
     }
 
     /// The free dofs that have no stiffness in the undeformed state (empty if the structure is
@@ -272,7 +308,8 @@ impl Solver {
 
     /// Current position and rotation of node `n`.
     pub fn node_state(&self, n: usize) -> ([f64; 2], f64) {
-        current(&self.model, &self.dofs, &self.d, n)
+        let (x, phi) = current(&self.model, &self.dofs, &self.d, n);
+        ([x[0] + self.origin[0], x[1] + self.origin[1]], phi)
     }
 
     /// The element evaluators (initial geometry, stiffness), one per beam.
@@ -336,15 +373,20 @@ impl Solver {
                 start_l + next * (lambda - start_l)
             };
             let number = self.increment + 1;
-            match self.attempt(&tp, tl, number, obs) {
-                Ok(conv) => {
+            let accepted = self.attempt(&tp, tl, number, obs).and_then(|conv| {
+                let checked = self.acceptance(&conv)?;
+                Ok((conv, checked))
+            });
+            match accepted {
+                Ok((conv, checked)) => {
                     // After a cut-back the sub-increment grows again (doubles) once Newton has
                     // it easy, so one hard moment does not leave the rest of the step in
                     // tiny pieces.
                     if conv.iterations <= GROW_ITERATIONS && h < 1.0 {
                         h *= 2.0;
                     }
-                    let rec = self.commit(conv, tp, tl, cutbacks, clock.elapsed().as_secs_f64());
+                    let secs = clock.elapsed().as_secs_f64();
+                    let rec = self.commit(conv, checked, tp, tl, cutbacks, secs);
                     clock = Instant::now();
                     done = next;
                     for e in &rec.events {
@@ -357,15 +399,12 @@ impl Solver {
                     }
                 }
                 Err(AttemptError::Stopped) => return Err(SolveError::Stopped),
-                Err(AttemptError::Failed(reason)) => {
+                Err(e) => {
                     // Halved at most `max_cutbacks` times below the full step.
                     if h <= 0.5f64.powi(self.params.max_cutbacks as i32) {
-                        return Err(SolveError::NoConvergence {
-                            increment: number,
-                            cutbacks,
-                            reason,
-                        });
+                        return Err(self.give_up(number, cutbacks, e));
                     }
+                    let reason = self.failure_reason(&e);
                     cutbacks += 1;
                     h *= 0.5;
                     obs.event(&Event::CutBack {
@@ -394,9 +433,12 @@ impl Solver {
         }
     }
 
+    /// Make an accepted attempt (`acceptance` gave `checked`) the converged state, and its
+    /// record.
     pub(crate) fn commit(
         &mut self,
         c: Converged,
+        checked: (IncrementStatus, Vec<NodeState>),
         tp: Vec<f64>,
         tl: f64,
         cutbacks: usize,
@@ -411,6 +453,16 @@ impl Solver {
         let mut contacts = std::mem::take(&mut self.contacts);
         contacts.remember_sides(self, &self.d);
         self.contacts = contacts;
+        let (status, nodes) = checked;
+        if !self.crossing.is_empty() {
+            let active: Vec<(usize, usize)> = self
+                .contacts
+                .active
+                .iter()
+                .map(|a| (a.node, a.body))
+                .collect();
+            self.crossing.accept(&self.model, nodes.clone(), &active);
+        }
         let fext = self.external_force(tl);
         let reactions = self
             .dofs
@@ -424,12 +476,6 @@ impl Solver {
                     dof: ["u", "v", "phi"][o].to_string(),
                     value: i - fext.at(g),
                 }
-            })
-            .collect();
-        let nodes = (0..self.model.nodes.len())
-            .map(|n| {
-                let (x, phi) = self.node_state(n);
-                [x[0], x[1], phi]
             })
             .collect();
         let contacts = self.contacts.states(self, &c.assembled);
@@ -463,6 +509,7 @@ impl Solver {
             relative_residual: c.relative_residual,
             reference: c.reference,
             roundoff_floor: c.roundoff_floor,
+            status,
             cutbacks,
             residuals: c.residuals,
             nodes,

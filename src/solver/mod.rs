@@ -1,6 +1,7 @@
 //! The Tangent Stiffness Method solver for plane frames with node-to-beam contact.
 //! Knows nothing of scenes files or the GUI.
 
+pub mod acceptance;
 pub mod active_set;
 pub mod angle;
 pub mod arc_length;
@@ -26,6 +27,7 @@ pub mod shape;
 mod simd;
 mod twisted;
 
+pub use acceptance::{Crossing, CrossingCheck, IncrementStatus, NodeState};
 pub use control::Solver;
 pub use model::{
     Beam, Body, ContactPair, Dof, Formulation, Load, Model, Node, Prescribed, Section, Support,

@@ -196,4 +196,28 @@ impl Model {
     pub fn node_label(&self, n: usize) -> String {
         format!("node {}", self.nodes[n].id)
     }
+
+    /// The model with its coordinates measured from the centre of its bounding box, and that
+    /// centre, where the model lies further from the origin than its own size (else unchanged, with
+    /// origin 0). Far from the origin, positions carry the round-off of their large coordinates
+    /// into every chord and gap (a scene translated by 1e8 m would lose its contacts); measured
+    /// from the centre, the solver sees the translated scene as the untranslated one, up to the
+    /// rounding of the input.
+    pub fn recentred(mut self) -> (Model, [f64; 2]) {
+        let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
+        for n in &self.nodes {
+            lo = [lo[0].min(n.x), lo[1].min(n.y)];
+            hi = [hi[0].max(n.x), hi[1].max(n.y)];
+        }
+        let centre = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
+        let size = (hi[0] - lo[0]).max(hi[1] - lo[1]);
+        if !(centre[0].hypot(centre[1]) > size && size.is_finite()) {
+            return (self, [0.0, 0.0]);
+        }
+        for n in &mut self.nodes {
+            n.x -= centre[0];
+            n.y -= centre[1];
+        }
+        (self, centre)
+    }
 }

@@ -151,6 +151,15 @@ pub struct Converged {
 pub enum AttemptError {
     /// Recoverable by a smaller increment.
     Failed(String),
+    /// Newton stalled at the round-off floor above `SolverParams::roundoff_bound`.
+    AtFloor {
+        /// Relative residual reached.
+        residual: f64,
+        /// Round-off floor estimate there.
+        floor: f64,
+    },
+    /// The acceptance check found a node through a body it is not in contact with.
+    Crossed(super::acceptance::Crossing),
     /// The observer asked to stop.
     Stopped,
 }
@@ -239,6 +248,26 @@ impl Solver {
             ))),
             None => Ok(()),
         }
+    }
+
+    /// Whether a pass at relative residual `rel` (round-off floor `floor`; `at_floor`: Newton
+    /// stalled there) is in equilibrium: within the tolerance, or at the round-off floor within
+    /// `roundoff_bound`. A stall above the bound fails the attempt.
+    pub(crate) fn equilibrium_reached(
+        &self,
+        rel: f64,
+        floor: f64,
+        at_floor: bool,
+    ) -> Result<bool, AttemptError> {
+        let p = &self.params;
+        let bound = p.roundoff_bound.max(p.tolerance);
+        if at_floor && rel > bound {
+            return Err(AttemptError::AtFloor {
+                residual: rel,
+                floor,
+            });
+        }
+        Ok(rel <= p.tolerance || (rel <= bound && (rel <= p.roundoff_factor * floor || at_floor)))
     }
 
     /// Fail a pass that diverged or ran out of iterations. The first residual of a pass
@@ -377,7 +406,7 @@ impl Solver {
                     bound.get(&tangent, reference)
                 };
                 let at_floor = stall.at_floor(rel, floor, ordering.n_eq, last_step, scale);
-                let accepted = rel <= p.tolerance.max(p.roundoff_factor * floor) || at_floor;
+                let accepted = self.equilibrium_reached(rel, floor, at_floor)?;
                 // At the round-off floor the state is as converged as it can be: let the contact
                 // state settle there too (e.g. a node that must slide off a tip), even if the
                 // tolerance itself is out of reach for this contact set.

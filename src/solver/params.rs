@@ -46,6 +46,14 @@ pub struct SolverParams {
     /// Also accept a relative residual below `roundoff_factor` times the estimated round-off
     /// floor (eps max|K_ii| max|x| / reference); 0 disables it. Reported per increment.
     pub roundoff_factor: f64,
+    /// The largest relative residual an increment may be accepted with at the round-off floor
+    /// (where Newton stalls above `tolerance` because the floor itself is above it). Such
+    /// increments are marked `IncrementStatus::RoundOff`; a stall above this bound is a
+    /// failure (cut back, then `SolveError::RoundOffFloor`). Never below `tolerance`.
+    /// Default 1e-5: the floor of a plain 1000-element cantilever (Mattiasson's) is about
+    /// 5e-6, and a stiff contact near an element end lifts it to 1e-3 and beyond, which is
+    /// refused.
+    pub roundoff_bound: f64,
     /// A node found this far through a body (in element lengths) at the end of an increment
     /// makes the increment be cut back instead of activating the contact from so deep.
     pub max_penetration: f64,
@@ -74,6 +82,7 @@ impl Default for SolverParams {
             transfer_tolerance: 1e-9,
             free_end_margin: 1e-3,
             roundoff_factor: 0.0,
+            roundoff_bound: 1e-5,
             max_penetration: 0.25,
             arc_length: None,
             broad_phase: true,

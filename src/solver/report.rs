@@ -127,6 +127,10 @@ pub struct IncrementRecord {
     pub reference: f64,
     /// Estimated round-off floor of the relative residual.
     pub roundoff_floor: f64,
+    /// How the increment met the equilibrium test: within the tolerance, or at the round-off
+    /// floor within `SolverParams::roundoff_bound` (with the ratio reached over the tolerance).
+    #[serde(default)]
+    pub status: super::acceptance::IncrementStatus,
     /// Cut-backs taken before this increment converged.
     pub cutbacks: usize,
     /// Residual history of every iteration.
@@ -189,6 +193,42 @@ pub enum SolveError {
         cutbacks: usize,
         /// Why the last attempt failed.
         reason: String,
+    },
+    /// Newton stalled at the round-off floor with a relative residual above
+    /// `SolverParams::roundoff_bound`, even after the allowed cut-backs.
+    #[error(
+        "increment {increment}: Newton stalls at relative residual {residual:.3e} (round-off floor {floor:.1e}), above the bound {bound:.0e} for acceptance at round-off, after {cutbacks} cut-backs"
+    )]
+    RoundOffFloor {
+        /// Increment number.
+        increment: usize,
+        /// Cut-backs tried.
+        cutbacks: usize,
+        /// Relative residual reached.
+        residual: f64,
+        /// Round-off floor estimate there.
+        floor: f64,
+        /// The bound it exceeds.
+        bound: f64,
+    },
+    /// A node passes through a body it is not in contact with in every attempt, even after the
+    /// allowed cut-backs (the acceptance check's geometric test).
+    #[error(
+        "increment {increment}: node {node} passes through element {element} of {body} ({depth:.2e} element lengths beyond it) after {cutbacks} cut-backs"
+    )]
+    Crossing {
+        /// Increment number.
+        increment: usize,
+        /// Cut-backs tried.
+        cutbacks: usize,
+        /// User id of the node.
+        node: u32,
+        /// Name of the body.
+        body: String,
+        /// Element index (0-based) the node ends beyond.
+        element: usize,
+        /// How far beyond, in element lengths.
+        depth: f64,
     },
     /// The tangent is singular: the structure is a mechanism at these dofs.
     #[error("the structure is a mechanism: free dofs {dofs:?} have no stiffness")]

@@ -1,0 +1,458 @@
+//! The acceptance check every increment passes before it is committed, independent of the
+//! contact bookkeeping that produced it:
+//!
+//! - **Equilibrium**: the relative residual is within the tolerance (`IncrementStatus::
+//!   Converged`), or, where Newton stalled at the round-off floor, within
+//!   `SolverParams::roundoff_bound` (`IncrementStatus::RoundOff`). Anything else is refused.
+//! - **Geometry** (`CrossingCheck`): no contact-candidate node passed through an element of a
+//!   candidate body between the last accepted state and this one unless it is in contact with
+//!   that body. The test works on node positions and rotations alone (the chords swept linearly
+//!   over the increment), so that a bug in the active set cannot hide itself; it is also run
+//!   on a written history (`tests/acceptance.rs`).
+
+use std::collections::HashMap;
+
+use serde::{Deserialize, Serialize};
+
+use super::model::Model;
+use grid::SweptGrid;
+
+mod grid;
+mod solver;
+
+/// A node's position and rotation at one state: x, y, phi.
+pub type NodeState = [f64; 3];
+
+/// How an accepted increment met the equilibrium test.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum IncrementStatus {
+    /// The relative residual is within the tolerance.
+    #[default]
+    Converged,
+    /// Newton stalled at the round-off floor of the residual, above the tolerance but within
+    /// `SolverParams::roundoff_bound`.
+    #[serde(rename = "roundoff")]
+    RoundOff {
+        /// Relative residual reached over the tolerance (> 1).
+        ratio: f64,
+    },
+}
+
+impl IncrementStatus {
+    /// The status of a relative residual `rel` under `tolerance` and the round-off `bound`, or
+    /// None where it is not acceptable at all.
+    pub fn of(rel: f64, tolerance: f64, bound: f64) -> Option<IncrementStatus> {
+        if rel <= tolerance {
+            Some(IncrementStatus::Converged)
+        } else if rel <= bound.max(tolerance) {
+            Some(IncrementStatus::RoundOff {
+                ratio: rel / tolerance,
+            })
+        } else {
+            None
+        }
+    }
+}
+
+/// A node found through a body it is not in contact with.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Crossing {
+    /// Node index.
+    pub node: usize,
+    /// Body index.
+    pub body: usize,
+    /// Element (index) the node ends beyond.
+    pub element: usize,
+    /// How far beyond the element's deflected shape, in element lengths (a lower bound).
+    pub depth: f64,
+}
+
+/// Gaps below this fraction of the element length, or below `ROUNDOFF_ULPS` round-off units of
+/// the coordinates, are touching: the side of such a node is not evidence of anything.
+const TOUCH: f64 = 1e-9;
+
+/// A node whose end position projects within this fraction of the end element's length of a free
+/// end, or past it, counts as past that end (`past_free_end`; the contact code lets a node slide
+/// off a tip within a thousandth of the element).
+const FREE_END: f64 = 0.05;
+
+/// How far from a free end (in lengths of the end element) a node past it counts as having gone
+/// round it.
+const FREE_REACH: f64 = 2.0;
+
+/// Round-off units of the largest coordinate that a gap may be off by (positions are sums of
+/// the initial coordinates and the displacements).
+const ROUNDOFF_ULPS: f64 = 64.0;
+
+/// A bound of the deflection of an element from its chord per radian of end rotation (relative
+/// to the chord), in element lengths: the cubic with one end rotated peaks at 4/27; shear
+/// deformation and loads inside the element are given the margin up to 1/4.
+const DEFLECTION_PER_RADIAN: f64 = 0.25;
+
+/// The geometric half of the acceptance check: the side every candidate pair near its body was
+/// last seen on, and the last accepted state.
+#[derive(Clone, Debug, Default)]
+pub struct CrossingCheck {
+    /// Candidate (node, body) pairs.
+    pairs: Vec<(usize, usize)>,
+    /// Side (+1/-1 along the element normal, which turns the chord i->j by +90 degrees) of
+    /// each pair that was near its body and clear of it at an accepted state.
+    sides: HashMap<(usize, usize), f64>,
+    /// The body each element belongs to, and the position of the element in its body.
+    place: Vec<(usize, usize)>,
+    /// The bodies every node belongs to.
+    own: Vec<Vec<usize>>,
+    /// Initial chord angle of every element.
+    angle0: Vec<f64>,
+    /// Whether each element's end i, and its end j, is a free end of its body (no other
+    /// element of the body there).
+    free: Vec<(bool, bool)>,
+    /// The elements of each body with a free end.
+    ends: Vec<Vec<usize>>,
+    /// The last accepted state.
+    last: Vec<NodeState>,
+}
+
+/// An element's chord at one state: end i, the vector i->j, its length and the deflection
+/// bound.
+#[derive(Clone, Copy)]
+struct Chord {
+    p: [f64; 2],
+    u: [f64; 2],
+    l: f64,
+    bulge: f64,
+}
+
+impl Chord {
+    fn at(model: &Model, angle0: f64, e: usize, s: &[NodeState]) -> Chord {
+        let (a, b) = (s[model.beams[e].i], s[model.beams[e].j]);
+        let u = [b[0] - a[0], b[1] - a[1]];
+        let l = u[0].hypot(u[1]);
+        let turn = u[1].atan2(u[0]) - angle0;
+        // End rotations relative to the chord (wrapped to (-pi, pi]).
+        let rel = |phi: f64| {
+            (phi - turn + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
+                - std::f64::consts::PI
+        };
+        let bulge = DEFLECTION_PER_RADIAN * l * (rel(a[2]).abs() + rel(b[2]).abs());
+        Chord {
+            p: [a[0], a[1]],
+            u,
+            l,
+            bulge,
+        }
+    }
+
+    /// (li/l, signed distance along the normal) of point `c`.
+    fn locate(&self, c: [f64; 2]) -> (f64, f64) {
+        let v = [c[0] - self.p[0], c[1] - self.p[1]];
+        let s = (v[0] * self.u[0] + v[1] * self.u[1]) / (self.l * self.l);
+        let h = (self.u[0] * v[1] - self.u[1] * v[0]) / self.l;
+        (s, h)
+    }
+}
+
+impl CrossingCheck {
+    /// The check for a model's candidate `pairs`, starting from state `start`.
+    pub fn new(model: &Model, pairs: Vec<(usize, usize)>, start: Vec<NodeState>) -> CrossingCheck {
+        let mut place = vec![(usize::MAX, 0); model.beams.len()];
+        for (b, body) in model.bodies.iter().enumerate() {
+            for (k, &e) in body.elements.iter().enumerate() {
+                place[e] = (b, k);
+            }
+        }
+        let mut own = vec![Vec::new(); model.nodes.len()];
+        for beam in &model.beams {
+            for n in [beam.i, beam.j] {
+                if !own[n].contains(&beam.body) {
+                    own[n].push(beam.body);
+                }
+            }
+        }
+        let angle0 = (0..model.beams.len())
+            .map(|e| {
+                let (a, b) = (
+                    model.position(model.beams[e].i),
+                    model.position(model.beams[e].j),
+                );
+                (b[1] - a[1]).atan2(b[0] - a[0])
+            })
+            .collect();
+        let mut count = vec![0u8; model.nodes.len()];
+        for beam in &model.beams {
+            count[beam.i] = count[beam.i].saturating_add(1);
+            count[beam.j] = count[beam.j].saturating_add(1);
+        }
+        let free: Vec<(bool, bool)> = (model.beams.iter())
+            .map(|b| (count[b.i] == 1, count[b.j] == 1))
+            .collect();
+        let ends = (model.bodies.iter())
+            .map(|body| {
+                let els = body.elements.iter().copied();
+                els.filter(|&e| free[e].0 || free[e].1).collect()
+            })
+            .collect();
+        let mut check = CrossingCheck {
+            pairs,
+            sides: HashMap::new(),
+            place,
+            own,
+            angle0,
+            free,
+            ends,
+            last: Vec::new(),
+        };
+        check.last = start.clone();
+        check.accept(model, start, &[]);
+        check
+    }
+
+    /// Whether point `c` (a node's end position) lies past a free end of body `b` as the body
+    /// was at the last accepted state: beyond the end of the end element's chord (to within
+    /// `FREE_END` of its length), and within `FREE_REACH` lengths of the end node. Such a node
+    /// slid off that end in the increment, and the body may have sprung back past it: the
+    /// straight-line sweep of a body springing back says nothing about which side of it the
+    /// node went.
+    fn past_free_end(&self, model: &Model, b: usize, c: [f64; 2]) -> bool {
+        self.ends[b].iter().any(|&e| {
+            let (free_i, free_j) = self.free[e];
+            let k = Chord::at(model, self.angle0[e], e, &self.last);
+            let (s, _) = k.locate(c);
+            let end = if free_j {
+                model.beams[e].j
+            } else {
+                model.beams[e].i
+            };
+            let reach = (self.last[end][0] - c[0]).hypot(self.last[end][1] - c[1]);
+            let beyond = (free_j && s >= 1.0 - FREE_END) || (free_i && s <= FREE_END);
+            beyond && reach <= FREE_REACH * k.l
+        })
+    }
+
+    /// Whether the check has anything to check (the model has contact candidates).
+    pub fn is_empty(&self) -> bool {
+        self.pairs.is_empty()
+    }
+
+    /// The largest coordinate of two states, for the round-off part of the touching gap.
+    fn scale(a: &[NodeState], b: &[NodeState]) -> f64 {
+        a.iter()
+            .chain(b)
+            .fold(0.0f64, |m, s| m.max(s[0].abs()).max(s[1].abs()))
+    }
+
+    /// Whether the pair (n, b) is excused at a state with contacts `active` ((node, body)
+    /// pairs): n rests on b, or an end node of element `e` rests on a body n belongs to (the
+    /// two chords meet at that contact).
+    fn excused(
+        &self,
+        model: &Model,
+        active: &[(usize, usize)],
+        n: usize,
+        b: usize,
+        e: usize,
+    ) -> bool {
+        active.iter().any(|&(m, body)| {
+            (m == n && body == b)
+                || ((m == model.beams[e].i || m == model.beams[e].j) && self.own[n].contains(&body))
+        })
+    }
+
+    /// The elements of body `b` whose chords' boxes over both states, grown by an element
+    /// length, meet the box of node `n`'s path.
+    fn near(&self, grid: &SweptGrid, b: usize, path: [[f64; 2]; 2]) -> Vec<usize> {
+        let lo = [path[0][0].min(path[1][0]), path[0][1].min(path[1][1])];
+        let hi = [path[0][0].max(path[1][0]), path[0][1].max(path[1][1])];
+        let mut out = grid.query(lo, hi);
+        out.retain(|&e| self.place[e].0 == b);
+        out
+    }
+
+    /// The chords at the last accepted state and at `after` of every element of a candidate
+    /// body (None for the rest).
+    fn chords(&self, model: &Model, after: &[NodeState]) -> Vec<Option<(Chord, Chord)>> {
+        let mut out = vec![None; model.beams.len()];
+        for &(_, b) in &self.pairs {
+            for &e in &model.bodies[b].elements {
+                if out[e].is_none() {
+                    let a0 = self.angle0[e];
+                    out[e] = Some((
+                        Chord::at(model, a0, e, &self.last),
+                        Chord::at(model, a0, e, after),
+                    ));
+                }
+            }
+        }
+        out
+    }
+
+    /// The first crossing from the last accepted state to `after`, where `active` lists the
+    /// (node, body) pairs in contact at `after`; None if there is none.
+    ///
+    /// A crossing: node n's path, with the chord of element e of body b, both moved linearly
+    /// over the increment, passes through the chord (between its ends), and at `after` n lies
+    /// on the other side of e or a neighbour of e (one it projects onto) than it came from,
+    /// further than that element's deflection can reach. The side it came from is its side of
+    /// e at the start if it was clear then, else the side remembered from the last state where
+    /// it was (a node that starts touching with no remembered side gives no evidence).
+    pub fn find(
+        &self,
+        model: &Model,
+        after: &[NodeState],
+        active: &[(usize, usize)],
+    ) -> Option<Crossing> {
+        if self.pairs.is_empty() {
+            return None;
+        }
+        let chords = self.chords(model, after);
+        let grid = SweptGrid::new(&chords);
+        let round = ROUNDOFF_ULPS * f64::EPSILON * Self::scale(&self.last, after);
+        for &(n, b) in &self.pairs {
+            if active.contains(&(n, b)) {
+                continue;
+            }
+            let (c0, c1) = (
+                [self.last[n][0], self.last[n][1]],
+                [after[n][0], after[n][1]],
+            );
+            if self.past_free_end(model, b, c1) {
+                continue;
+            }
+            for e in self.near(&grid, b, [c0, c1]) {
+                let (k0, _) = chords[e].expect("near elements have chords");
+                if !swept_through(k0, chords[e].expect("chord").1, c0, c1) {
+                    continue;
+                }
+                let (_, h0) = k0.locate(c0);
+                let side = if h0.abs() > k0.bulge + TOUCH * k0.l + round {
+                    h0.signum()
+                } else if let Some(&s) = self.sides.get(&(n, b)) {
+                    s
+                } else {
+                    continue;
+                };
+                if let Some(c) = self.beyond(model, &chords, n, b, e, side, c1, round, active) {
+                    return Some(c);
+                }
+            }
+        }
+        None
+    }
+
+    /// Whether node n at `c` (the end state) lies beyond element e of body b, or beyond a
+    /// neighbour it projects onto, on the side opposite to `side` (that of e).
+    #[allow(clippy::too_many_arguments)]
+    fn beyond(
+        &self,
+        model: &Model,
+        chords: &[Option<(Chord, Chord)>],
+        n: usize,
+        b: usize,
+        e: usize,
+        side: f64,
+        c: [f64; 2],
+        round: f64,
+        active: &[(usize, usize)],
+    ) -> Option<Crossing> {
+        let els = &model.bodies[b].elements;
+        let k = self.place[e].1;
+        let (ei, ej) = (model.beams[e].i, model.beams[e].j);
+        (k.saturating_sub(1)..(k + 2).min(els.len())).find_map(|kf| {
+            let f = els[kf];
+            let chord = chords[f]?.1;
+            let (s, h) = chord.locate(c);
+            // The neighbour's normal agrees with e's when the two run the same way.
+            let (fi, fj) = (model.beams[f].i, model.beams[f].j);
+            let same = f == e || fi == ej || fj == ei;
+            let side_f = if same { side } else { -side };
+            let depth = -side_f * h - chord.bulge - TOUCH * chord.l - round;
+            ((0.0..=1.0).contains(&s) && depth > 0.0 && !self.excused(model, active, n, b, f))
+                .then_some(Crossing {
+                    node: n,
+                    body: b,
+                    element: f,
+                    depth: depth / chord.l,
+                })
+        })
+    }
+
+    /// Take `after` as the last accepted state (with contacts `active`): remember the side of
+    /// every pair near its body and clear of it that is not in contact, and forget the sides of
+    /// the pairs that are no longer near.
+    pub fn accept(&mut self, model: &Model, after: Vec<NodeState>, active: &[(usize, usize)]) {
+        if !self.pairs.is_empty() {
+            let chords = self.chords(model, &after);
+            let grid = SweptGrid::new(&chords);
+            let round = ROUNDOFF_ULPS * f64::EPSILON * Self::scale(&self.last, &after);
+            for &(n, b) in &self.pairs {
+                if active.contains(&(n, b)) {
+                    continue;
+                }
+                let (c0, c1) = (
+                    [self.last[n][0], self.last[n][1]],
+                    [after[n][0], after[n][1]],
+                );
+                // The element the node projects onto that is closest along its normal.
+                let closest = self
+                    .near(&grid, b, [c0, c1])
+                    .into_iter()
+                    .filter_map(|e| {
+                        let (k0, k1) = chords[e]?;
+                        let (s, h) = k1.locate(c1);
+                        (0.0..=1.0).contains(&s).then_some((e, h, k0, k1))
+                    })
+                    .min_by(|x, y| x.1.abs().total_cmp(&y.1.abs()));
+                match closest {
+                    None => {
+                        self.sides.remove(&(n, b));
+                    }
+                    Some((_, h, _, k1)) if h.abs() > k1.bulge + TOUCH * k1.l + round => {
+                        self.sides.insert((n, b), h.signum());
+                    }
+                    Some((_, _, k0, _)) => {
+                        // Touching now: the side it came from, if it was clear at the start.
+                        let (s, h0) = k0.locate(c0);
+                        if (0.0..=1.0).contains(&s) && h0.abs() > k0.bulge + TOUCH * k0.l + round {
+                            self.sides.entry((n, b)).or_insert(h0.signum());
+                        }
+                    }
+                }
+            }
+        }
+        self.last = after;
+    }
+}
+
+/// Whether point c, moving linearly from `c0` to `c1`, passes through the chord moving linearly
+/// from `k0` to `k1` (between its ends) at some time in [0, 1]: the signed area
+/// cross(u(t), c(t) - p(t)) is quadratic in t, and a root where c projects inside the chord is
+/// a passage.
+fn swept_through(k0: Chord, k1: Chord, c0: [f64; 2], c1: [f64; 2]) -> bool {
+    let sub = |a: [f64; 2], b: [f64; 2]| [a[0] - b[0], a[1] - b[1]];
+    let cross = |a: [f64; 2], b: [f64; 2]| a[0] * b[1] - a[1] * b[0];
+    let (u0, v0) = (k0.u, sub(c0, k0.p));
+    let (du, dv) = (sub(k1.u, u0), sub(sub(c1, k1.p), v0));
+    let (qa, qb, qc) = (cross(du, dv), cross(u0, dv) + cross(du, v0), cross(u0, v0));
+    let mut roots = [f64::NAN; 2];
+    if qa.abs() <= 1e-14 * (qb.abs() + qc.abs()) {
+        if qb != 0.0 {
+            roots[0] = -qc / qb;
+        }
+    } else {
+        let disc = qb * qb - 4.0 * qa * qc;
+        if disc >= 0.0 {
+            // Without cancellation: q = -(qb + sign(qb) sqrt(disc)) / 2, roots q/qa and qc/q.
+            let q = -0.5 * (qb + qb.signum() * disc.sqrt());
+            roots = [q / qa, if q != 0.0 { qc / q } else { f64::NAN }];
+        }
+    }
+    roots.iter().any(|&t| {
+        (0.0..=1.0).contains(&t) && {
+            let u = [u0[0] + t * du[0], u0[1] + t * du[1]];
+            let v = [v0[0] + t * dv[0], v0[1] + t * dv[1]];
+            let s = (u[0] * v[0] + u[1] * v[1]) / (u[0] * u[0] + u[1] * u[1]);
+            (0.0..=1.0).contains(&s)
+        }
+    })
+}

@@ -1,0 +1,81 @@
+//! The solver's side of the acceptance check: a converged attempt is checked before it is
+//! committed (equilibrium status, then the geometric test), and a refused or failed attempt
+//! becomes a cut-back reason or, once the cut-backs are spent, a typed `SolveError`.
+
+use super::super::control::Solver;
+use super::super::newton::{AttemptError, Converged};
+use super::super::report::SolveError;
+use super::{IncrementStatus, NodeState};
+
+impl Solver {
+    /// The acceptance check (`acceptance`) of a converged attempt, before it is committed: its
+    /// equilibrium status from the residual of its final assembly, and no node through a body
+    /// it is not in contact with. Returns the status and the node states.
+    pub(crate) fn acceptance(
+        &self,
+        c: &Converged,
+    ) -> Result<(IncrementStatus, Vec<NodeState>), AttemptError> {
+        let p = &self.params;
+        let rel = (c.assembled.unbalanced_norm2.sqrt() / c.reference).max(c.relative_residual);
+        let status = IncrementStatus::of(rel, p.tolerance, p.roundoff_bound).ok_or(
+            AttemptError::AtFloor {
+                residual: rel,
+                floor: c.roundoff_floor,
+            },
+        )?;
+        let states = self.node_states(&c.d);
+        let active: Vec<(usize, usize)> =
+            c.contacts.active.iter().map(|a| (a.node, a.body)).collect();
+        match self.crossing.find(&self.model, &states, &active) {
+            Some(x) => Err(AttemptError::Crossed(x)),
+            None => Ok((status, states)),
+        }
+    }
+
+    /// The text of a failed attempt, for cut-back events.
+    pub(crate) fn failure_reason(&self, e: &AttemptError) -> String {
+        match e {
+            AttemptError::Failed(reason) => reason.clone(),
+            AttemptError::AtFloor { residual, floor } => format!(
+                "Newton stalls at relative residual {residual:.3e} (round-off floor {floor:.1e}), above the bound {:.0e}",
+                self.params.roundoff_bound
+            ),
+            AttemptError::Crossed(x) => format!(
+                "{} passes through element {} of {} ({:.2e} element lengths beyond it)",
+                self.model.node_label(x.node),
+                x.element,
+                self.model.bodies[x.body].name,
+                x.depth
+            ),
+            AttemptError::Stopped => "stopped by the caller".into(),
+        }
+    }
+
+    /// The error of increment `increment` when its last attempt failed with `e` after
+    /// `cutbacks` cut-backs.
+    pub(crate) fn give_up(&self, increment: usize, cutbacks: usize, e: AttemptError) -> SolveError {
+        match e {
+            AttemptError::Stopped => SolveError::Stopped,
+            AttemptError::AtFloor { residual, floor } => SolveError::RoundOffFloor {
+                increment,
+                cutbacks,
+                residual,
+                floor,
+                bound: self.params.roundoff_bound,
+            },
+            AttemptError::Crossed(x) => SolveError::Crossing {
+                increment,
+                cutbacks,
+                node: self.model.nodes[x.node].id,
+                body: self.model.bodies[x.body].name.clone(),
+                element: x.element,
+                depth: x.depth,
+            },
+            AttemptError::Failed(reason) => SolveError::NoConvergence {
+                increment,
+                cutbacks,
+                reason,
+            },
+        }
+    }
+}

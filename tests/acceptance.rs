@@ -1,0 +1,342 @@
+//! The acceptance rule: no accepted increment has a node on the wrong side of a beam, and none
+//! is out of equilibrium beyond the stated bound. Each check is made on the run's records (node
+//! positions), not on the solver's contact set: zero gaps, steps that land exactly on a beam's
+//! line, Example 3.2 dragged in uneven steps and with Bernoulli-Euler elements, translated
+//! scenes, and random pins (proptest).
+
+use proptest::prelude::*;
+use tsm_contact::history::History;
+use tsm_contact::scene::{builtin::builtin, parse, Scene};
+use tsm_contact::solver::contact::ContactSet;
+use tsm_contact::solver::report::ContactChange;
+use tsm_contact::solver::{
+    CrossingCheck, Event, Formulation, IncrementRecord, IncrementStatus, SolveError,
+};
+
+/// A pin at x = `x` (m), `gap` above a 1 m cantilever of `n` elements (EI = 1 N m^2,
+/// EA = 1e6 N, G A = 4e5 N: the work-precision pin), driven down `step` m a step.
+fn pin_scene(formulation: &str, n: usize, x: f64, gap: f64, step: f64, shift: [f64; 2]) -> String {
+    let [sx, sy] = shift;
+    format!(
+        r#"(
+        name: "pin", formulation: {formulation},
+        sections: [(name: "strip", E: 1.0, A: 1.0e6, I: 1.0, G: 0.4)],
+        nodes: [(id: 100000, x: {px:?}, y: {py:?}, rotation: false)],
+        bodies: [(name: "cantilever", section: "strip", path: [({sx:?}, {sy:?}), ({ex:?}, {sy:?})],
+                  elements: {n}, first_node: 1)],
+        supports: [(node: 1, u: true, v: true, phi: true), (node: 100000, u: true)],
+        prescribed: [(node: 100000, dof: V, per_step: {step:?})],
+        contacts: [(nodes: [100000], bodies: ["cantilever"])],
+        control: (steps: 1),
+    )"#,
+        px = sx + x,
+        py = sy + gap,
+        ex = sx + 1.0,
+    )
+}
+
+/// The records of `steps` steps of `scene` (every increment committed, those of a step that
+/// failed after cut-backs included), each checked by `check_record`. Returns the records and
+/// the error the run stopped with, if any.
+fn run(scene: &Scene, steps: usize) -> (Vec<IncrementRecord>, Option<SolveError>) {
+    let mut solver = scene.solver().expect("stable");
+    let pairs = ContactSet::candidates_of(&scene.model);
+    let start = solver.node_states(solver.displacements());
+    let mut check = CrossingCheck::new(&scene.model, pairs, start);
+    let mut history = History::default();
+    let mut error = None;
+    for _ in 0..steps {
+        if let Err(e) = solver.step(&mut history) {
+            error = Some(e);
+            break;
+        }
+    }
+    for r in &history.increments {
+        check_record(scene, &mut check, r);
+    }
+    (history.increments, error)
+}
+
+/// The acceptance rule on one record, from its positions and contact list alone: no candidate
+/// node through a body it is not in contact with since the record before; the relative
+/// residual within the tolerance, or within the round-off bound and marked so.
+fn check_record(scene: &Scene, check: &mut CrossingCheck, r: &IncrementRecord) {
+    let m = &scene.model;
+    let index = |id: u32| m.nodes.iter().position(|n| n.id == id).expect("node");
+    let body = |name: &str| m.bodies.iter().position(|b| b.name == name).expect("body");
+    let active: Vec<(usize, usize)> = (r.contacts.iter())
+        .map(|c| (index(c.node), body(&c.body)))
+        .collect();
+    if let Some(x) = check.find(m, &r.nodes, &active) {
+        panic!(
+            "increment {}: node {} through element {} of body {} by {:.3e} lengths",
+            r.increment, m.nodes[x.node].id, x.element, m.bodies[x.body].name, x.depth
+        );
+    }
+    check.accept(m, r.nodes.clone(), &active);
+    let (tol, bound) = (scene.params.tolerance, scene.params.roundoff_bound);
+    let rel = r.relative_residual;
+    match r.status {
+        IncrementStatus::Converged => assert!(
+            rel <= tol,
+            "increment {}: {rel:e} marked converged",
+            r.increment
+        ),
+        IncrementStatus::RoundOff { ratio } => {
+            assert!(
+                rel > tol && rel <= bound,
+                "increment {}: {rel:e} at round-off",
+                r.increment
+            );
+            assert!((ratio - rel / tol).abs() <= 1e-12 * ratio);
+        }
+    }
+}
+
+/// The pin's height above the cantilever's chord polyline at the pin, less the deflection an
+/// element's end rotations allow (a quarter of the element length per radian), in element
+/// lengths: negative means the pin is below the beam.
+fn pin_clearance(scene: &Scene, r: &IncrementRecord) -> f64 {
+    let m = &scene.model;
+    let pin = r.nodes[m.nodes.iter().position(|n| n.id == 100000).expect("pin")];
+    let mut best = f64::INFINITY;
+    for b in &m.beams {
+        let (a, c) = (r.nodes[b.i], r.nodes[b.j]);
+        let u = [c[0] - a[0], c[1] - a[1]];
+        let l = u[0].hypot(u[1]);
+        let s = ((pin[0] - a[0]) * u[0] + (pin[1] - a[1]) * u[1]) / (l * l);
+        if (0.0..=1.0).contains(&s) {
+            let h = (u[0] * (pin[1] - a[1]) - u[1] * (pin[0] - a[0])) / l;
+            let turn = u[1].atan2(u[0]);
+            let bulge = 0.25 * l * ((a[2] - turn).abs() + (c[2] - turn).abs());
+            best = best.min((h + bulge) / l);
+        }
+    }
+    best
+}
+
+/// The index of the cantilever's tip (the node at x = 1 m from its clamp).
+fn tip_index(scene: &Scene) -> usize {
+    let m = &scene.model;
+    let x0 = m.nodes.iter().map(|n| n.x).fold(f64::MAX, f64::min);
+    (m.nodes.iter())
+        .position(|n| n.id != 100000 && (n.x - x0 - 1.0).abs() < 1e-12 * x0.abs() + 1e-9)
+        .expect("tip")
+}
+
+/// A pin that starts exactly on the beam's axis (gap 0) and is pushed down presses the beam:
+/// the state after three steps of 0.03 m equals the reference run that starts 0.03 m above
+/// and reaches the same pin height in three steps of 0.04 m (frictionless and elastic, the
+/// state depends on the pin's position only), to 1e-6 in the contact force and tip deflection.
+#[test]
+fn a_pin_starting_on_the_axis_presses_the_beam() {
+    for f in ["Timoshenko", "BernoulliEuler"] {
+        let on = parse(&pin_scene(f, 16, 0.7, 0.0, -0.03, [0.0, 0.0]), "on").unwrap();
+        let above = parse(&pin_scene(f, 16, 0.7, 0.03, -0.04, [0.0, 0.0]), "above").unwrap();
+        let (a, ea) = run(&on, 3);
+        let (b, eb) = run(&above, 3);
+        assert!(ea.is_none() && eb.is_none(), "{f}: {ea:?} {eb:?}");
+        let (a, b) = (a.last().unwrap(), b.last().unwrap());
+        assert_eq!(a.contacts.len(), 1, "{f}: the pin must be in contact");
+        let (fa, fb) = (a.contacts[0].pressure, b.contacts[0].pressure);
+        assert!(((fa - fb) / fb).abs() < 1e-6, "{f}: force {fa} vs {fb}");
+        let tip = |r: &IncrementRecord| r.nodes[tip_index(&on)][1];
+        assert!(
+            ((tip(a) - tip(b)) / tip(b)).abs() < 1e-6,
+            "{f}: tip {} vs {}",
+            tip(a),
+            tip(b)
+        );
+    }
+}
+
+/// Steps that land the pin exactly on the straight beam's line (gap 0.03 m, steps of 0.03 m),
+/// then push on: same end state as steps that never land on it (0.04 m).
+#[test]
+fn a_step_landing_exactly_on_the_line_is_contact() {
+    for f in ["Timoshenko", "BernoulliEuler"] {
+        let land = parse(&pin_scene(f, 16, 0.7, 0.03, -0.03, [0.0, 0.0]), "land").unwrap();
+        let miss = parse(&pin_scene(f, 16, 0.7, 0.03, -0.04, [0.0, 0.0]), "miss").unwrap();
+        let (a, ea) = run(&land, 4);
+        let (b, eb) = run(&miss, 3);
+        assert!(ea.is_none() && eb.is_none(), "{f}: {ea:?} {eb:?}");
+        for r in a.iter().filter(|r| r.contacts.is_empty()) {
+            assert!(
+                pin_clearance(&land, r) > -1e-9,
+                "{f}: pin below the beam in {}",
+                r.increment
+            );
+        }
+        let (a, b) = (a.last().unwrap(), b.last().unwrap());
+        assert_eq!(a.contacts.len(), 1, "{f}");
+        let (fa, fb) = (a.contacts[0].pressure, b.contacts[0].pressure);
+        assert!(((fa - fb) / fb).abs() < 1e-6, "{f}: force {fa} vs {fb}");
+    }
+}
+
+/// Translating the pin scene by 1e3 m and 1e8 m changes the displacements only at the
+/// round-off of the coordinates (1e-6 of the tip deflection), and the pin stays on the beam.
+#[test]
+fn a_translated_scene_solves_as_the_untranslated_one() {
+    let plain = parse(
+        &pin_scene("Timoshenko", 16, 0.7, 0.001, -0.03, [0.0, 0.0]),
+        "p",
+    )
+    .unwrap();
+    let (a, ea) = run(&plain, 5);
+    assert!(ea.is_none(), "{ea:?}");
+    for shift in [1e3, 1e8] {
+        let moved = parse(
+            &pin_scene("Timoshenko", 16, 0.7, 0.001, -0.03, [shift, -shift]),
+            "m",
+        )
+        .unwrap();
+        let (b, eb) = run(&moved, 5);
+        assert!(eb.is_none(), "shift {shift}: {eb:?}");
+        let (ra, rb) = (a.last().unwrap(), b.last().unwrap());
+        let tip_a = ra.nodes[tip_index(&plain)][1];
+        let tip_b = rb.nodes[tip_index(&moved)][1] + shift;
+        assert!(
+            ((tip_a - tip_b) / tip_a).abs() < 1e-6,
+            "shift {shift}: tip {tip_a} vs {tip_b}"
+        );
+        assert_eq!(ra.contacts.len(), rb.contacts.len(), "shift {shift}");
+    }
+}
+
+/// Example 3.2 with Bernoulli-Euler elements: every accepted increment is in equilibrium to the
+/// tolerance or marked as accepted at round-off within the 1e-6 bound (a relative residual of
+/// 0.99993 must never pass), and no node crosses a beam. The run completes or stops with a
+/// typed error; with the pin landing on a node of A (li/l = 0) it stops at increment 7.
+#[test]
+fn example_3_2_bernoulli_euler_accepts_nothing_beyond_the_bound() {
+    let mut scene = builtin("example_3_2").unwrap().unwrap();
+    scene.model.formulation = Formulation::BernoulliEuler;
+    let steps = scene.steps;
+    let (recs, err) = run(&scene, steps);
+    assert!(!recs.is_empty());
+    let worst = recs.iter().map(|r| r.relative_residual).fold(0.0, f64::max);
+    assert!(worst <= 1e-6, "worst relative residual {worst:e}");
+    if let Some(e) = err {
+        assert!(
+            !matches!(e, SolveError::Stopped | SolveError::Invalid { .. }),
+            "{e}"
+        );
+    }
+}
+
+/// Example 3.2 with the pin driven 0.0098 m a step (as the app's drag handle makes): no node
+/// crosses a beam at any accepted increment, and past the last beam the structure is
+/// stress-free as in the default run: every beam node back at its initial position (1e-9 m).
+#[test]
+fn example_3_2_dragged_in_uneven_steps_never_crosses() {
+    let mut scene = builtin("example_3_2").unwrap().unwrap();
+    scene.model.prescribed[0].per_step = -0.0098;
+    let (recs, err) = run(&scene, 84);
+    assert!(err.is_none(), "{err:?}");
+    let last = recs.last().unwrap();
+    assert!(
+        last.contacts.is_empty(),
+        "contacts at the end: {:?}",
+        last.contacts
+    );
+    let m = &scene.model;
+    for (k, node) in m.nodes.iter().enumerate().filter(|(_, n)| n.id != 34) {
+        let p = last.nodes[k];
+        assert!(
+            (p[0] - node.x).hypot(p[1] - node.y) < 1e-9,
+            "node {} at {p:?}",
+            node.id
+        );
+    }
+}
+
+/// The geometric check itself: a node moving straight through a resting beam is a crossing
+/// (depth as far as it went, in element lengths); moving to the beam and stopping on it,
+/// moving along it, or round its free end is none.
+#[test]
+fn the_crossing_check_finds_a_pass_through_and_nothing_else() {
+    let scene = parse(
+        &pin_scene("Timoshenko", 4, 0.6, 0.1, -0.1, [0.0, 0.0]),
+        "pin",
+    )
+    .unwrap();
+    let m = &scene.model;
+    let pairs = ContactSet::candidates_of(m);
+    let start: Vec<[f64; 3]> = m.nodes.iter().map(|n| [n.x, n.y, 0.0]).collect();
+    let pin = m.nodes.iter().position(|n| n.id == 100000).expect("pin");
+    let moved = |x: f64, y: f64| {
+        let mut s = start.clone();
+        s[pin] = [x, y, 0.0];
+        s
+    };
+    let check = CrossingCheck::new(m, pairs.clone(), start.clone());
+    let through = check.find(m, &moved(0.6, -0.05), &[]).expect("a crossing");
+    assert_eq!((through.node, through.element), (pin, 2));
+    assert!(
+        (through.depth - 0.05 / 0.25).abs() < 1e-8,
+        "depth {}",
+        through.depth
+    );
+    assert!(
+        check.find(m, &moved(0.6, 0.0), &[]).is_none(),
+        "stopping on the beam"
+    );
+    assert!(
+        check.find(m, &moved(0.9, 0.05), &[]).is_none(),
+        "moving along it"
+    );
+    assert!(
+        check.find(m, &moved(1.3, -0.05), &[]).is_none(),
+        "round the free end"
+    );
+    // In contact with the body, the node is excused.
+    assert!(check.find(m, &moved(0.6, -0.05), &[(pin, 0)]).is_none());
+    // Starting on the line, the side remembered from the state before decides.
+    let mut check = CrossingCheck::new(m, pairs, start.clone());
+    check.accept(m, moved(0.6, 0.0), &[]);
+    assert!(
+        check.find(m, &moved(0.6, -0.01), &[]).is_some(),
+        "from the line downward"
+    );
+    assert!(
+        check.find(m, &moved(0.6, 0.01), &[]).is_none(),
+        "from the line back up"
+    );
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+    /// Random pins over a cantilever: both formulations, meshes of 5 to 80 elements, initial
+    /// gaps of 0 exactly, +-1e-12 L, 1e-3 L and 0.1 L, steps that land exactly on the line
+    /// (for the 0.1 L gap) or not. Every accepted increment passes `check_record`, and the pin
+    /// is never below the beam; a run that stops does so with a typed error.
+    #[test]
+    fn random_pins_never_pass_through(
+        n in 5usize..=80,
+        x in 0.05f64..0.95,
+        gap in prop::sample::select(vec![0.0, 1e-12, -1e-12, 1e-3, 0.1]),
+        land in any::<bool>(),
+        bernoulli in any::<bool>(),
+    ) {
+        let f = if bernoulli { "BernoulliEuler" } else { "Timoshenko" };
+        let step = if land { -0.05 } else { -0.037 };
+        let scene = parse(&pin_scene(f, n, x, gap, step, [0.0, 0.0]), "pin").unwrap();
+        let (recs, err) = run(&scene, 8);
+        // Until it slides off the tip (and the beam springs back above it), the pin is above
+        // the beam: free, clear of it; in contact, on the deflected shape (which a point load
+        // dents by shear beyond what the end rotations show), pressing on it.
+        let slid = |r: &IncrementRecord| r.events.iter().any(|e| matches!(e,
+            Event::Contact(c) if c.change == ContactChange::SlidOff));
+        for r in recs.iter().take_while(|r| !slid(r)) {
+            let c = pin_clearance(&scene, r);
+            let allowed = if r.contacts.is_empty() { 1e-9 } else { 1e-4 };
+            prop_assert!(c > -allowed, "pin below the beam by {c:e} lengths in increment {}", r.increment);
+            prop_assert!(r.contacts.iter().all(|k| k.pressure >= 0.0), "tensile contact {:?}", r.contacts);
+        }
+        if let Some(e) = err {
+            prop_assert!(!matches!(e, SolveError::Stopped | SolveError::Invalid { .. }), "{e}");
+        }
+    }
+}
