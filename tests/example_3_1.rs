@@ -172,17 +172,27 @@ fn example_3_1_reproduces_the_reported_facts() {
     assert!(it8(10) < 9 && it8(18) < 12, "{} and {}", it8(10), it8(18));
 }
 
-/// Bernoulli-Euler on the same scene: also converges at every step, and needs at least as many
-/// iterations as Timoshenko at step 18, where the contact is nearest an element end.
+/// Bernoulli-Euler on the same scene: every step converges to the tolerance itself (its contact
+/// spring keeps the stiffness finite near element ends), and at step 18, where the contact is
+/// nearest an element end, it lies where Timoshenko's does (li/l within 1e-3).
 #[test]
-fn example_3_1_bernoulli_euler_converges_and_needs_no_fewer_iterations() {
+fn example_3_1_bernoulli_euler_converges_to_the_tolerance_near_element_ends() {
     let t = shipped(Formulation::Timoshenko);
     let b = shipped(Formulation::BernoulliEuler);
-    let it8 = |r: &IncrementRecord| r.iterations_8_orders.unwrap();
     assert!(
-        it8(&b[17]) >= it8(&t[17]),
+        b.iter().all(|r| r.relative_residual <= 1e-8),
+        "a step above the tolerance"
+    );
+    let xi = |r: &IncrementRecord| {
+        r.contacts
+            .iter()
+            .map(|c| c.xi.max(1.0 - c.xi))
+            .fold(0.0, f64::max)
+    };
+    assert!(
+        (xi(&b[17]) - xi(&t[17])).abs() < 1e-3,
         "{} vs {}",
-        it8(&b[17]),
-        it8(&t[17])
+        xi(&b[17]),
+        xi(&t[17])
     );
 }

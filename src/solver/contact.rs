@@ -500,13 +500,43 @@ impl ContactSet {
         converged: bool,
         events: &mut Vec<Event>,
     ) -> usize {
-        let m = &solver.model;
-        let tol = solver.params.transfer_tolerance;
         let margin = if converged {
             solver.params.free_end_margin
         } else {
-            -tol
+            -solver.params.transfer_tolerance
         };
+        self.transfer_within(solver, d, (increment, iteration), converged, margin, events)
+    }
+
+    /// Slide off a free end every contact that lies within `margin` (a fraction of its element)
+    /// of it at the converged state `d`: for an increment that finds no equilibrium with the
+    /// contact on a tip (past the limit point where the tip slips under the node, the contact
+    /// point runs to the tip and Newton fails), the attempt that starts with the node let go.
+    /// Returns the number of contacts slid off.
+    pub(crate) fn slide_off_tips(
+        &mut self,
+        solver: &Solver,
+        d: &[f64],
+        margin: f64,
+        increment: usize,
+        events: &mut Vec<Event>,
+    ) -> usize {
+        self.transfer_within(solver, d, (increment, 0), true, margin, events)
+    }
+
+    /// `transfer` with the free-end margin given: contacts within `margin` of a free end slide
+    /// off (a negative margin: only those past it).
+    fn transfer_within(
+        &mut self,
+        solver: &Solver,
+        d: &[f64],
+        (increment, iteration): (usize, usize),
+        converged: bool,
+        margin: f64,
+        events: &mut Vec<Event>,
+    ) -> usize {
+        let m = &solver.model;
+        let tol = solver.params.transfer_tolerance;
         let mut changes = 0;
         let mut k = 0;
         while k < self.active.len() {

@@ -81,11 +81,38 @@ fn value<T: Into<Dual>>(x: T) -> f64 {
 /// Chord-frame stiffness of the bending part, K_b = F^{-1}, over (theta_i, theta_j, w_1..w_k),
 /// for contact points at fractions `xi` of the element.
 pub fn bending_stiffness(beam: &BeamElement, xi: &[f64]) -> DMatrix<f64> {
+    contact_stiffness(beam, xi, 0.0)
+}
+
+/// `bending_stiffness` with a compliance `compliance` in series with every contact force: the
+/// flexibility's contact diagonal grows by it (`contact_compliance`).
+pub fn contact_stiffness(beam: &BeamElement, xi: &[f64], compliance: f64) -> DMatrix<f64> {
     let a: Vec<f64> = xi.iter().map(|x| x * beam.length).collect();
     let n = 2 + xi.len();
     let (inv_ei, inv_gae) = inverse_stiffness(beam);
-    let f = DMatrix::from_row_slice(n, n, &flexibility(beam.length, inv_ei, inv_gae, &a));
+    let mut f = DMatrix::from_row_slice(n, n, &flexibility(beam.length, inv_ei, inv_gae, &a));
+    for m in 2..n {
+        f[(m, m)] += compliance;
+    }
     invert_spd(f)
+}
+
+/// The compliance in series with the contact force of `beam` for a contact spring of
+/// `stiffness` EI / l^3 (`SolverParams::contact_stiffness`): Bernoulli-Euler elements only.
+///
+/// A Bernoulli-Euler element's stiffness against its contact force grows as 3 EI / li^3 as
+/// the contact point nears an end node (no shear to soften it), and is infinite on the node:
+/// the residual's round-off floor goes with it, far above any tolerance, and first touch
+/// exactly on a node has no stiffness matrix at all. With the spring the stiffness stays
+/// finite everywhere, on the nodes too, and a node in contact sits inside the beam's shape by
+/// Yc l^3 / (stiffness EI), of order h^3 (below the h^2 error of the mesh). Timoshenko elements,
+/// whose shear keeps the stiffness at G Ae / li, get none.
+pub fn contact_compliance(beam: &BeamElement, stiffness: f64) -> f64 {
+    if beam.psi == 0.0 {
+        beam.length.powi(3) / (stiffness * beam.section.ei)
+    } else {
+        0.0
+    }
 }
 
 fn inverse_stiffness(beam: &BeamElement) -> (f64, f64) {
@@ -135,6 +162,9 @@ pub struct ContactOptions {
     pub xi_min: f64,
     /// Weight of the unsymmetric tangent term B^T (dK/dxi e) (dxi/du)^T: 1 exact, 0 dropped.
     pub unsymmetric: f64,
+    /// The contact spring of Bernoulli-Euler elements in EI / l^3 (`contact_compliance`);
+    /// infinite: none (the exact element, singular with the contact on a node).
+    pub contact_stiffness: f64,
 }
 
 impl Default for ContactOptions {
@@ -142,6 +172,7 @@ impl Default for ContactOptions {
         ContactOptions {
             xi_min: 1e-6,
             unsymmetric: 1.0,
+            contact_stiffness: 1e4,
         }
     }
 }
@@ -188,7 +219,11 @@ pub fn contact_response(
         xi[m] = li[m] / l;
         xi_eff[m] = xi[m].clamp(opts.xi_min, 1.0 - opts.xi_min);
     }
-    let kb = bending_stiffness(beam, &xi_eff);
+    let kb = contact_stiffness(
+        beam,
+        &xi_eff,
+        contact_compliance(beam, opts.contact_stiffness),
+    );
     let mut eb = DVector::zeros(2 + k);
     eb[0] = ti;
     eb[1] = tj;

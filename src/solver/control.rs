@@ -21,6 +21,10 @@ use super::report::{Event, Flow, IncrementRecord, Observer, Reaction, SolveError
 /// symmetric eigen-decomposition); above, the first vanishing pivot of the band LU.
 const DENSE_MECHANISM_CHECK: usize = 200;
 
+/// A contact within this fraction of its element from a free end slides off it when the
+/// increment finds no equilibrium after every cut-back (`Solver::advance_to`).
+const TIP_SLIDE_OFF: f64 = 1e-2;
+
 /// A sub-increment that converged in at most this many iterations lets the next one double.
 const GROW_ITERATIONS: usize = 6;
 
@@ -103,6 +107,8 @@ pub struct Solver {
     pub(crate) crossing: CrossingCheck,
     /// The round-off of a node position: 64 units of the largest initial coordinate.
     position_roundoff: f64,
+    /// The larger side of the model's bounding box at rest.
+    size: f64,
 }
 
 impl Solver {
@@ -141,6 +147,7 @@ impl Solver {
             cut_back: false,
             origin,
             crossing: CrossingCheck::default(),
+            size: model_size(&model),
             position_roundoff: 64.0
                 * f64::EPSILON
                 * (model.nodes.iter()).fold(0.0f64, |m, n| m.max(n.x.abs()).max(n.y.abs())),
@@ -173,6 +180,11 @@ impl Solver {
     /// largest initial coordinate), so that a translated scene decides alike.
     pub(crate) fn touching(&self, fraction: f64, length: f64) -> f64 {
         fraction * length + self.position_roundoff
+    }
+
+    /// The larger side of the model's bounding box at rest (m).
+    pub fn model_size(&self) -> f64 {
+        self.size
     }
 
     /// Position and rotation of every node at displacements `d`.
@@ -355,6 +367,8 @@ impl Solver {
         let mut cutbacks = 0;
         let mut out = Vec::new();
         let mut clock = Instant::now();
+        // Set for the attempt that first slides contacts off the tips they are about to leave.
+        let mut slide_off = None;
         while done < 1.0 {
             let next = (done + h).min(1.0);
             // The last sub-increment lands exactly on the targets.
@@ -373,12 +387,15 @@ impl Solver {
                 start_l + next * (lambda - start_l)
             };
             let number = self.increment + 1;
-            let accepted = self.attempt(&tp, tl, number, obs).and_then(|conv| {
-                let checked = self.acceptance(&conv)?;
-                Ok((conv, checked))
-            });
+            let accepted = self
+                .attempt(&tp, tl, number, slide_off, obs)
+                .and_then(|conv| {
+                    let checked = self.acceptance(&conv)?;
+                    Ok((conv, checked))
+                });
             match accepted {
                 Ok((conv, checked)) => {
+                    slide_off = None;
                     // After a cut-back the sub-increment grows again (doubles) once Newton has
                     // it easy, so one hard moment does not leave the rest of the step in
                     // tiny pieces.
@@ -400,8 +417,15 @@ impl Solver {
                 }
                 Err(AttemptError::Stopped) => return Err(SolveError::Stopped),
                 Err(e) => {
-                    // Halved at most `max_cutbacks` times below the full step.
+                    // Halved at most `max_cutbacks` times below the full step. Before giving
+                    // up, one attempt with the contacts near a free tip slid off it: past the
+                    // limit point where a tip slips under a node there is no equilibrium with
+                    // the contact on the tip.
                     if h <= 0.5f64.powi(self.params.max_cutbacks as i32) {
+                        if slide_off.is_none() && self.has_contact_near_a_tip(number) {
+                            slide_off = Some(TIP_SLIDE_OFF);
+                            continue;
+                        }
                         return Err(self.give_up(number, cutbacks, e));
                     }
                     let reason = self.failure_reason(&e);
@@ -421,6 +445,12 @@ impl Solver {
             }
         }
         Ok(out)
+    }
+
+    /// Whether a contact of the converged state lies within `TIP_SLIDE_OFF` of a free end.
+    fn has_contact_near_a_tip(&self, increment: usize) -> bool {
+        let mut contacts = self.contacts.clone();
+        contacts.slide_off_tips(self, &self.d, TIP_SLIDE_OFF, increment, &mut Vec::new()) > 0
     }
 
     /// Whether this attempt's Newton updates take the chords' stretch out
@@ -521,4 +551,14 @@ impl Solver {
             seconds,
         }
     }
+}
+
+/// The larger side of the bounding box of the model's nodes at rest.
+fn model_size(model: &Model) -> f64 {
+    let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
+    for n in &model.nodes {
+        lo = [lo[0].min(n.x), lo[1].min(n.y)];
+        hi = [hi[0].max(n.x), hi[1].max(n.y)];
+    }
+    (hi[0] - lo[0]).max(hi[1] - lo[1]).max(0.0)
 }

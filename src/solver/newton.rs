@@ -11,6 +11,10 @@ use super::loads::ExternalForce;
 use super::reduce::sum_squares;
 use super::report::{ContactChange, Event, Flow, IterationRecord, Observer};
 
+/// The largest correction of an attempt that starts by sliding contacts off tips, as a fraction
+/// of the model's size (`Solver::attempt`).
+const SPRING_BACK_STEP: f64 = 0.2;
+
 /// A residual within this factor of the round-off floor counts as stagnated.
 const STAGNATION: f64 = 10.0;
 
@@ -296,11 +300,16 @@ impl Solver {
     }
 
     /// One attempt to reach (`target_p`, `target_lambda`) from the last converged state.
+    /// `slide_off`: first slide off the free ends the contacts within that fraction of their
+    /// element of one (`ContactSet::slide_off_tips`); the beam then springs back, a large
+    /// motion for one Newton solve, so each correction is held to `SPRING_BACK_STEP` of the
+    /// model's size.
     pub(crate) fn attempt(
         &self,
         target_p: &[f64],
         target_lambda: f64,
         increment: usize,
+        slide_off: Option<f64>,
         obs: &mut dyn Observer,
     ) -> Result<Converged, AttemptError> {
         let p = &self.params;
@@ -313,6 +322,12 @@ impl Solver {
         d.extend_from_slice(&self.d);
         let mut contacts = self.contacts.clone();
         contacts.begin_attempt();
+        let mut events = Vec::new();
+        let mut max_step = p.max_step;
+        if let Some(margin) = slide_off {
+            contacts.slide_off_tips(self, &self.d, margin, increment, &mut events);
+            max_step = max_step.min(SPRING_BACK_STEP * self.model_size());
+        }
         // The prescribed increments, one per `Model::prescribed` (0 where a later one on the
         // same dof overrides it).
         let dp: Vec<f64> = (self.model.prescribed.iter().enumerate())
@@ -331,7 +346,6 @@ impl Solver {
         let mut predictor = true;
         let mut iterations = 0;
         let mut log = IterationLog::default();
-        let mut events = Vec::new();
         let mut changes = 0;
         let mut pass_iter = 0;
         let mut last_step = 0.0;
@@ -465,8 +479,8 @@ impl Solver {
                 step2 += sum_squares(&dp);
             }
             let step = step2.sqrt();
-            let scale = if step > p.max_step {
-                p.max_step / step
+            let scale = if step > max_step {
+                max_step / step
             } else {
                 1.0
             };

@@ -37,6 +37,11 @@ pub struct SolverParams {
     pub unsymmetric_from: usize,
     /// Contact fractions are kept within [xi_min, 1 - xi_min] inside the stiffness.
     pub xi_min: f64,
+    /// The contact spring in series with a Bernoulli-Euler element's contact force, in units
+    /// of the element's EI / l^3 (`contact_element::contact_compliance`): it keeps the contact
+    /// stiffness finite on and near the element's nodes (3 EI / li^3 without it). A node in
+    /// contact sits inside the shape by Yc l^3 / (contact_stiffness EI). Infinite: none.
+    pub contact_stiffness: f64,
     /// Tolerance for "li/l left (0, 1)" when deciding a transfer, as a fraction of the element.
     pub transfer_tolerance: f64,
     /// A contact within this fraction of an element end that has no neighbouring element (a
@@ -79,6 +84,7 @@ impl Default for SolverParams {
             max_active_set_changes: 24,
             unsymmetric_from: 1,
             xi_min: 1e-6,
+            contact_stiffness: 1e4,
             transfer_tolerance: 1e-9,
             free_end_margin: 1e-3,
             roundoff_factor: 0.0,
@@ -122,6 +128,7 @@ impl SolverParams {
             } else {
                 0.0
             },
+            contact_stiffness: self.contact_stiffness,
         }
     }
 }
