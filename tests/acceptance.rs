@@ -380,3 +380,121 @@ fn the_pin_over_a_node_converges_as_h_squared_and_slides_off_every_mesh() {
         assert!(errors[4] < 1e-4, "{f}: errors {errors:?}");
     }
 }
+
+/// Example 3.2 dragged through the worker as the app drags it: from every tenth increment of
+/// the default run, ten frames of 16 ms, each setting the pin's target a random amount up to
+/// 0.05 m away from the last (a newer target replaces the one being marched to). Every
+/// increment the worker sends passes `check_record` (no node through a beam, equilibrium
+/// within the tolerance or marked), in order from the undeformed state.
+#[test]
+fn example_3_2_dragged_through_the_worker_never_crosses() {
+    use std::time::{Duration, Instant};
+    use tsm_contact::worker::{Command, Message, Worker};
+    let scene = builtin("example_3_2").unwrap().unwrap();
+    let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+    let mut random = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    };
+    for start in (0..=80).step_by(10) {
+        let w = Worker::spawn(None);
+        w.send(Command::LoadScene(Box::new(scene.clone())));
+        if start > 0 {
+            w.send(Command::RunSteps(start));
+        }
+        let (mut records, mut errors) = (Vec::new(), Vec::new());
+        // The worker's messages until `until`, or until none has come for `quiet` (the work
+        // is done): increments and errors.
+        let collect = |until: Instant,
+                       quiet: Duration,
+                       records: &mut Vec<IncrementRecord>,
+                       errors: &mut Vec<String>| {
+            loop {
+                let wait = until.saturating_duration_since(Instant::now()).min(quiet);
+                match w.recv_timeout(wait) {
+                    Some(Message::Increment(r)) => records.push(*r),
+                    Some(Message::Error(e)) => errors.push(e),
+                    Some(_) => {}
+                    None => break,
+                }
+                if Instant::now() >= until {
+                    break;
+                }
+            }
+        };
+        let (long, second, frame) = (
+            Duration::from_secs(20),
+            Duration::from_secs(1),
+            Duration::from_millis(16),
+        );
+        collect(Instant::now() + long, second, &mut records, &mut errors);
+        let mut target = records.last().map_or(0.0, |r| r.prescribed[0]);
+        for _ in 0..10 {
+            target = (target + 0.05 * random()).clamp(-0.9, 0.002);
+            w.send(Command::SetTarget {
+                index: 0,
+                value: target,
+            });
+            collect(Instant::now() + frame, frame, &mut records, &mut errors);
+        }
+        collect(Instant::now() + long, second, &mut records, &mut errors);
+        w.send(Command::Shutdown);
+        let pairs = ContactSet::candidates_of(&scene.model);
+        let start_states: Vec<[f64; 3]> =
+            scene.model.nodes.iter().map(|n| [n.x, n.y, 0.0]).collect();
+        let mut check = CrossingCheck::new(&scene.model, pairs, start_states);
+        for (k, r) in records.iter().enumerate() {
+            assert_eq!(r.increment, k + 1, "from {start}: increments out of order");
+            check_record(&scene, &mut check, r);
+        }
+        assert!(
+            records.len() > start,
+            "from {start}: {} increments",
+            records.len()
+        );
+        assert!(
+            errors.iter().all(|e| !e.contains("passes through")),
+            "from {start}: {errors:?}"
+        );
+    }
+}
+
+/// A cantilever pushed onto a floor beam a thousand times stiffer (its clamp driven down; every
+/// node of the cantilever a candidate on the floor), both formulations: the tip touches, the
+/// cantilever lies down on the floor, contacts near the floor's element ends release and
+/// re-form, and no accepted increment has a node through the floor (`check_record`). The run
+/// ends in contact, the clamp (left of the floor) 0.1 m below the floor's height, and every
+/// node of the cantilever over the floor above it (the floor deflects by less than 1e-3 m).
+#[test]
+fn a_cantilever_pushed_onto_a_stiff_floor_never_springs_through() {
+    for f in ["BernoulliEuler", "Timoshenko"] {
+        let text = format!(
+            r#"(
+            name: "floor", formulation: {f},
+            sections: [(name: "strip", E: 1.0, A: 1.0e6, I: 1.0, G: 0.4),
+                       (name: "floor", E: 1.0e3, A: 1.0e6, I: 1.0, G: 0.4)],
+            bodies: [
+                (name: "floor", section: "floor", path: [(0.3, 0.0), (1.2, 0.0)], elements: 9, first_node: 1),
+                (name: "cantilever", section: "strip", path: [(0.0, 0.05), (1.0, 0.05)], elements: 20, first_node: 101),
+            ],
+            supports: [(node: 1, u: true, v: true, phi: true), (node: 10, u: true, v: true, phi: true),
+                       (node: 101, u: true, phi: true)],
+            prescribed: [(node: 101, dof: V, per_step: -0.015)],
+            contacts: [(node_bodies: ["cantilever"], bodies: ["floor"])],
+            control: (steps: 10),
+        )"#
+        );
+        let scene = parse(&text, "floor").unwrap();
+        let (recs, err) = run(&scene, 10);
+        assert!(err.is_none(), "{f}: {err:?}");
+        let last = recs.last().unwrap();
+        assert!(!last.contacts.is_empty(), "{f}: no contact at the end");
+        let m = &scene.model;
+        for (k, node) in m.nodes.iter().enumerate().filter(|(_, n)| n.id > 100) {
+            let [x, y, _] = last.nodes[k];
+            assert!(x < 0.3 || y > -1e-3, "{f}: node {} at ({x}, {y})", node.id);
+        }
+    }
+}
