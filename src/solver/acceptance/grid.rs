@@ -1,26 +1,36 @@
 //! The uniform grid that hands the crossing check the elements near a node's path over one
 //! increment, so that the check stays linear in the candidate pairs.
 
-use std::collections::HashMap;
-
+use super::super::broad_phase::IndexMap;
 use super::Chord;
 
 /// A uniform grid over the boxes the chords sweep over an increment (grown by the longer of the
 /// element's two chords), so that a node's path meets only the elements near it: the check
 /// stays linear in the candidate pairs. Cells are twice the mean chord; an element whose box
 /// covers more than `MAX_CELLS` cells is kept in a list every query sees.
+#[derive(Debug)]
 pub(super) struct SweptGrid {
     cell: f64,
-    map: HashMap<(i64, i64), Vec<usize>>,
+    map: IndexMap<(i64, i64), Vec<usize>>,
     big: Vec<usize>,
     boxes: Vec<[f64; 4]>,
+    /// The union of the boxes of each body's elements (empty where a body has none).
+    bodies: Vec<[f64; 4]>,
 }
 
 /// Cells one element's box may cover before it goes into the list every query sees.
 const MAX_CELLS: i64 = 64;
 
 impl SweptGrid {
-    pub(super) fn new(chords: &[Option<(Chord, Chord)>]) -> SweptGrid {
+    /// The grid over `chords` (None: not a candidate body's element); `body_of` gives each
+    /// element's body, of `n_bodies`; only the elements of bodies for which `long` holds go
+    /// into the cells (every body gets its box).
+    pub(super) fn new(
+        chords: &[Option<(Chord, Chord)>],
+        body_of: impl Fn(usize) -> usize,
+        long: impl Fn(usize) -> bool,
+        n_bodies: usize,
+    ) -> SweptGrid {
         let mut boxes = vec![[f64::NAN; 4]; chords.len()];
         let (mut total, mut count) = (0.0, 0usize);
         for (e, c) in chords.iter().enumerate() {
@@ -43,15 +53,28 @@ impl SweptGrid {
         } else {
             1.0
         };
+        let mut bodies = vec![[f64::MAX, f64::MAX, f64::MIN, f64::MIN]; n_bodies];
+        for (e, bx) in boxes.iter().enumerate() {
+            if !bx[0].is_nan() {
+                let u = &mut bodies[body_of(e)];
+                *u = [
+                    u[0].min(bx[0]),
+                    u[1].min(bx[1]),
+                    u[2].max(bx[2]),
+                    u[3].max(bx[3]),
+                ];
+            }
+        }
         let mut grid = SweptGrid {
             cell,
-            map: HashMap::new(),
+            map: IndexMap::default(),
             big: Vec::new(),
             boxes,
+            bodies,
         };
         for e in 0..chords.len() {
             let bx = grid.boxes[e];
-            if bx[0].is_nan() {
+            if bx[0].is_nan() || !long(body_of(e)) {
                 continue;
             }
             match grid.cells(bx) {
@@ -75,6 +98,18 @@ impl SweptGrid {
         let span = (i1 - i0 + 1.0) * (j1 - j0 + 1.0);
         (span.is_finite() && span <= MAX_CELLS as f64)
             .then_some((i0 as i64, j0 as i64, i1 as i64, j1 as i64))
+    }
+
+    /// Whether the box [lo, hi] meets element `e`'s box.
+    pub(super) fn meets_element(&self, e: usize, lo: [f64; 2], hi: [f64; 2]) -> bool {
+        let b = self.boxes[e];
+        b[0] <= hi[0] && b[2] >= lo[0] && b[1] <= hi[1] && b[3] >= lo[1]
+    }
+
+    /// Whether the box [lo, hi] meets the box of body `b`'s elements.
+    pub(super) fn meets_body(&self, b: usize, lo: [f64; 2], hi: [f64; 2]) -> bool {
+        let u = self.bodies[b];
+        u[0] <= hi[0] && u[2] >= lo[0] && u[1] <= hi[1] && u[3] >= lo[1]
     }
 
     /// The elements whose boxes meet the box [lo, hi], ascending.

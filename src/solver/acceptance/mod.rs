@@ -10,7 +10,9 @@
 //!   over the increment), so that a bug in the active set cannot hide itself; it is also run
 //!   on a written history (`tests/acceptance.rs`).
 
-use std::collections::HashMap;
+use super::broad_phase::IndexMap;
+use std::cell::RefCell;
+use std::rc::Rc;
 
 use serde::{Deserialize, Serialize};
 
@@ -81,6 +83,10 @@ const FREE_END: f64 = 0.05;
 /// round it.
 const FREE_REACH: f64 = 2.0;
 
+/// Bodies of more elements than this are searched through the grid (`SweptGrid`), shorter
+/// ones element by element.
+const GRID_MIN_ELEMENTS: usize = 32;
+
 /// Round-off units of the largest coordinate that a gap may be off by (positions are sums of
 /// the initial coordinates and the displacements).
 const ROUNDOFF_ULPS: f64 = 64.0;
@@ -98,7 +104,7 @@ pub struct CrossingCheck {
     pairs: Vec<(usize, usize)>,
     /// Side (+1/-1 along the element normal, which turns the chord i->j by +90 degrees) of
     /// each pair that was near its body and clear of it at an accepted state.
-    sides: HashMap<(usize, usize), f64>,
+    sides: IndexMap<(usize, usize), f64>,
     /// The body each element belongs to, and the position of the element in its body.
     place: Vec<(usize, usize)>,
     /// The bodies every node belongs to.
@@ -112,36 +118,50 @@ pub struct CrossingCheck {
     ends: Vec<Vec<usize>>,
     /// The last accepted state.
     last: Vec<NodeState>,
+    /// The sweep to the state last checked (`sweep`).
+    cache: RefCell<Option<(Vec<NodeState>, Rc<Sweep>)>>,
 }
 
-/// An element's chord at one state: end i, the vector i->j, its length and the deflection
-/// bound.
-#[derive(Clone, Copy)]
+/// The chords of the candidate bodies' elements at both ends of an increment, and their grid.
+#[derive(Debug)]
+struct Sweep {
+    chords: Vec<Option<(Chord, Chord)>>,
+    grid: SweptGrid,
+}
+
+/// An element's chord at one state: end i, the vector i->j, its length and the tangent angles
+/// at its ends.
+#[derive(Clone, Copy, Debug)]
 struct Chord {
     p: [f64; 2],
     u: [f64; 2],
     l: f64,
-    bulge: f64,
+    /// The tangent angles at the ends: initial chord angle plus node rotation.
+    ends: [f64; 2],
 }
 
 impl Chord {
     fn at(model: &Model, angle0: f64, e: usize, s: &[NodeState]) -> Chord {
         let (a, b) = (s[model.beams[e].i], s[model.beams[e].j]);
         let u = [b[0] - a[0], b[1] - a[1]];
-        let l = u[0].hypot(u[1]);
-        let turn = u[1].atan2(u[0]) - angle0;
-        // End rotations relative to the chord (wrapped to (-pi, pi]).
-        let rel = |phi: f64| {
-            (phi - turn + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
-                - std::f64::consts::PI
-        };
-        let bulge = DEFLECTION_PER_RADIAN * l * (rel(a[2]).abs() + rel(b[2]).abs());
         Chord {
             p: [a[0], a[1]],
             u,
-            l,
-            bulge,
+            l: u[0].hypot(u[1]),
+            ends: [a[2] + angle0, b[2] + angle0],
         }
+    }
+
+    /// A bound of the element's deflection from its chord: `DEFLECTION_PER_RADIAN` times the
+    /// length per radian of end rotation relative to the chord.
+    fn bulge(&self) -> f64 {
+        let angle = self.u[1].atan2(self.u[0]);
+        // End rotations relative to the chord (wrapped to (-pi, pi]).
+        let rel = |phi: f64| {
+            (phi - angle + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
+                - std::f64::consts::PI
+        };
+        DEFLECTION_PER_RADIAN * self.l * (rel(self.ends[0]).abs() + rel(self.ends[1]).abs())
     }
 
     /// (li/l, signed distance along the normal) of point `c`.
@@ -195,13 +215,14 @@ impl CrossingCheck {
             .collect();
         let mut check = CrossingCheck {
             pairs,
-            sides: HashMap::new(),
+            sides: IndexMap::default(),
             place,
             own,
             angle0,
             free,
             ends,
             last: Vec::new(),
+            cache: RefCell::new(None),
         };
         check.last = start.clone();
         check.accept(model, start, &[]);
@@ -261,12 +282,42 @@ impl CrossingCheck {
 
     /// The elements of body `b` whose chords' boxes over both states, grown by an element
     /// length, meet the box of node `n`'s path.
-    fn near(&self, grid: &SweptGrid, b: usize, path: [[f64; 2]; 2]) -> Vec<usize> {
+    /// A short body's elements are tried one by one; a long one's through the grid.
+    fn near(&self, model: &Model, grid: &SweptGrid, b: usize, path: [[f64; 2]; 2]) -> Vec<usize> {
         let lo = [path[0][0].min(path[1][0]), path[0][1].min(path[1][1])];
         let hi = [path[0][0].max(path[1][0]), path[0][1].max(path[1][1])];
+        if !grid.meets_body(b, lo, hi) {
+            return Vec::new();
+        }
+        let els = &model.bodies[b].elements;
+        if els.len() <= GRID_MIN_ELEMENTS {
+            return els
+                .iter()
+                .copied()
+                .filter(|&e| grid.meets_element(e, lo, hi))
+                .collect();
+        }
         let mut out = grid.query(lo, hi);
         out.retain(|&e| self.place[e].0 == b);
         out
+    }
+
+    /// The chords and their grid from the last accepted state to `after`, built once for both
+    /// `find` and `accept` of the same state.
+    fn sweep(&self, model: &Model, after: &[NodeState]) -> Rc<Sweep> {
+        let mut cache = self.cache.borrow_mut();
+        if let Some((state, sweep)) = cache.as_ref() {
+            if state.as_slice() == after {
+                return Rc::clone(sweep);
+            }
+        }
+        let chords = self.chords(model, after);
+        let body_of = |e: usize| self.place[e].0;
+        let long = |b: usize| model.bodies[b].elements.len() > GRID_MIN_ELEMENTS;
+        let grid = SweptGrid::new(&chords, body_of, long, model.bodies.len());
+        let sweep = Rc::new(Sweep { chords, grid });
+        *cache = Some((after.to_vec(), Rc::clone(&sweep)));
+        sweep
     }
 
     /// The chords at the last accepted state and at `after` of every element of a candidate
@@ -305,34 +356,36 @@ impl CrossingCheck {
         if self.pairs.is_empty() {
             return None;
         }
-        let chords = self.chords(model, after);
-        let grid = SweptGrid::new(&chords);
+        let sweep = self.sweep(model, after);
+        let (chords, grid) = (&sweep.chords, &sweep.grid);
+        let sorted = sorted(active);
         let round = ROUNDOFF_ULPS * f64::EPSILON * Self::scale(&self.last, after);
         for &(n, b) in &self.pairs {
-            if active.contains(&(n, b)) {
+            if sorted.binary_search(&(n, b)).is_ok() {
                 continue;
             }
             let (c0, c1) = (
                 [self.last[n][0], self.last[n][1]],
                 [after[n][0], after[n][1]],
             );
-            if self.past_free_end(model, b, c1) {
+            let near = self.near(model, grid, b, [c0, c1]);
+            if near.is_empty() || self.past_free_end(model, b, c1) {
                 continue;
             }
-            for e in self.near(&grid, b, [c0, c1]) {
+            for e in near {
                 let (k0, _) = chords[e].expect("near elements have chords");
                 if !swept_through(k0, chords[e].expect("chord").1, c0, c1) {
                     continue;
                 }
                 let (_, h0) = k0.locate(c0);
-                let side = if h0.abs() > k0.bulge + TOUCH * k0.l + round {
+                let side = if h0.abs() > k0.bulge() + TOUCH * k0.l + round {
                     h0.signum()
                 } else if let Some(&s) = self.sides.get(&(n, b)) {
                     s
                 } else {
                     continue;
                 };
-                if let Some(c) = self.beyond(model, &chords, n, b, e, side, c1, round, active) {
+                if let Some(c) = self.beyond(model, chords, n, b, e, side, c1, round, active) {
                     return Some(c);
                 }
             }
@@ -366,7 +419,7 @@ impl CrossingCheck {
             let (fi, fj) = (model.beams[f].i, model.beams[f].j);
             let same = f == e || fi == ej || fj == ei;
             let side_f = if same { side } else { -side };
-            let depth = -side_f * h - chord.bulge - TOUCH * chord.l - round;
+            let depth = -side_f * h - chord.bulge() - TOUCH * chord.l - round;
             ((0.0..=1.0).contains(&s) && depth > 0.0 && !self.excused(model, active, n, b, f))
                 .then_some(Crossing {
                     node: n,
@@ -382,11 +435,12 @@ impl CrossingCheck {
     /// the pairs that are no longer near.
     pub fn accept(&mut self, model: &Model, after: Vec<NodeState>, active: &[(usize, usize)]) {
         if !self.pairs.is_empty() {
-            let chords = self.chords(model, &after);
-            let grid = SweptGrid::new(&chords);
+            let sweep = self.sweep(model, &after);
+            let (chords, grid) = (&sweep.chords, &sweep.grid);
+            let sorted = sorted(active);
             let round = ROUNDOFF_ULPS * f64::EPSILON * Self::scale(&self.last, &after);
             for &(n, b) in &self.pairs {
-                if active.contains(&(n, b)) {
+                if sorted.binary_search(&(n, b)).is_ok() {
                     continue;
                 }
                 let (c0, c1) = (
@@ -395,7 +449,7 @@ impl CrossingCheck {
                 );
                 // The element the node projects onto that is closest along its normal.
                 let closest = self
-                    .near(&grid, b, [c0, c1])
+                    .near(model, grid, b, [c0, c1])
                     .into_iter()
                     .filter_map(|e| {
                         let (k0, k1) = chords[e]?;
@@ -407,13 +461,14 @@ impl CrossingCheck {
                     None => {
                         self.sides.remove(&(n, b));
                     }
-                    Some((_, h, _, k1)) if h.abs() > k1.bulge + TOUCH * k1.l + round => {
+                    Some((_, h, _, k1)) if h.abs() > k1.bulge() + TOUCH * k1.l + round => {
                         self.sides.insert((n, b), h.signum());
                     }
                     Some((_, _, k0, _)) => {
                         // Touching now: the side it came from, if it was clear at the start.
                         let (s, h0) = k0.locate(c0);
-                        if (0.0..=1.0).contains(&s) && h0.abs() > k0.bulge + TOUCH * k0.l + round {
+                        if (0.0..=1.0).contains(&s) && h0.abs() > k0.bulge() + TOUCH * k0.l + round
+                        {
                             self.sides.entry((n, b)).or_insert(h0.signum());
                         }
                     }
@@ -421,7 +476,15 @@ impl CrossingCheck {
             }
         }
         self.last = after;
+        *self.cache.get_mut() = None;
     }
+}
+
+/// The (node, body) pairs in contact, sorted for binary search.
+fn sorted(active: &[(usize, usize)]) -> Vec<(usize, usize)> {
+    let mut v = active.to_vec();
+    v.sort_unstable();
+    v
 }
 
 /// Whether point c, moving linearly from `c0` to `c1`, passes through the chord moving linearly
