@@ -538,6 +538,9 @@ fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
         steps,
     };
     if let Err(e) = scene.solver() {
+        if let SolveError::AmbiguousSide { .. } = e {
+            return Err(ctx.err("contacts", None, e.to_string()));
+        }
         let message = match e {
             SolveError::Mechanism { dofs } => {
                 format!(

@@ -74,6 +74,10 @@ pub struct ContactSet {
     pub(crate) too_deep: Option<(usize, usize, f64)>,
     /// Active sets met at the converged passes of the current attempt, to tell cycling.
     pub(super) seen: HashSet<Vec<(usize, usize)>>,
+    /// A candidate pair whose node touches the body with its own beam's neighbouring nodes not
+    /// all clear on one side of it, found by `remember_sides` (the first one): its side is
+    /// ambiguous, and a scene that starts so is refused (`SolveError::AmbiguousSide`).
+    pub(crate) ambiguous: Option<(usize, usize)>,
     /// Set once an active set repeats within an attempt: from then on each converged pass fixes
     /// one violation only (see `after_convergence`).
     pub(crate) one_at_a_time: bool,
@@ -387,8 +391,16 @@ impl ContactSet {
                 // node of a beam touches from the side its own beam lies on: take the side of
                 // its neighbouring nodes (a pin has none and must start with a gap).
                 Some(p) if !self.sides.contains_key(&(n, b)) => {
-                    if let Some(side) = self.neighbour_side(solver, d, n, b, Some(&view)) {
-                        self.sides.insert((n, b), (side, p.beam));
+                    match self.neighbour_side(solver, d, n, b, Some(&view)) {
+                        Some(side) => {
+                            self.sides.insert((n, b), (side, p.beam));
+                        }
+                        // A node of a beam whose neighbours do not all lie clear on one side:
+                        // no rule gives its side.
+                        None if !solver.node_beams[n].is_empty() => {
+                            self.ambiguous.get_or_insert((n, b));
+                        }
+                        None => {}
                     }
                 }
                 Some(_) => {}

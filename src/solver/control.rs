@@ -167,6 +167,12 @@ impl Solver {
         }
         let mut contacts = std::mem::take(&mut solver.contacts);
         contacts.remember_sides(&solver, &solver.d);
+        if let Some((n, b)) = contacts.ambiguous {
+            return Err(SolveError::AmbiguousSide {
+                node: solver.model.nodes[n].id,
+                body: solver.model.bodies[b].name.clone(),
+            });
+        }
         solver.contacts = contacts;
         if !solver.candidates.is_empty() {
             let start = solver.node_states(&solver.d);

@@ -230,6 +230,17 @@ pub enum SolveError {
         /// How far beyond, in element lengths.
         depth: f64,
     },
+    /// A contact candidate node starts on a body's line with the neighbouring nodes of its own
+    /// beam not all clear on one side of it: which side it is on cannot be told.
+    #[error(
+        "node {node} starts on {body} with its own beam's neighbouring nodes not all on one side of it: move it off the line or its neighbours to one side"
+    )]
+    AmbiguousSide {
+        /// User id of the node.
+        node: u32,
+        /// Name of the body.
+        body: String,
+    },
     /// The tangent is singular: the structure is a mechanism at these dofs.
     #[error("the structure is a mechanism: free dofs {dofs:?} have no stiffness")]
     Mechanism {
