@@ -147,7 +147,10 @@ impl Solver {
             cut_back: false,
             origin,
             crossing: CrossingCheck::default(),
-            size: model_size(&model),
+            size: {
+                let (lo, hi) = model.bounds();
+                (hi[0] - lo[0]).max(hi[1] - lo[1]).max(0.0)
+            },
             position_roundoff: 64.0
                 * f64::EPSILON
                 * (model.nodes.iter()).fold(0.0f64, |m, n| m.max(n.x.abs()).max(n.y.abs())),
@@ -557,14 +560,4 @@ impl Solver {
             seconds,
         }
     }
-}
-
-/// The larger side of the bounding box of the model's nodes at rest.
-fn model_size(model: &Model) -> f64 {
-    let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
-    for n in &model.nodes {
-        lo = [lo[0].min(n.x), lo[1].min(n.y)];
-        hi = [hi[0].max(n.x), hi[1].max(n.y)];
-    }
-    (hi[0] - lo[0]).max(hi[1] - lo[1]).max(0.0)
 }

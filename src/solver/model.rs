@@ -197,6 +197,16 @@ impl Model {
         format!("node {}", self.nodes[n].id)
     }
 
+    /// The corners (lower left, upper right) of the bounding box of the nodes at rest.
+    pub fn bounds(&self) -> ([f64; 2], [f64; 2]) {
+        let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
+        for n in &self.nodes {
+            lo = [lo[0].min(n.x), lo[1].min(n.y)];
+            hi = [hi[0].max(n.x), hi[1].max(n.y)];
+        }
+        (lo, hi)
+    }
+
     /// The model with its coordinates measured from the centre of its bounding box, and that
     /// centre, where the model lies further from the origin than its own size (else unchanged, with
     /// origin 0). Far from the origin, positions carry the round-off of their large coordinates
@@ -204,11 +214,7 @@ impl Model {
     /// from the centre, the solver sees the translated scene as the untranslated one, up to the
     /// rounding of the input.
     pub fn recentred(mut self) -> (Model, [f64; 2]) {
-        let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
-        for n in &self.nodes {
-            lo = [lo[0].min(n.x), lo[1].min(n.y)];
-            hi = [hi[0].max(n.x), hi[1].max(n.y)];
-        }
+        let (lo, hi) = self.bounds();
         let centre = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
         let size = (hi[0] - lo[0]).max(hi[1] - lo[1]);
         if !(centre[0].hypot(centre[1]) > size && size.is_finite()) {

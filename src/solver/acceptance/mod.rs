@@ -102,6 +102,8 @@ const DEFLECTION_PER_RADIAN: f64 = 0.25;
 pub struct CrossingCheck {
     /// Candidate (node, body) pairs.
     pairs: Vec<(usize, usize)>,
+    /// The candidate bodies, each once.
+    bodies: Vec<usize>,
     /// Side (+1/-1 along the element normal, which turns the chord i->j by +90 degrees) of
     /// each pair that was near its body and clear of it at an accepted state.
     sides: IndexMap<(usize, usize), f64>,
@@ -213,8 +215,12 @@ impl CrossingCheck {
                 els.filter(|&e| free[e].0 || free[e].1).collect()
             })
             .collect();
+        let mut bodies: Vec<usize> = pairs.iter().map(|p| p.1).collect();
+        bodies.sort_unstable();
+        bodies.dedup();
         let mut check = CrossingCheck {
             pairs,
+            bodies,
             sides: IndexMap::default(),
             place,
             own,
@@ -302,6 +308,23 @@ impl CrossingCheck {
         out
     }
 
+    /// The candidate pairs (n, b) not in contact (`active` lists those that are) with the
+    /// node's positions at the last accepted state and at `after`.
+    fn paths_out_of_contact<'a>(
+        &'a self,
+        after: &'a [NodeState],
+        active: &[(usize, usize)],
+    ) -> impl Iterator<Item = (usize, usize, [f64; 2], [f64; 2])> + 'a {
+        let mut sorted = active.to_vec();
+        sorted.sort_unstable();
+        (self.pairs.iter())
+            .filter(move |p| sorted.binary_search(p).is_err())
+            .map(|&(n, b)| {
+                let c0 = [self.last[n][0], self.last[n][1]];
+                (n, b, c0, [after[n][0], after[n][1]])
+            })
+    }
+
     /// The chords and their grid from the last accepted state to `after`, built once for both
     /// `find` and `accept` of the same state.
     fn sweep(&self, model: &Model, after: &[NodeState]) -> Rc<Sweep> {
@@ -324,15 +347,13 @@ impl CrossingCheck {
     /// body (None for the rest).
     fn chords(&self, model: &Model, after: &[NodeState]) -> Vec<Option<(Chord, Chord)>> {
         let mut out = vec![None; model.beams.len()];
-        for &(_, b) in &self.pairs {
+        for &b in &self.bodies {
             for &e in &model.bodies[b].elements {
-                if out[e].is_none() {
-                    let a0 = self.angle0[e];
-                    out[e] = Some((
-                        Chord::at(model, a0, e, &self.last),
-                        Chord::at(model, a0, e, after),
-                    ));
-                }
+                let a0 = self.angle0[e];
+                out[e] = Some((
+                    Chord::at(model, a0, e, &self.last),
+                    Chord::at(model, a0, e, after),
+                ));
             }
         }
         out
@@ -358,16 +379,8 @@ impl CrossingCheck {
         }
         let sweep = self.sweep(model, after);
         let (chords, grid) = (&sweep.chords, &sweep.grid);
-        let sorted = sorted(active);
         let round = ROUNDOFF_ULPS * f64::EPSILON * Self::scale(&self.last, after);
-        for &(n, b) in &self.pairs {
-            if sorted.binary_search(&(n, b)).is_ok() {
-                continue;
-            }
-            let (c0, c1) = (
-                [self.last[n][0], self.last[n][1]],
-                [after[n][0], after[n][1]],
-            );
+        for (n, b, c0, c1) in self.paths_out_of_contact(after, active) {
             let near = self.near(model, grid, b, [c0, c1]);
             if near.is_empty() || self.past_free_end(model, b, c1) {
                 continue;
@@ -437,16 +450,9 @@ impl CrossingCheck {
         if !self.pairs.is_empty() {
             let sweep = self.sweep(model, &after);
             let (chords, grid) = (&sweep.chords, &sweep.grid);
-            let sorted = sorted(active);
             let round = ROUNDOFF_ULPS * f64::EPSILON * Self::scale(&self.last, &after);
-            for &(n, b) in &self.pairs {
-                if sorted.binary_search(&(n, b)).is_ok() {
-                    continue;
-                }
-                let (c0, c1) = (
-                    [self.last[n][0], self.last[n][1]],
-                    [after[n][0], after[n][1]],
-                );
+            let paths: Vec<_> = self.paths_out_of_contact(&after, active).collect();
+            for (n, b, c0, c1) in paths {
                 // The element the node projects onto that is closest along its normal.
                 let closest = self
                     .near(model, grid, b, [c0, c1])
@@ -478,13 +484,6 @@ impl CrossingCheck {
         self.last = after;
         *self.cache.get_mut() = None;
     }
-}
-
-/// The (node, body) pairs in contact, sorted for binary search.
-fn sorted(active: &[(usize, usize)]) -> Vec<(usize, usize)> {
-    let mut v = active.to_vec();
-    v.sort_unstable();
-    v
 }
 
 /// Whether point c, moving linearly from `c0` to `c1`, passes through the chord moving linearly
