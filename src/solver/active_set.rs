@@ -49,12 +49,6 @@ impl ContactSet {
             if let Some((p, side)) = self.crossing(solver, d, n, b, &views) {
                 if -p.gap * side > solver.params.max_penetration * p.length {
                     self.too_deep = Some((n, b, -p.gap * side / p.length));
-                    if std::env::var_os("TSM_DEBUG").is_some() {
-                        eprintln!(
-                            "DEBUG too deep: node {n} body {b} {p:?} side {side} was {:?}",
-                            self.side_of(solver, n, b, Some(&views.before))
-                        );
-                    }
                 }
                 crossings.push((n, b, p, side));
             }

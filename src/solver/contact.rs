@@ -267,12 +267,7 @@ impl ContactSet {
     }
 
     /// Where node `n` lies relative to body `b` at displacements `d` (None if it projects onto no
-    /// element of the body).
-    pub fn probe(&self, solver: &Solver, d: &[f64], n: usize, b: usize) -> Option<Probe> {
-        self.probe_near(solver, d, n, b, None)
-    }
-
-    /// `probe`, with what `view` (of state `d`) knows: the elements its grid finds near the
+    /// element of the body), with what `view` (of state `d`) knows: the elements its grid finds near the
     /// node are tried first. The closest found there is the closest of all when its gap is
     /// within the grid's reach: every element outside is farther than that from the node, and
     /// far enough from it (more than `FAR` element lengths) that its gap is its plain distance.

@@ -17,10 +17,6 @@ impl Dual {
     pub fn cst(re: f64) -> Self {
         Dual { re, du: 0.0 }
     }
-    /// The seeded variable itself (unit derivative).
-    pub fn var(re: f64) -> Self {
-        Dual { re, du: 1.0 }
-    }
 }
 
 impl From<f64> for Dual {
