@@ -146,6 +146,30 @@ fn pin_clearance(scene: &Scene, r: &IncrementRecord) -> f64 {
     best.1
 }
 
+/// Example 3.2's end past the last beam: no contact, and every beam node back at its initial
+/// position (1e-9 m), the structure stress-free.
+fn assert_stress_free(scene: &Scene, last: &IncrementRecord) {
+    assert!(
+        last.contacts.is_empty(),
+        "contacts at the end: {:?}",
+        last.contacts
+    );
+    for (k, node) in scene
+        .model
+        .nodes
+        .iter()
+        .enumerate()
+        .filter(|(_, n)| n.id != 34)
+    {
+        let p = last.nodes[k];
+        assert!(
+            (p[0] - node.x).hypot(p[1] - node.y) < 1e-9,
+            "node {} at {p:?}",
+            node.id
+        );
+    }
+}
+
 /// The index of the cantilever's tip: of its nodes, the one farthest from the clamp (node 1).
 fn tip_index(scene: &Scene) -> usize {
     let m = &scene.model;
@@ -251,26 +275,7 @@ fn example_3_2_bernoulli_euler_accepts_nothing_beyond_the_bound() {
     assert!(err.is_none(), "{err:?}");
     let worst = recs.iter().map(|r| r.relative_residual).fold(0.0, f64::max);
     assert!(worst <= 1e-6, "worst relative residual {worst:e}");
-    let last = recs.last().unwrap();
-    assert!(
-        last.contacts.is_empty(),
-        "contacts at the end: {:?}",
-        last.contacts
-    );
-    for (k, node) in scene
-        .model
-        .nodes
-        .iter()
-        .enumerate()
-        .filter(|(_, n)| n.id != 34)
-    {
-        let p = last.nodes[k];
-        assert!(
-            (p[0] - node.x).hypot(p[1] - node.y) < 1e-9,
-            "node {} at {p:?}",
-            node.id
-        );
-    }
+    assert_stress_free(&scene, recs.last().unwrap());
 }
 
 /// The pin on a cantilever turned by 30 degrees about the clamp (the pin driven along the
@@ -326,21 +331,7 @@ fn example_3_2_dragged_in_uneven_steps_never_crosses() {
     scene.model.prescribed[0].per_step = -0.0098;
     let (recs, err) = run(&scene, 84);
     assert!(err.is_none(), "{err:?}");
-    let last = recs.last().unwrap();
-    assert!(
-        last.contacts.is_empty(),
-        "contacts at the end: {:?}",
-        last.contacts
-    );
-    let m = &scene.model;
-    for (k, node) in m.nodes.iter().enumerate().filter(|(_, n)| n.id != 34) {
-        let p = last.nodes[k];
-        assert!(
-            (p[0] - node.x).hypot(p[1] - node.y) < 1e-9,
-            "node {} at {p:?}",
-            node.id
-        );
-    }
+    assert_stress_free(&scene, recs.last().unwrap());
 }
 
 /// The geometric check itself: a node moving straight through a resting beam is a crossing
