@@ -10,12 +10,12 @@
 //!   over the increment), so that a bug in the active set cannot hide itself; it is also run
 //!   on a written history (`tests/acceptance.rs`).
 
-use super::broad_phase::IndexMap;
 use std::cell::RefCell;
 use std::rc::Rc;
 
 use serde::{Deserialize, Serialize};
 
+use super::broad_phase::IndexMap;
 use super::model::Model;
 use grid::SweptGrid;
 
