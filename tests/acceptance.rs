@@ -610,3 +610,54 @@ fn a_beam_laid_exactly_on_another_is_refused_unless_its_side_is_clear() {
     assert!(parse(&scene(1e-3, 1e-3), "lifted.ron").is_ok());
     assert!(parse(&scene(0.0, 0.2), "inclined.ron").is_ok());
 }
+
+/// The pin of `pushed_pin` over two cantilevers: the upper one of `n` elements clamped at
+/// x = 0, and a lower one of `m` elements, `below` under it, clamped at x = 1.2 and reaching
+/// back to x = 0.2. The pin is a candidate on both, and every node of each beam on the other.
+fn two_cantilevers(f: &str, n: usize, m: usize, x: f64, gap: f64, below: f64) -> String {
+    format!(
+        r#"(
+        name: "two", formulation: {f},
+        sections: [(name: "strip", E: 1.0, A: 1.0e6, I: 1.0, G: 0.4)],
+        nodes: [(id: 100000, x: {x:?}, y: {gap:?}, rotation: false)],
+        bodies: [
+            (name: "upper", section: "strip", path: [(0.0, 0.0), (1.0, 0.0)], elements: {n}, first_node: 1),
+            (name: "lower", section: "strip", path: [(1.2, {y:?}), (0.2, {y:?})], elements: {m}, first_node: 1001),
+        ],
+        supports: [(node: 1, u: true, v: true, phi: true), (node: 1001, u: true, v: true, phi: true),
+                   (node: 100000, u: true)],
+        prescribed: [(node: 100000, dof: V, per_step: -0.04)],
+        contacts: [(nodes: [100000], bodies: ["upper", "lower"]),
+                   (node_bodies: ["upper"], bodies: ["lower"]),
+                   (node_bodies: ["lower"], bodies: ["upper"])],
+        control: (steps: 1),
+    )"#,
+        y = -below
+    )
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 16, ..ProptestConfig::default() })]
+
+    /// Random pins pressing one cantilever onto a second, both formulations, meshes of 5 to 40
+    /// elements each, gaps between the beams of 0 exactly (their lines meet nowhere: the lower
+    /// one is offset), 1e-3 and 0.05 m. Every accepted increment passes `check_record` (no
+    /// node of the pin or of either beam through the other beam), and a run that stops does
+    /// so with a typed error.
+    #[test]
+    fn random_pins_on_two_cantilevers_never_pass_through(
+        n in 5usize..=40,
+        m in 5usize..=40,
+        x in 0.3f64..0.95,
+        gap in prop::sample::select(vec![0.0, 1e-3, 0.02]),
+        below in prop::sample::select(vec![1e-3, 0.05]),
+        bernoulli in any::<bool>(),
+    ) {
+        let f = if bernoulli { "BernoulliEuler" } else { "Timoshenko" };
+        let scene = parse(&two_cantilevers(f, n, m, x, gap, below), "two").unwrap();
+        let (_, err) = run(&scene, 8);
+        if let Some(e) = err {
+            prop_assert!(!matches!(e, SolveError::Stopped | SolveError::Invalid { .. }), "{e}");
+        }
+    }
+}
