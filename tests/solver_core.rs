@@ -212,3 +212,20 @@ fn newton_converges_quadratically() {
         assert!(res[n - 1] < 1e-8);
     }
 }
+
+/// A solver moves to another thread with its state (the worker builds one per scene, a library
+/// user may hand one over): `Solver` is `Send`. A compile-time identity; the test fails to
+/// build if a field stops being `Send`.
+#[test]
+fn a_solver_can_move_to_another_thread() {
+    fn send<T: Send>(_: &T) {}
+    let scene = tsm_contact::scene::builtin::builtin("pin_on_cantilever")
+        .expect("built-in")
+        .expect("valid");
+    let solver = scene.solver().expect("stable");
+    send(&solver);
+    let moved = std::thread::spawn(move || solver.increment())
+        .join()
+        .expect("joins");
+    assert_eq!(moved, 0);
+}

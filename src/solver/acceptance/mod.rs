@@ -11,7 +11,7 @@
 //!   on a written history (`tests/acceptance.rs`).
 
 use std::cell::RefCell;
-use std::rc::Rc;
+use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
@@ -121,7 +121,7 @@ pub struct CrossingCheck {
     /// The last accepted state.
     last: Vec<NodeState>,
     /// The sweep to the state last checked (`sweep`).
-    cache: RefCell<Option<(Vec<NodeState>, Rc<Sweep>)>>,
+    cache: RefCell<Option<(Vec<NodeState>, Arc<Sweep>)>>,
 }
 
 /// The chords of the candidate bodies' elements at both ends of an increment, and their grid.
@@ -327,19 +327,19 @@ impl CrossingCheck {
 
     /// The chords and their grid from the last accepted state to `after`, built once for both
     /// `find` and `accept` of the same state.
-    fn sweep(&self, model: &Model, after: &[NodeState]) -> Rc<Sweep> {
+    fn sweep(&self, model: &Model, after: &[NodeState]) -> Arc<Sweep> {
         let mut cache = self.cache.borrow_mut();
         if let Some((state, sweep)) = cache.as_ref() {
             if state.as_slice() == after {
-                return Rc::clone(sweep);
+                return Arc::clone(sweep);
             }
         }
         let chords = self.chords(model, after);
         let body_of = |e: usize| self.place[e].0;
         let long = |b: usize| model.bodies[b].elements.len() > GRID_MIN_ELEMENTS;
         let grid = SweptGrid::new(&chords, body_of, long, model.bodies.len());
-        let sweep = Rc::new(Sweep { chords, grid });
-        *cache = Some((after.to_vec(), Rc::clone(&sweep)));
+        let sweep = Arc::new(Sweep { chords, grid });
+        *cache = Some((after.to_vec(), Arc::clone(&sweep)));
         sweep
     }
 
