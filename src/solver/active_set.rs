@@ -84,13 +84,8 @@ impl ContactSet {
         if self.too_deep.is_none() {
             self.too_deep = self.passed_out_of_reach(solver, d, &views);
         }
-        if changes > 0 {
-            let mut set: Vec<(usize, usize)> =
-                self.active.iter().map(|a| (a.node, a.body)).collect();
-            set.sort_unstable();
-            if !self.seen.insert(set) {
-                self.one_at_a_time = true;
-            }
+        if changes > 0 && !self.seen.insert(self.pairs()) {
+            self.one_at_a_time = true;
         }
         changes
     }

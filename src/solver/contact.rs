@@ -190,6 +190,13 @@ impl ContactSet {
         }
     }
 
+    /// The (node, body) pairs in contact, sorted.
+    pub fn pairs(&self) -> Vec<(usize, usize)> {
+        let mut set: Vec<(usize, usize)> = self.active.iter().map(|a| (a.node, a.body)).collect();
+        set.sort_unstable();
+        set
+    }
+
     /// The assembly's view of the active contacts.
     pub fn links(&self) -> Vec<ContactLink> {
         self.active

@@ -494,12 +494,7 @@ impl Solver {
         self.contacts = contacts;
         let (status, nodes) = checked;
         if !self.crossing.is_empty() {
-            let active: Vec<(usize, usize)> = self
-                .contacts
-                .active
-                .iter()
-                .map(|a| (a.node, a.body))
-                .collect();
+            let active = self.contacts.pairs();
             self.crossing.accept(&self.model, nodes.clone(), &active);
         }
         let fext = self.external_force(tl);

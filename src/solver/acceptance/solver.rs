@@ -24,9 +24,10 @@ impl Solver {
             },
         )?;
         let states = self.node_states(&c.d);
-        let active: Vec<(usize, usize)> =
-            c.contacts.active.iter().map(|a| (a.node, a.body)).collect();
-        match self.crossing.find(&self.model, &states, &active) {
+        match self
+            .crossing
+            .find(&self.model, &states, &c.contacts.pairs())
+        {
             Some(x) => Err(AttemptError::Crossed(x)),
             None => Ok((status, states)),
         }
