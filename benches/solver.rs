@@ -58,7 +58,7 @@ fn newton(c: &mut Criterion) {
 fn long_beam(c: &mut Criterion) {
     let mut g = c.benchmark_group("long_beam_increment");
     for n in [1000usize, 10_000] {
-        let mut warm = tsm_contact::scaling::long_beam(n).solver().unwrap();
+        let mut warm = tsm_contact::scene::builtin::long_beam(n).solver().unwrap();
         warm.step(&mut Silent).unwrap();
         one_step(&mut g, n, &warm);
     }
@@ -85,9 +85,9 @@ fn example_3_2(c: &mut Criterion) {
 /// prescribed displacement moves one step's worth and the solver converges there
 /// (`Solver::advance_to`, as the worker does for `SetTarget`). Target: within a 16 ms frame.
 fn slider_update(c: &mut Criterion) {
-    use tsm_contact::interactive::{converged_states, one_step_targets};
+    use tsm_contact::reports::interactive::{converged_states, one_step_targets};
     let mut g = c.benchmark_group("slider_update");
-    for scene in tsm_contact::interactive::SCENES {
+    for scene in tsm_contact::reports::interactive::SCENES {
         let states = converged_states(scene);
         let state = states[states.len() / 2].clone();
         let (targets, lambda) = one_step_targets(&state);

@@ -32,11 +32,10 @@ pub(crate) fn solver_after(name: &str, steps: usize) -> Solver {
 
 /// Whether the CPU has AVX2 (what a comparison of the AVX2 and baseline builds needs); says so
 /// on stderr where it has not, so a skipped comparison is visible.
-#[cfg(target_arch = "x86_64")]
-pub(crate) fn has_avx2() -> bool {
-    let yes = std::arch::is_x86_feature_detected!("avx2");
-    if !yes {
+pub(crate) fn avx2() -> Option<crate::solver::linear::simd::Avx2> {
+    let cpu = crate::solver::linear::simd::Avx2::detect();
+    if cpu.is_none() {
         eprintln!("no AVX2 on this CPU: nothing to compare");
     }
-    yes
+    cpu
 }

@@ -11,7 +11,7 @@ use std::thread::JoinHandle;
 use std::time::Duration;
 
 use crate::scene::Scene;
-use crate::solver::beam::BeamElement;
+use crate::solver::element::beam::BeamElement;
 use crate::solver::report::Flow;
 use crate::solver::{
     Event, Formulation, IncrementRecord, IterationRecord, Observer, SolveError, Solver,
@@ -61,7 +61,7 @@ pub enum Command {
 pub struct Loaded {
     /// The scene as solved (its model carries the formulation in use).
     pub scene: Scene,
-    /// The element evaluators, needed by `solver::shape::element_curve`.
+    /// The element evaluators, needed by `solver::element::shape::element_curve`.
     pub elements: Vec<BeamElement>,
     /// The undeformed state as increment 0 (no forces, no contacts).
     pub initial: IncrementRecord,

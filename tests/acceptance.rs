@@ -7,7 +7,6 @@
 use proptest::prelude::*;
 use tsm_contact::history::History;
 use tsm_contact::scene::{builtin::builtin, parse, Scene};
-use tsm_contact::solver::contact::ContactSet;
 use tsm_contact::solver::report::ContactChange;
 use tsm_contact::solver::{
     CrossingCheck, Event, Formulation, IncrementRecord, IncrementStatus, SolveError,
@@ -62,7 +61,7 @@ fn pushed_pin(
 /// the error the run stopped with, if any.
 fn run(scene: &Scene, steps: usize) -> (Vec<IncrementRecord>, Option<SolveError>) {
     let mut solver = scene.solver().expect("stable");
-    let pairs = ContactSet::candidates_of(&scene.model);
+    let pairs = scene.model.contact_candidates();
     let start = solver.node_states(solver.displacements());
     let mut check = CrossingCheck::new(&scene.model, pairs, start);
     let mut history = History::default();
@@ -345,7 +344,7 @@ fn the_crossing_check_finds_a_pass_through_and_nothing_else() {
     )
     .unwrap();
     let m = &scene.model;
-    let pairs = ContactSet::candidates_of(m);
+    let pairs = m.contact_candidates();
     let start: Vec<[f64; 3]> = m.nodes.iter().map(|n| [n.x, n.y, 0.0]).collect();
     let pin = m.nodes.iter().position(|n| n.id == 100000).expect("pin");
     let moved = |x: f64, y: f64| {
@@ -432,7 +431,7 @@ proptest! {
 /// every accepted increment passes `check_record`.
 #[test]
 fn the_pin_over_a_node_converges_as_h_squared_and_slides_off_every_mesh() {
-    use tsm_contact::work_precision::pin_errors;
+    use tsm_contact::reports::work_precision::pin_errors;
     for f in ["Timoshenko", "BernoulliEuler"] {
         let mut errors = Vec::new();
         for n in [10, 20, 40, 80, 160] {
@@ -524,7 +523,7 @@ fn example_3_2_dragged_through_the_worker_never_crosses() {
         }
         collect(Instant::now() + long, second, &mut records, &mut errors);
         w.send(Command::Shutdown);
-        let pairs = ContactSet::candidates_of(&scene.model);
+        let pairs = scene.model.contact_candidates();
         let start_states: Vec<[f64; 3]> =
             scene.model.nodes.iter().map(|n| [n.x, n.y, 0.0]).collect();
         let mut check = CrossingCheck::new(&scene.model, pairs, start_states);

@@ -74,7 +74,7 @@ fn run_example_3_2(steps: usize) -> Vec<IncrementRecord> {
         // Every active contact node lies on its beam's deformed shape.
         let gaps = solver
             .contacts()
-            .active_gaps(&solver, solver.displacements());
+            .active_gaps(&solver.view(), solver.displacements());
         assert!(gaps.iter().all(|g| g.abs() < 1e-9), "gaps {gaps:?}");
         for r in &recs {
             // Every converged increment: contacts compressive, nobody through a beam.
@@ -409,7 +409,7 @@ fn comb_brushes_fifty_teeth_and_broad_phase_changes_nothing() {
     let run = |broad: bool| {
         let sc = tsm_contact::scene::parse(&small, "comb10").unwrap();
         let mut s = sc.solver().unwrap();
-        s.params.broad_phase = broad;
+        s.params_mut().broad_phase = broad;
         let mut out = Vec::new();
         for _ in 0..sc.steps {
             out.extend(s.step(&mut Silent).unwrap());
@@ -439,7 +439,7 @@ fn stacked_beams_touch_at_one_point_with_the_closed_form_force() {
     for b_elements in [16, 17] {
         // The scene of the stability suite: B with 16 elements puts its nodes straight under
         // A's (node on node), 17 between them; A's clamp driven down d in 4 steps.
-        let run = tsm_contact::stress::stacked(b_elements, Formulation::Timoshenko);
+        let run = tsm_contact::reports::stress::stacked(b_elements, Formulation::Timoshenko);
         assert!(run.row.converged, "{:?}", run.row.error);
         assert!(run.records.iter().all(|r| r.max_penetration < 1e-9));
         let last = run.records.last().unwrap();
@@ -466,7 +466,7 @@ fn stacked_beams_touch_at_one_point_with_the_closed_form_force() {
 #[test]
 fn element_grid_finds_what_probing_every_element_finds() {
     let mut runs = [true, false].map(|bp| {
-        let mut s = tsm_contact::contact_scaling::pins_on_bed(200, bp);
+        let mut s = tsm_contact::reports::contact_scaling::pins_on_bed(200, bp);
         let mut recs = Vec::new();
         for _ in 0..3 {
             recs.extend(s.step(&mut Silent).expect("converges"));

@@ -5,8 +5,10 @@
 mod common;
 use common::Rng;
 use nalgebra::DMatrix;
-use tsm_contact::solver::beam::BeamElement;
-use tsm_contact::solver::contact_element::{bending_stiffness, contact_response, ContactOptions};
+use tsm_contact::solver::element::beam::BeamElement;
+use tsm_contact::solver::element::contact_element::{
+    bending_stiffness, contact_response, ContactOptions,
+};
 use tsm_contact::solver::model::Section;
 
 /// The paper's material (Example 3.1/3.2): E = 2e7, A = 3e-4, I = 2.2e-8, G = 7.142e6, Ae = A.

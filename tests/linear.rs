@@ -310,14 +310,14 @@ fn the_diagonal_peak_bounds_the_largest_diagonal_entry() {
     }
 }
 
-/// A beam's tangent added from its distinct entries (`add_beam`) gives the band, bit for bit,
+/// A beam's tangent added from its distinct entries (`add_symmetric6`) gives the band, bit for bit,
 /// and the diagonal peak that the written-out 6x6 (`add_element`) gives: beams of a chain at
 /// random states (their entries from `ForceConstants::evaluate_entries`), numbered along the
 /// chain (the direct path) or with a dof not free or out of local order (the general path), in a
 /// lazily reset band over an old factorisation and in a zeroed one.
 #[test]
 fn a_beam_added_from_its_distinct_entries_is_the_written_out_tangent() {
-    use tsm_contact::solver::beam::BeamElement;
+    use tsm_contact::solver::element::beam::BeamElement;
     use tsm_contact::solver::model::Section;
     let mut rng = Rng(0x0b3a_4e17);
     let beams = 30;
@@ -346,7 +346,7 @@ fn a_beam_added_from_its_distinct_entries_is_the_written_out_tangent() {
             3 => eqs.swap(0, 1),
             _ => direct += 1,
         }
-        dirty.add_beam(&eqs, &t);
+        dirty.add_symmetric6(&eqs, &t.lower_columns());
         let mut k = [[0.0; 6]; 6];
         t.write(&mut k);
         written.add_element(&eqs, &k);

@@ -1,4 +1,4 @@
-//! Hard cases (the stability suite of `tsm_contact::stress`), each checked against an
+//! Hard cases (the stability suite of `tsm_contact::reports::stress`), each checked against an
 //! independent reference: Williams' toggle and Lee's frame limit loads against converged
 //! references (and arc length against displacement control), contact near element ends,
 //! a pin slid over a 50-element beam (one transfer per element boundary), a beam pressed flat
@@ -6,9 +6,9 @@
 //! against the elastica and the exact linear Timoshenko cantilever, short elements next to long
 //! ones, and a cantilever rolled up more than twice (exact circle).
 
+use tsm_contact::reports::stress;
 use tsm_contact::scene::{builtin::BUILTIN, parse};
 use tsm_contact::solver::{Formulation, Silent};
-use tsm_contact::stress;
 
 fn apex_reactions(elements: usize, step: f64, steps: usize) -> Vec<(f64, f64)> {
     let text = BUILTIN

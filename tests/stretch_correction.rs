@@ -122,8 +122,8 @@ fn roll_up_converges_in_a_third_of_the_iterations() {
 /// no shear): the contact point to 1e-7 L and the force to 5e-6 of its size.
 #[test]
 fn bernoulli_euler_pin_on_1024_elements_stays_on_the_beam() {
+    use tsm_contact::reports::work_precision::pin_errors;
     use tsm_contact::solver::Formulation;
-    use tsm_contact::work_precision::pin_errors;
     let mut sc = variant("pin_on_cantilever.ron", 1024, Always);
     sc.model.formulation = Formulation::BernoulliEuler;
     sc.params.roundoff_factor = 0.0;

@@ -1,8 +1,10 @@
 //! The work-precision report cannot silently go wrong: on small meshes its errors against the
 //! references fall as O(h^2), and its CSV holds every measured point.
 
+use tsm_contact::reports::work_precision::{
+    csv, end_moment, mattiasson, pin_contact, pin_contact_errors,
+};
 use tsm_contact::solver::Formulation;
-use tsm_contact::work_precision::{csv, end_moment, mattiasson, pin_contact, pin_contact_errors};
 
 #[test]
 fn report_errors_fall_as_h_squared_on_small_meshes() {

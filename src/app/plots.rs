@@ -379,11 +379,7 @@ fn reaction(app: &TsmApp, ui: &mut egui::Ui) {
                 .iter()
                 .map(|r| [r.nodes[n][o] - x0, r.load_factor])
                 .collect();
-            (
-                format!("node {} {}", model.nodes[n].id, ["u", "v", "phi"][o]),
-                "load factor".into(),
-                pts,
-            )
+            (model.dof_label(n, o), "load factor".into(), pts)
         } else {
             return;
         };

@@ -1,10 +1,10 @@
 //! What the viewport draws, in world coordinates: each body's smooth deformed curve (through
-//! `solver::shape::element_curve`) with the bending moment at every sample, the undeformed
+//! `solver::element::shape::element_curve`) with the bending moment at every sample, the undeformed
 //! chords, and the moment colour map shared by the strips and the legend.
 
 use egui::Color32;
 
-use crate::solver::beam::BeamElement;
+use crate::solver::element::beam::BeamElement;
 use crate::solver::{IncrementRecord, Model};
 
 /// Samples per element along the deformed curve.
@@ -62,7 +62,8 @@ pub fn deformed_bodies(
                     },
                 ));
             }
-            let pts = crate::solver::shape::element_curve(model, elements, record, e, SAMPLES);
+            let pts =
+                crate::solver::element::shape::element_curve(model, elements, record, e, SAMPLES);
             let skip = usize::from(!cur.points.is_empty());
             for (k, p) in pts.iter().enumerate().skip(skip) {
                 cur.points.push(*p);

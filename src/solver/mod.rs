@@ -1,38 +1,35 @@
-//! The Tangent Stiffness Method solver for plane frames with node-to-beam contact.
-//! Knows nothing of scenes files or the GUI.
+//! The Tangent Stiffness Method solver for plane frames with node-to-beam contact. Knows no
+//! file format, thread or screen.
+//!
+//! The folders follow the method: `element/` (the TSM beam and the contact element),
+//! `linear/` (the band solve), `assembly/` (dofs, ordering, unbalanced force and tangent),
+//! `contact/` (the contact set and its life cycle), `newton/` (one Newton iteration for every
+//! increment control), `acceptance/` (the check every increment passes before it is
+//! committed) and `control/` (the `Solver`: increment control and cut-backs). `model.rs`,
+//! `params.rs` and `report.rs` are the vocabulary they share; `structure.rs` and `state.rs`
+//! the prepared model and the converged state.
 
 pub mod acceptance;
-pub mod active_set;
-pub mod angle;
-pub mod arc_length;
 pub mod assembly;
-pub mod beam;
-#[cfg(target_arch = "x86_64")]
-pub mod beam_lanes;
-pub mod broad_phase;
 pub mod contact;
-pub mod contact_element;
 pub mod control;
-pub mod dual;
-mod ldlt;
+pub mod element;
 pub mod linear;
-pub mod loads;
 pub mod model;
 pub mod newton;
 pub mod params;
-mod rcm;
-pub mod reduce;
 pub mod report;
-pub mod shape;
-mod simd;
-mod twisted;
+pub mod state;
+pub mod structure;
 
-pub use acceptance::{Crossing, CrossingCheck, IncrementStatus, NodeState};
+pub use acceptance::{Crossing, CrossingCheck};
 pub use control::Solver;
 pub use model::{
     Beam, Body, ContactPair, Dof, Formulation, Load, Model, Node, Prescribed, Section, Support,
 };
 pub use params::{SolverParams, StretchCorrection};
 pub use report::{
-    ContactChange, Event, Flow, IncrementRecord, IterationRecord, Observer, Silent, SolveError,
+    ContactChange, Event, Flow, IncrementRecord, IncrementStatus, IterationRecord, NodeState,
+    Observer, Silent, SolveError,
 };
+pub use structure::Structure;

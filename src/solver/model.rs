@@ -25,6 +25,9 @@ pub enum Dof {
 }
 
 impl Dof {
+    /// The three dofs of a node, in offset order.
+    pub const ALL: [Dof; 3] = [Dof::U, Dof::V, Dof::Phi];
+
     /// Offset of this dof within its node (u = 0, v = 1, phi = 2).
     pub fn offset(self) -> usize {
         match self {
@@ -161,6 +164,33 @@ pub struct Model {
 }
 
 impl Model {
+    /// Contact candidate (node, body) pairs (a node never touches its own body), in the
+    /// order the scene lists them, each once.
+    pub fn contact_candidates(&self) -> Vec<(usize, usize)> {
+        let m = self;
+        let mut out = Vec::new();
+        let mut seen = std::collections::HashSet::new();
+        let mut own = vec![usize::MAX; m.nodes.len()];
+        for pair in &m.contacts {
+            for &b in &pair.bodies {
+                for &e in &m.bodies[b].elements {
+                    own[m.beams[e].i] = b;
+                    own[m.beams[e].j] = b;
+                }
+                for &n in &pair.nodes {
+                    let on_body = m.bodies[b]
+                        .elements
+                        .iter()
+                        .any(|&e| m.beams[e].i == n || m.beams[e].j == n);
+                    if own[n] != b && !on_body && seen.insert((n, b)) {
+                        out.push((n, b));
+                    }
+                }
+            }
+        }
+        out
+    }
+
     /// The beam elements at each node (indices into `beams`).
     pub fn node_beams(&self) -> Vec<Vec<usize>> {
         let mut out = vec![Vec::new(); self.nodes.len()];
@@ -190,6 +220,11 @@ impl Model {
         let b = &self.beams[e];
         let (p, q) = (self.position(b.i), self.position(b.j));
         (q[0] - p[0]).hypot(q[1] - p[1])
+    }
+
+    /// "node N u": dof `offset` (0 u, 1 v, 2 phi) of node `n`, by the node's user id.
+    pub fn dof_label(&self, n: usize, offset: usize) -> String {
+        format!("node {} {}", self.nodes[n].id, Dof::ALL[offset].name())
     }
 
     /// Describe node `n` by its user id, for messages.

@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::contact_element::ContactOptions;
+use super::element::contact_element::ContactOptions;
 
 /// How the Newton-Raphson iteration and the increment control behave.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]

@@ -4,6 +4,41 @@
 
 use serde::{Deserialize, Serialize};
 
+/// A node's position and rotation at one state: x, y, phi.
+pub type NodeState = [f64; 3];
+
+/// How an accepted increment met the equilibrium test.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum IncrementStatus {
+    /// The relative residual is within the tolerance.
+    #[default]
+    Converged,
+    /// Newton stalled at the round-off floor of the residual, above the tolerance but within
+    /// `SolverParams::roundoff_bound`.
+    #[serde(rename = "roundoff")]
+    RoundOff {
+        /// Relative residual reached over the tolerance (> 1).
+        ratio: f64,
+    },
+}
+
+impl IncrementStatus {
+    /// The status of a relative residual `rel` under `tolerance` and the round-off `bound`, or
+    /// None where it is not acceptable at all.
+    pub fn of(rel: f64, tolerance: f64, bound: f64) -> Option<IncrementStatus> {
+        if rel <= tolerance {
+            Some(IncrementStatus::Converged)
+        } else if rel <= bound.max(tolerance) {
+            Some(IncrementStatus::RoundOff {
+                ratio: rel / tolerance,
+            })
+        } else {
+            None
+        }
+    }
+}
+
 /// One Newton iteration.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct IterationRecord {
@@ -130,7 +165,7 @@ pub struct IncrementRecord {
     /// How the increment met the equilibrium test: within the tolerance, or at the round-off
     /// floor within `SolverParams::roundoff_bound` (with the ratio reached over the tolerance).
     #[serde(default)]
-    pub status: super::acceptance::IncrementStatus,
+    pub status: IncrementStatus,
     /// Cut-backs taken before this increment converged.
     pub cutbacks: usize,
     /// Residual history of every iteration.

@@ -1,8 +1,8 @@
 //! The uniform grid that hands the crossing check the elements near a node's path over one
 //! increment, so that the check stays linear in the candidate pairs.
 
-use super::super::broad_phase::IndexMap;
-use super::Chord;
+use super::chord::Chord;
+use crate::solver::contact::IndexMap;
 
 /// A uniform grid over the boxes the chords sweep over an increment (grown by the longer of the
 /// element's two chords), so that a node's path meets only the elements near it: the check

@@ -1,0 +1,498 @@
+//! The work-precision report: for reference problems with known answers, each element
+//! formulation, mesh and Newton tolerance, the error against the reference and the wall time
+//! (median of repeats). Written as CSV, an SVG log-log plot (error against time) and a
+//! Markdown table by `tsm-contact bench`.
+
+use std::fmt::Write as _;
+use std::time::Instant;
+
+use crate::reports::pin_elastica::{pin_on_cantilever, Stiffness};
+use crate::scene::builtin::with_elements;
+use crate::scene::Scene;
+use crate::solver::{Formulation, IncrementRecord, Silent};
+
+/// One measured point.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Point {
+    /// Problem name.
+    pub problem: String,
+    /// Element formulation.
+    pub formulation: Formulation,
+    /// Elements in the mesh.
+    pub elements: usize,
+    /// Newton tolerance (relative residual).
+    pub tolerance: f64,
+    /// Converged increments.
+    pub increments: usize,
+    /// Newton iterations in all.
+    pub iterations: usize,
+    /// Error against the reference (problem-specific, dimensionless).
+    pub error: f64,
+    /// Median wall time of one whole run (s).
+    pub seconds: f64,
+}
+
+/// Mattiasson's table (k, u/L, w/L) for the loads the report uses.
+/// Mattiasson (1981) tip displacements (k, u/L, w/L) for k = 1, 5, 10.
+pub const MATTIASSON: [(f64, f64, f64); 3] = [
+    (1.0, 0.056433236, 0.301720774),
+    (5.0, 0.387628361, 0.713791524),
+    (10.0, 0.554995598, 0.810609025),
+];
+
+/// The report's name of the end-moment problem.
+const END_MOMENT: &str = "End moment 2 pi";
+
+/// The report's name of the contact problem.
+const PIN_CONTACT: &str = "Pin contact";
+
+/// The report's name of Mattiasson's problem at load k.
+fn mattiasson_name(k: f64) -> String {
+    format!("Mattiasson k={k}")
+}
+
+fn cantilever(
+    file: &str,
+    n: usize,
+    formulation: Formulation,
+    tol: f64,
+    load: Option<f64>,
+) -> Scene {
+    let mut sc = with_elements(file, n)
+        .expect("a one-body built-in scene")
+        .expect("valid variant");
+    sc.model.formulation = formulation;
+    sc.params.tolerance = tol;
+    // Fine meshes of an axially stiff beam hit the round-off floor eps EA/l |x| / P; accept
+    // convergence to 10x that floor (each increment reports it).
+    sc.params.roundoff_factor = 10.0;
+    if let Some(k) = load {
+        sc.model.load_per_step = k / sc.steps as f64;
+    }
+    sc
+}
+
+fn run(sc: &Scene) -> Option<Vec<IncrementRecord>> {
+    let mut solver = sc.solver().ok()?;
+    let mut out = Vec::new();
+    for _ in 0..sc.steps {
+        out.extend(solver.step(&mut Silent).ok()?);
+    }
+    Some(out)
+}
+
+/// Time `f` `repeats` times; return the median (s) and the last result.
+fn timed<T>(repeats: usize, mut f: impl FnMut() -> T) -> (f64, T) {
+    timed_on(repeats, || (), |()| f())
+}
+
+/// Time `run` `repeats` times, each on a fresh value from `setup` (not timed); return the median
+/// (s) and the last result.
+pub(crate) fn timed_on<S, T>(
+    repeats: usize,
+    mut setup: impl FnMut() -> S,
+    mut run: impl FnMut(S) -> T,
+) -> (f64, T) {
+    let mut times = Vec::with_capacity(repeats);
+    let mut last = None;
+    for _ in 0..repeats.max(1) {
+        let input = setup();
+        let t = Instant::now();
+        last = Some(run(input));
+        times.push(t.elapsed().as_secs_f64());
+    }
+    times.sort_by(f64::total_cmp);
+    (times[times.len() / 2], last.expect("ran once"))
+}
+
+/// Mattiasson cantilever at load k: error max(|u/L - ref|, |w/L - ref|) at the tip.
+pub fn mattiasson(
+    k_index: usize,
+    n: usize,
+    f: Formulation,
+    tol: f64,
+    repeats: usize,
+) -> Option<Point> {
+    let (k, u_ref, w_ref) = MATTIASSON[k_index];
+    let sc = cantilever("mattiasson.ron", n, f, tol, Some(k));
+    let (seconds, recs) = timed(repeats, || run(&sc));
+    let recs = recs?;
+    let tip = recs.last()?.nodes[n];
+    let error = ((1.0 - tip[0]) - u_ref).abs().max((-tip[1] - w_ref).abs());
+    Some(point(mattiasson_name(k), f, n, tol, &recs, error, seconds))
+}
+
+/// End moment 2 pi EI/L, the whole roll-up: the beam closes into a circle of radius L / 2 pi
+/// through the clamp, and its middle (node n/2, n even) lies at (0, L / pi). The tip closes
+/// onto the clamp on every mesh (the elements' chords make a regular polygon), so the error is
+/// the middle's distance from its place, over L.
+pub fn end_moment(n: usize, f: Formulation, tol: f64, repeats: usize) -> Option<Point> {
+    let sc = cantilever("end_moment.ron", n, f, tol, None);
+    let (seconds, recs) = timed(repeats, || run(&sc));
+    let recs = recs?;
+    let middle = recs.last()?.nodes[n / 2];
+    let error = middle[0].hypot(middle[1] - 1.0 / std::f64::consts::PI);
+    Some(point(END_MOMENT.into(), f, n, tol, &recs, error, seconds))
+}
+
+/// The contact problem: a frictionless pin driven down onto a cantilever
+/// (`pin_on_cantilever.ron`), against Reissner's beam solved by shooting (`pin_elastica`; with
+/// the section's shear for Timoshenko, without for Bernoulli-Euler; the pin's normal in the shear
+/// kink under it chosen as the contact element chooses it). Error: the larger of the
+/// pin force's error over its size and the contact point's error along the beam over L, at
+/// the last increment.
+pub fn pin_contact(n: usize, f: Formulation, tol: f64, repeats: usize) -> Option<Point> {
+    pin_contact_errors(n, f, tol, repeats).map(|(p, _)| p)
+}
+
+/// `pin_contact`, with its two errors apart: (force error over the force's size, contact
+/// point error over L).
+pub fn pin_contact_errors(
+    n: usize,
+    f: Formulation,
+    tol: f64,
+    repeats: usize,
+) -> Option<(Point, [f64; 2])> {
+    let mut sc = cantilever("pin_on_cantilever.ron", n, f, tol, None);
+    // No acceptance at a multiple of the round-off floor here: near an element end the contact
+    // element's stiffness (G Ae / li, 3 EI / li^3 for Bernoulli-Euler) makes that floor huge,
+    // and a state far from equilibrium would pass. Stalls at round-off are still accepted.
+    sc.params.roundoff_factor = 0.0;
+    let (seconds, recs) = timed(repeats, || run(&sc));
+    let recs = recs?;
+    let [force_error, arc_error] = pin_errors(&sc, &recs)?;
+    let p = point(
+        PIN_CONTACT.into(),
+        f,
+        n,
+        tol,
+        &recs,
+        force_error.max(arc_error),
+        seconds,
+    );
+    Some((p, [force_error, arc_error]))
+}
+
+/// The errors of a run `recs` of a pin-on-cantilever scene `sc` (one prescribed pin, one
+/// straight cantilever numbered from its clamp, any mesh and formulation) at its last
+/// increment, against Reissner's beam: (pin force error over the force's size, contact point
+/// error over L). `None` if the pin is not on the beam at the end.
+pub fn pin_errors(sc: &Scene, recs: &[IncrementRecord]) -> Option<[f64; 2]> {
+    let pin = sc.model.prescribed.first()?;
+    let start = sc.model.position(pin.node);
+    let at = [start[0], start[1] + pin.per_step * sc.steps as f64];
+    let beam = sc.model.beams.first()?.section;
+    let length: f64 = (sc.model.beams.iter())
+        .map(|b| {
+            let (p, q) = (sc.model.position(b.i), sc.model.position(b.j));
+            (q[0] - p[0]).hypot(q[1] - p[1])
+        })
+        .sum();
+    let stiffness = Stiffness {
+        ea: beam.ea,
+        ei: beam.ei,
+        gae: match sc.model.formulation {
+            Formulation::Timoshenko => beam.gae,
+            Formulation::BernoulliEuler => f64::INFINITY,
+        },
+    };
+    let last = recs.last()?;
+    let contact = last.contacts.first()?;
+    // The shear kink under the pin: the element's force is normal to its chord, which weights
+    // the tangents on either side of the pin by li / l (`pin_elastica`'s module comment).
+    let reference = pin_on_cantilever(at, length, stiffness, contact.xi)?;
+    let user = sc.model.nodes[pin.node].id;
+    let reaction = |dof: &str| {
+        (last.reactions.iter())
+            .find(|r| r.node == user && r.dof == dof)
+            .map(|r| r.value)
+    };
+    let force = [reaction("u")?, reaction("v")?];
+    let arc = (contact.element as f64 + contact.xi) * length / sc.model.beams.len() as f64;
+    let size = reference.force[0].hypot(reference.force[1]);
+    let force_error = (force[0] - reference.force[0]).hypot(force[1] - reference.force[1]) / size;
+    let arc_error = (arc - reference.arc).abs() / length;
+    Some([force_error, arc_error])
+}
+
+fn point(
+    problem: String,
+    f: Formulation,
+    n: usize,
+    tol: f64,
+    recs: &[IncrementRecord],
+    error: f64,
+    seconds: f64,
+) -> Point {
+    Point {
+        problem,
+        formulation: f,
+        elements: n,
+        tolerance: tol,
+        increments: recs.len(),
+        iterations: recs.iter().map(|r| r.iterations).sum(),
+        error,
+        seconds,
+    }
+}
+
+/// A run of the report that did not converge (no point for it).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Failed {
+    /// Problem name.
+    pub problem: String,
+    /// Element formulation.
+    pub formulation: Formulation,
+    /// Elements in the mesh.
+    pub elements: usize,
+    /// Newton tolerance (relative residual).
+    pub tolerance: f64,
+}
+
+/// Every point of the report, and the runs that did not converge. `quick` uses fewer meshes
+/// and repeats.
+pub fn measure(quick: bool) -> (Vec<Point>, Vec<Failed>) {
+    let meshes: &[usize] = if quick {
+        &[4, 8, 16, 32]
+    } else {
+        &[4, 8, 16, 32, 64, 128, 256, 512, 1024]
+    };
+    let tols: &[f64] = if quick { &[1e-8] } else { &[1e-6, 1e-8, 1e-10] };
+    let repeats = if quick { 1 } else { 5 };
+    let (mut out, mut failed) = (Vec::new(), Vec::new());
+    for f in [Formulation::BernoulliEuler, Formulation::Timoshenko] {
+        for &tol in tols {
+            for &n in meshes {
+                let mut take = |problem: String, p: Option<Point>| match p {
+                    Some(p) => out.push(p),
+                    None => failed.push(Failed {
+                        problem,
+                        formulation: f,
+                        elements: n,
+                        tolerance: tol,
+                    }),
+                };
+                for (k, &(load, _, _)) in MATTIASSON.iter().enumerate() {
+                    take(mattiasson_name(load), mattiasson(k, n, f, tol, repeats));
+                }
+                take(END_MOMENT.into(), end_moment(n, f, tol, repeats));
+                take(PIN_CONTACT.into(), pin_contact(n, f, tol, repeats));
+            }
+        }
+    }
+    (out, failed)
+}
+
+/// The runs that did not converge, a line each (empty if none).
+pub fn failures(failed: &[Failed]) -> String {
+    let mut s = String::new();
+    for r in failed {
+        let _ = writeln!(
+            s,
+            "did not converge: {}, {:?}, {} elements, tolerance {:e}",
+            r.problem, r.formulation, r.elements, r.tolerance
+        );
+    }
+    s
+}
+
+/// CSV text of the points.
+pub fn csv(points: &[Point]) -> String {
+    let mut s = String::from(
+        "problem,formulation,elements,tolerance,increments,iterations,error,seconds\n",
+    );
+    for p in points {
+        let _ = writeln!(
+            s,
+            "{},{:?},{},{:e},{},{},{:e},{:e}",
+            p.problem,
+            p.formulation,
+            p.elements,
+            p.tolerance,
+            p.increments,
+            p.iterations,
+            p.error,
+            p.seconds
+        );
+    }
+    s
+}
+
+/// Markdown table: error and time per mesh at tolerance 1e-8.
+pub fn table(points: &[Point]) -> String {
+    let mut s = String::from("| problem | formulation | elements | iterations | error | time (ms) |\n|---|---|---|---|---|---|\n");
+    for p in points.iter().filter(|p| p.tolerance == 1e-8) {
+        let _ = writeln!(
+            s,
+            "| {} | {:?} | {} | {} | {:.2e} | {:.3} |",
+            p.problem,
+            p.formulation,
+            p.elements,
+            p.iterations,
+            p.error,
+            p.seconds * 1e3
+        );
+    }
+    s
+}
+
+/// SVG log-log plot of error against time at tolerance 1e-8, one polyline per problem and
+/// formulation (points along a line are the meshes).
+pub fn svg(points: &[Point]) -> String {
+    let pts: Vec<&Point> = points
+        .iter()
+        .filter(|p| p.tolerance == 1e-8 && p.error > 0.0)
+        .collect();
+    let (w, h, m) = (900.0, 600.0, 70.0);
+    let lx = |t: f64| t.max(1e-7).log10();
+    let ly = |e: f64| e.max(1e-16).log10();
+    let (x0, x1) = (
+        pts.iter()
+            .map(|p| lx(p.seconds))
+            .fold(f64::MAX, f64::min)
+            .floor(),
+        pts.iter()
+            .map(|p| lx(p.seconds))
+            .fold(f64::MIN, f64::max)
+            .ceil(),
+    );
+    let (y0, y1) = (
+        pts.iter()
+            .map(|p| ly(p.error))
+            .fold(f64::MAX, f64::min)
+            .floor(),
+        pts.iter()
+            .map(|p| ly(p.error))
+            .fold(f64::MIN, f64::max)
+            .ceil(),
+    );
+    let sx = |t: f64| m + (lx(t) - x0) / (x1 - x0).max(1.0) * (w - 2.0 * m);
+    let sy = |e: f64| h - m - (ly(e) - y0) / (y1 - y0).max(1.0) * (h - 2.0 * m);
+    let mut s = format!("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n");
+    for d in (x0 as i32)..=(x1 as i32) {
+        let x = m + (d as f64 - x0) / (x1 - x0).max(1.0) * (w - 2.0 * m);
+        let _ = writeln!(s, "<line x1=\"{x}\" y1=\"{m}\" x2=\"{x}\" y2=\"{}\" stroke=\"#ddd\"/><text x=\"{x}\" y=\"{}\" text-anchor=\"middle\">1e{d} s</text>", h - m, h - m + 18.0);
+    }
+    for d in (y0 as i32)..=(y1 as i32) {
+        let y = h - m - (d as f64 - y0) / (y1 - y0).max(1.0) * (h - 2.0 * m);
+        let _ = writeln!(s, "<line x1=\"{m}\" y1=\"{y}\" x2=\"{}\" y2=\"{y}\" stroke=\"#ddd\"/><text x=\"{}\" y=\"{}\" text-anchor=\"end\">1e{d}</text>", w - m, m - 6.0, y + 4.0);
+    }
+    let _ = writeln!(s, "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">wall time of the run (median)</text><text x=\"16\" y=\"{}\" transform=\"rotate(-90 16 {})\" text-anchor=\"middle\">error against the reference</text>", w / 2.0, h - 20.0, h / 2.0, h / 2.0);
+    let colours = [
+        "#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#17becf", "#7f7f7f",
+    ];
+    // One colour per problem, solid for Bernoulli-Euler and dashed for Timoshenko; a dot per mesh.
+    let mut problems: Vec<&str> = Vec::new();
+    for p in &pts {
+        if !problems.contains(&p.problem.as_str()) {
+            problems.push(&p.problem);
+        }
+    }
+    let styles = [
+        (Formulation::BernoulliEuler, "Bernoulli-Euler", ""),
+        (
+            Formulation::Timoshenko,
+            "Timoshenko",
+            " stroke-dasharray=\"6 3\"",
+        ),
+    ];
+    for (k, prob) in problems.iter().enumerate() {
+        let c = colours[k % colours.len()];
+        for (f, _, dash) in styles {
+            let line: Vec<(f64, f64)> = (pts.iter())
+                .filter(|p| p.problem == *prob && p.formulation == f)
+                .map(|p| (sx(p.seconds), sy(p.error)))
+                .collect();
+            let joined: Vec<String> = line.iter().map(|(x, y)| format!("{x:.1},{y:.1}")).collect();
+            let _ = writeln!(
+                s,
+                "<polyline points=\"{}\" fill=\"none\" stroke=\"{c}\" stroke-width=\"2\"{dash}/>",
+                joined.join(" ")
+            );
+            for (x, y) in line {
+                let _ = writeln!(
+                    s,
+                    "<circle cx=\"{x:.1}\" cy=\"{y:.1}\" r=\"2.5\" fill=\"{c}\"/>"
+                );
+            }
+        }
+        let y = m + 16.0 * (k as f64 + 1.0);
+        let _ = writeln!(
+            s,
+            "<text x=\"{}\" y=\"{y}\" fill=\"{c}\">{prob}</text>",
+            w - m - 190.0
+        );
+    }
+    for (i, (_, name, dash)) in styles.iter().enumerate() {
+        let y = m + 16.0 * (problems.len() as f64 + 1.5 + i as f64);
+        let x = w - m - 190.0;
+        let _ = writeln!(
+            s,
+            "<line x1=\"{x}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"#444\" stroke-width=\"2\"{dash}/><text x=\"{}\" y=\"{y}\" fill=\"#444\">{name}</text>",
+            y - 4.0,
+            x + 30.0,
+            y - 4.0,
+            x + 36.0
+        );
+    }
+    let _ = writeln!(
+        s,
+        "<text x=\"{}\" y=\"{}\" fill=\"#444\">dots: meshes of 4 to 1024 elements, tolerance 1e-8</text>",
+        m + 10.0,
+        h - m - 10.0
+    );
+    s.push_str("</svg>\n");
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn at(problem: &str, formulation: Formulation, error: f64, seconds: f64) -> Point {
+        Point {
+            problem: problem.into(),
+            formulation,
+            elements: 4,
+            tolerance: 1e-8,
+            increments: 10,
+            iterations: 40,
+            error,
+            seconds,
+        }
+    }
+
+    /// The plot: one line per problem and formulation, a dot per point, both formulations of
+    /// a problem in its colour (Timoshenko dashed), and a dot on the grid line of its decade:
+    /// error 1e-3 at 1e-2 s sits where the 1e-3 and 1e-2 s grid lines cross (to 0.1 px).
+    #[test]
+    fn svg_places_points_on_log_axes() {
+        let pts = [
+            at("A", Formulation::BernoulliEuler, 1e-2, 1e-3),
+            at("A", Formulation::BernoulliEuler, 1e-3, 1e-2),
+            at("A", Formulation::Timoshenko, 1e-4, 1e-1),
+            at("B", Formulation::BernoulliEuler, 1e-5, 1e-3),
+        ];
+        let s = svg(&pts);
+        assert_eq!(
+            s.matches("<polyline").count(),
+            4,
+            "2 problems x 2 formulations"
+        );
+        assert_eq!(s.matches("<circle").count(), 4);
+        assert_eq!(
+            s.matches("stroke-dasharray").count(),
+            3,
+            "2 lines and a legend"
+        );
+        // Decades 1e-3..1e-1 s over 900 - 2 * 70 px; 1e-5..1e-2 over 600 - 2 * 70 px.
+        let x = 70.0 + (-2.0 + 3.0) / 2.0 * 760.0;
+        let y = 600.0 - 70.0 - (-3.0 + 5.0) / 3.0 * 460.0;
+        assert!(
+            s.contains(&format!("<circle cx=\"{x:.1}\" cy=\"{y:.1}\"")),
+            "{s}"
+        );
+        let dots_of_a = s.matches("fill=\"#1f77b4\"/>").count();
+        assert_eq!(dots_of_a, 3);
+    }
+}

@@ -1,0 +1,335 @@
+//! Assembly: the unbalanced force (loads minus the internal forces, with its norm, settled block
+//! by block as the elements finish with it) and the band tangent summed from beam and contact
+//! elements, at one state. The per-element adds are `internal.rs`.
+
+use super::dofs::{relative, DofMap, Ordering};
+use super::internal::{add_element, add_plain_beam, Internal};
+use crate::solver::element::beam::{BeamElement, ForceConstants};
+use crate::solver::element::contact_element::{contact_response, ContactOptions};
+use crate::solver::linear::reduce::sum_squares;
+use crate::solver::linear::simd::{dispatch_wide, Avx2};
+use crate::solver::linear::BandMatrix;
+use crate::solver::model::Model;
+
+/// Element-level results of one assembly, for reports.
+#[derive(Clone, Debug, Default)]
+pub struct ElementResults {
+    /// (N, Mi, Mj) of every beam element.
+    pub beam_forces: Vec<[f64; 3]>,
+    /// For every contact link, in the order given: (Yc, li/l from the current chord).
+    pub contact_forces: Vec<(f64, f64)>,
+}
+
+/// The assembled global quantities at one state.
+#[derive(Clone, Debug, Default)]
+pub struct Assembled {
+    /// The unbalanced force over the free equations (by equation number): the loads given to
+    /// the assembly (`AssemblyContext::loads`) minus the internal nodal forces sum J S.
+    pub unbalanced: Vec<f64>,
+    /// The sum of squares of `unbalanced`, accumulated as `sum_squares` accumulates it (bit for
+    /// bit), in one pass with the assembly.
+    pub unbalanced_norm2: f64,
+    /// Each loaded equation of `unbalanced` and its entry before the load was added (in the
+    /// order added), so that `reload` can load the same internal forces differently.
+    pub unloaded: Vec<(usize, f64)>,
+    /// Internal nodal forces sum J S at the dofs that are not free, in the order of
+    /// `DofMap::held` (where they balance the reactions).
+    pub held_internal: Vec<f64>,
+    /// Tangent over the free equations (if requested).
+    pub tangent: Option<BandMatrix>,
+    /// K_fp dp over the free equations for a prescribed increment dp (empty if none was given).
+    pub coupling: Vec<f64>,
+    /// Element results.
+    pub elements: ElementResults,
+}
+
+impl Assembled {
+    /// Load the same internal forces with `loads` instead (at equations, ascending): the
+    /// unbalanced force and its sum of squares become, bit for bit, those an assembly given
+    /// `loads` would have. (The next increment's predictor, starting from the converged state
+    /// under a new load factor.)
+    pub fn reload(&mut self, loads: &[(usize, f64)]) {
+        // Undone newest first, so an equation loaded twice gets its first entry back.
+        for &(k, v) in self.unloaded.iter().rev() {
+            self.unbalanced[k] = v;
+        }
+        self.unloaded.clear();
+        for &(k, f) in loads {
+            self.unloaded.push((k, self.unbalanced[k]));
+            self.unbalanced[k] += f;
+        }
+        self.unbalanced_norm2 = sum_squares(&self.unbalanced);
+    }
+}
+
+/// What the assembly reads of a beam with no contact on it, packed into one cache line: the
+/// first global dofs of its end nodes (u, v, phi each), the initial position of its end j
+/// relative to its end i, and its force constants.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PackedBeam {
+    /// First global dof of node i, then of node j.
+    pub first: [u32; 2],
+    /// X_j - X_i (initial).
+    pub span: [f64; 2],
+    /// The element force equation's constants.
+    pub constants: ForceConstants,
+}
+
+impl PackedBeam {
+    /// The packed beams of `model` (whose elements are `elements`, numbered by `dofs`).
+    pub fn all(model: &Model, dofs: &DofMap, elements: &[BeamElement]) -> Vec<PackedBeam> {
+        let first = |n: usize| u32::try_from(dofs.first[n]).expect("dofs fit in u32");
+        model
+            .beams
+            .iter()
+            .zip(elements)
+            .map(|(b, el)| {
+                let (p, q) = (model.position(b.i), model.position(b.j));
+                PackedBeam {
+                    first: [first(b.i), first(b.j)],
+                    span: [q[0] - p[0], q[1] - p[1]],
+                    constants: el.constants(),
+                }
+            })
+            .collect()
+    }
+
+    /// The beam's ends at displacements `d`, as `relative` has them: end i at 0 + u_i, end j
+    /// at (X_j - X_i) + u_j, and the end rotations (i, j).
+    #[inline(always)]
+    pub fn ends(&self, d: &[f64]) -> ([f64; 2], [f64; 2], [f64; 2]) {
+        let u = |end: usize| {
+            let f = self.first[end] as usize;
+            &d[f..f + 3]
+        };
+        let (ui, uj) = (u(0), u(1));
+        (
+            [0.0 + ui[0], 0.0 + ui[1]],
+            [self.span[0] + uj[0], self.span[1] + uj[1]],
+            [ui[2], uj[2]],
+        )
+    }
+}
+
+/// Everything an assembly needs besides the state.
+pub struct AssemblyContext<'a> {
+    /// The model.
+    pub model: &'a Model,
+    /// Its beam elements, ready to evaluate.
+    pub elements: &'a [BeamElement],
+    /// The same, packed for beams with no contact on them (`PackedBeam::all`).
+    pub packed: &'a [PackedBeam],
+    /// Dof numbering.
+    pub dofs: &'a DofMap,
+    /// Equation ordering (must match `links`).
+    pub ordering: &'a Ordering,
+    /// Contact element options.
+    pub contact: ContactOptions,
+    /// The external forces at their equations (ascending), for the unbalanced force; none
+    /// leaves it `-sum J S`.
+    pub loads: &'a [(usize, f64)],
+}
+
+/// Assemble internal forces (and the tangent) at displacements `d`.
+/// `dp`, if given, is a prescribed increment (one value per `Model::prescribed`) whose K_fp
+/// product is returned.
+pub fn assemble(
+    ctx: &AssemblyContext,
+    d: &[f64],
+    with_tangent: bool,
+    dp: Option<&[f64]>,
+) -> Assembled {
+    let mut out = Assembled::default();
+    assemble_into(ctx, d, with_tangent, dp, &mut out);
+    out
+}
+
+/// Refill `out` with `len` copies of `v`, keeping its allocation.
+fn refill<T: Clone>(out: &mut Vec<T>, len: usize, v: T) {
+    out.clear();
+    out.resize(len, v);
+}
+
+/// `assemble` into the buffers of a previous assembly (Newton iterations reuse them, so a
+/// large model allocates nothing per iteration). Every field of `out` is overwritten; the
+/// tangent is `None` unless requested.
+pub fn assemble_into(
+    ctx: &AssemblyContext,
+    d: &[f64],
+    with_tangent: bool,
+    dp: Option<&[f64]>,
+    out: &mut Assembled,
+) {
+    // The AVX2 build where the CPU has it, four plain beams at a time: the same arithmetic,
+    // fewer instructions.
+    dispatch_wide(
+        #[inline(always)]
+        |wide| assemble_kernel(ctx, d, with_tangent, dp, out, wide),
+    );
+}
+
+/// The body of `assemble_into`; `wide` (the proof that the CPU has AVX2) evaluates four plain
+/// beams in a row at once.
+#[inline(always)]
+pub(super) fn assemble_kernel(
+    ctx: &AssemblyContext,
+    d: &[f64],
+    with_tangent: bool,
+    dp: Option<&[f64]>,
+    out: &mut Assembled,
+    wide: Option<Avx2>,
+) {
+    let model = ctx.model;
+    let dofs = ctx.dofs;
+    let ord = ctx.ordering;
+    let mut internal = Internal::new(
+        std::mem::take(&mut out.unbalanced),
+        ord.n_eq,
+        ctx.loads,
+        std::mem::take(&mut out.unloaded),
+    );
+    refill(&mut out.held_internal, dofs.held.len(), 0.0);
+    refill(
+        &mut out.coupling,
+        if dp.is_some() { ord.n_eq } else { 0 },
+        0.0,
+    );
+    let mut tangent = out.tangent.take();
+    if with_tangent {
+        // Beam tangents are exactly symmetric (entry by entry); contact elements' are not.
+        let t = tangent.get_or_insert_with(|| BandMatrix::zeros(0, 0, 0));
+        if ord.links.is_empty() {
+            t.reset_symmetric_lazily(ord.n_eq, ord.band);
+        } else {
+            t.reset(ord.n_eq, ord.band, ord.band);
+        }
+    } else {
+        tangent = None;
+    }
+    let results = &mut out.elements;
+    // Every beam and every contact link writes its entry below: resized, not cleared.
+    results.beam_forces.resize(model.beams.len(), [0.0; 3]);
+    results.contact_forces.resize(ord.links.len(), (0.0, 0.0));
+    let held = (&dofs.held[..], &mut out.held_internal[..]);
+    let coupling = &mut out.coupling;
+    let mut gdofs: Vec<usize> = Vec::with_capacity(12);
+    let mut k6 = [[0.0; 6]; 6];
+    let mut contact_beams = ord.contact_beams.iter().copied().peekable();
+    let n_beams = model.beams.len();
+    let mut e = 0;
+    // A group handed back by the lanes goes one by one up to here.
+    #[cfg(target_arch = "x86_64")]
+    let mut one_by_one = 0;
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = wide;
+    while e < n_beams {
+        // Four plain beams in a row: evaluated side by side in the lanes of AVX2 vectors
+        // where the CPU has them (`wide`), bit for bit as one by one.
+        #[cfg(target_arch = "x86_64")]
+        let group = match wide {
+            Some(cpu)
+                if e >= one_by_one
+                    && e + 4 <= n_beams
+                    && contact_beams.peek().is_none_or(|&c| c >= e + 4) =>
+            {
+                Some(cpu)
+            }
+            _ => None,
+        };
+        #[cfg(target_arch = "x86_64")]
+        if let Some(cpu) = group {
+            let pb: [&PackedBeam; 4] = std::array::from_fn(|k| &ctx.packed[e + k]);
+            let ends = pb.map(|b| b.ends(d));
+            let c = pb.map(|b| &b.constants);
+            let lanes = super::super::element::beam_lanes::evaluate4(cpu, c, ends);
+            if let Some(g) = lanes {
+                for (k, b) in pb.into_iter().enumerate() {
+                    let (forces, nodal, t) = g.lane(k, &b.constants);
+                    let sink = (
+                        &mut internal,
+                        (held.0, &mut *held.1),
+                        tangent.as_mut(),
+                        &mut *coupling,
+                    );
+                    results.beam_forces[e + k] = forces;
+                    let t = with_tangent.then_some(t);
+                    add_plain_beam(e + k, b, &nodal, t, (ord, dofs, dp), &mut k6, sink);
+                }
+                e += 4;
+                internal.settle(ord.final_before[e] as usize);
+                continue;
+            }
+            one_by_one = e + 4;
+        }
+        let beam = &model.beams[e];
+        // Positions relative to node i's initial position: the element only uses differences,
+        // and (X_j - X_i) + (u_j - u_i) rounds to eps |u| where X_j + u_j rounds to eps |X|.
+        // That keeps the round-off floor of the residual low for lightly loaded states.
+        if contact_beams.next_if_eq(&e).is_none() {
+            // A plain beam (both ends carry rotations): its closed-form tangent goes straight
+            // into the band. Everything it needs is in its packed record (as `relative` would
+            // have it: node i at 0 + u_i, node j at (X_j - X_i) + u_j).
+            let pb = &ctx.packed[e];
+            let (xi, xj, phi) = pb.ends(d);
+            let (r, t) = pb
+                .constants
+                .evaluate_entries(xi, xj, phi[0], phi[1], with_tangent);
+            results.beam_forces[e] = r.forces;
+            let sink = (
+                &mut internal,
+                (held.0, &mut *held.1),
+                tangent.as_mut(),
+                &mut *coupling,
+            );
+            let nodal: [f64; 6] = r.nodal.into();
+            add_plain_beam(e, pb, &nodal, t, (ord, dofs, dp), &mut k6, sink);
+        } else {
+            let on_this = &ord.on_beam[e];
+            let (xi, phi_i) = relative(model, dofs, d, beam.i, beam.i);
+            let (xj, phi_j) = relative(model, dofs, d, beam.j, beam.i);
+            gdofs.clear();
+            gdofs.extend((0..3).map(|o| dofs.dof(beam.i, o)));
+            gdofs.extend((0..3).map(|o| dofs.dof(beam.j, o)));
+            let xc: Vec<[f64; 2]> = on_this
+                .iter()
+                .map(|&k| relative(model, dofs, d, ord.links[k].node, beam.i).0)
+                .collect();
+            for &k in on_this {
+                let c = ord.links[k].node;
+                gdofs.push(dofs.dof(c, 0));
+                gdofs.push(dofs.dof(c, 1));
+            }
+            let r = contact_response(
+                &ctx.elements[e],
+                xi,
+                xj,
+                [phi_i, phi_j],
+                &xc,
+                ctx.contact,
+                with_tangent,
+            );
+            results.beam_forces[e] = [r.forces[0], r.forces[1], r.forces[2]];
+            for (m, &k) in on_this.iter().enumerate() {
+                results.contact_forces[k] = (r.forces[3 + m], r.xi[m]);
+            }
+            let k = r
+                .tangent
+                .as_ref()
+                .map(|k| move |a: usize, b: usize| k[(a, b)]);
+            let sink = (
+                &mut internal,
+                (held.0, &mut *held.1),
+                tangent.as_mut(),
+                &mut *coupling,
+            );
+            add_element(&gdofs, r.nodal.as_slice(), k, ord, dofs, dp, sink);
+        }
+        e += 1;
+        internal.settle(ord.final_before[e] as usize);
+    }
+    if let Some(band) = tangent.as_mut() {
+        band.finish_assembly();
+    }
+    out.tangent = tangent;
+    (out.unbalanced, out.unbalanced_norm2, out.unloaded) = internal.finish();
+}

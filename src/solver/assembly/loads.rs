@@ -1,0 +1,90 @@
+//! The external force `lambda F` at one load factor, kept at the loaded dofs only: a model of
+//! 10^5 elements with a tip load needs one entry, not a vector over every dof per increment.
+
+use super::dofs::DofMap;
+use crate::solver::model::Model;
+
+/// The external force at one load factor: (global dof, force), each loaded dof once, ascending,
+/// the loads on one dof summed in the model's order.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ExternalForce(pub Vec<(usize, f64)>);
+
+impl ExternalForce {
+    /// The force at global dof `g` (0 where nothing is applied).
+    pub fn at(&self, g: usize) -> f64 {
+        match self.0.binary_search_by_key(&g, |&(d, _)| d) {
+            Ok(k) => self.0[k].1,
+            Err(_) => 0.0,
+        }
+    }
+
+    /// Sum of the squares of the forces.
+    pub fn sum_squares(&self) -> f64 {
+        self.0.iter().map(|(_, f)| f * f).sum()
+    }
+
+    /// The force over every global dof (`len` of them).
+    pub fn dense(&self, len: usize) -> Vec<f64> {
+        let mut f = vec![0.0; len];
+        for &(g, v) in &self.0 {
+            f[g] = v;
+        }
+        f
+    }
+}
+
+impl ExternalForce {
+    /// The external force of `model`'s loads at load factor `lambda`.
+    pub fn of(model: &Model, dofs: &DofMap, lambda: f64) -> ExternalForce {
+        let mut entries: Vec<(usize, f64)> = Vec::new();
+        for l in &model.loads {
+            for o in 0..model.node_dofs(l.node) {
+                entries.push((dofs.dof(l.node, o), lambda * l.force[o]));
+            }
+        }
+        // Stable: the loads on one dof stay in the model's order, and are summed in it.
+        entries.sort_by_key(|&(g, _)| g);
+        let mut merged: Vec<(usize, f64)> = Vec::with_capacity(entries.len());
+        for (g, f) in entries {
+            match merged.last_mut() {
+                Some((last, sum)) if *last == g => *sum += f,
+                _ => merged.push((g, 0.0 + f)),
+            }
+        }
+        ExternalForce(merged)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// Against the force summed over every dof, load by load: two loads on one node (summed),
+    /// one elsewhere, at a load factor of 0.7.
+    #[test]
+    fn loads_on_one_dof_are_summed_and_looked_up() {
+        let mut s = crate::test_support::solver_after("mattiasson", 0);
+        let tip = s.model.loads[0].node;
+        s.structure.model.loads.push(crate::solver::Load {
+            node: tip,
+            force: [2.0, -0.5, 0.25],
+        });
+        s.structure.model.loads.push(crate::solver::Load {
+            node: 1,
+            force: [0.0, 3.0, 0.0],
+        });
+        let lambda = 0.7;
+        let mut dense = vec![0.0; s.dofs.len()];
+        for l in &s.model.loads {
+            for o in 0..3 {
+                dense[s.dofs.dof(l.node, o)] += lambda * l.force[o];
+            }
+        }
+        let f = s.external_force(lambda);
+        assert!(f.0.windows(2).all(|w| w[0].0 < w[1].0), "ascending, once");
+        for (g, &v) in dense.iter().enumerate() {
+            assert_eq!(f.at(g), v, "dof {g}");
+        }
+        assert_eq!(f.dense(s.dofs.len()), dense);
+        let squares: f64 = dense.iter().map(|v| v * v).sum();
+        assert!((f.sum_squares() - squares).abs() <= 1e-15 * squares);
+    }
+}

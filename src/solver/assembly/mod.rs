@@ -1,0 +1,17 @@
+//! Assembly of the global equations at one state: the dof map and the equation ordering
+//! (`dofs.rs`), the external force at a load factor (`loads.rs`), and the unbalanced force and
+//! band tangent summed from the beam and contact elements (`assemble.rs`, with the per-element
+//! adds in `internal.rs`).
+
+mod assemble;
+mod dofs;
+mod internal;
+mod loads;
+#[cfg(test)]
+mod tests;
+
+pub use assemble::{
+    assemble, assemble_into, Assembled, AssemblyContext, ElementResults, PackedBeam,
+};
+pub use dofs::{current, relative, ContactLink, DofKind, DofMap, Ordering};
+pub use loads::ExternalForce;

@@ -1,0 +1,212 @@
+//! The contact active set at a converged pass: which tensile contacts let go and which crossing
+//! nodes become contacts. All violations are fixed at once while that makes progress; once an
+//! active set comes back within an attempt (cycling), one violation per pass, Murty's
+//! least-index rule. Node-on-node pairs get one contact, not two.
+
+use super::broad_phase::IndexMap;
+use super::probe::{PassViews, Probe};
+use super::set::{on_body, ActiveContact, ContactSet};
+use super::view::ContactView;
+use crate::solver::assembly::{current, Assembled};
+use crate::solver::report::{ContactChange, Event};
+
+/// Two nodes of different bodies closer than this (in element lengths) touch node on node: one
+/// contact between them is enough (a second, the other way round, would impose the same
+/// constraint twice and make the tangent singular).
+const NODE_ON_NODE: f64 = 0.01;
+
+impl ContactSet {
+    /// Forget the passes of a previous attempt (call at the start of each attempt).
+    pub(crate) fn begin_attempt(&mut self) {
+        self.seen.clear();
+        self.one_at_a_time = false;
+    }
+
+    /// At a converged pass: transfers, releases of tensile contacts and activation of crossing
+    /// nodes. Returns the number of changes (0 means the increment is done).
+    ///
+    /// Every violation (tensile contact, crossing node) is fixed at once, with one release per
+    /// element. That can cycle when two beams lie along each other (most nodes touch, few carry
+    /// load): once an active set comes back within the attempt, each pass fixes only the
+    /// violation of least index (node, body), Murty's rule, which cannot cycle on a linear
+    /// complementarity problem with a P-matrix.
+    pub fn after_convergence(
+        &mut self,
+        cv: &ContactView<'_>,
+        d: &[f64],
+        asm: &Assembled,
+        increment: usize,
+        iteration: usize,
+        events: &mut Vec<Event>,
+    ) -> usize {
+        let mut changes = self.transfer(cv, d, increment, iteration, true, events);
+        if changes > 0 {
+            return changes;
+        }
+        let mut crossings = Vec::new();
+        let near = self.near_inactive(cv, d);
+        let views = PassViews::default();
+        for (n, b) in near {
+            if let Some((p, side)) = self.crossing(cv, d, n, b, &views) {
+                if -p.gap * side > cv.params.max_penetration * p.length {
+                    self.too_deep = Some((n, b, -p.gap * side / p.length));
+                }
+                crossings.push((n, b, p, side));
+            }
+        }
+        let redundant: Vec<bool> = (0..crossings.len())
+            .map(|k| self.node_on_node(cv, d, &crossings, k))
+            .collect();
+        let mut k = 0;
+        crossings.retain(|_| {
+            k += 1;
+            !redundant[k - 1]
+        });
+        if self.one_at_a_time {
+            let tensile = self.tensile(asm).into_iter().map(|k| {
+                let a = self.active[k];
+                ((a.node, a.body), Some(k))
+            });
+            let crossing = crossings.iter().map(|&(n, b, ..)| ((n, b), None));
+            if let Some((key, release)) = tensile.chain(crossing).min_by_key(|&(key, _)| key) {
+                match release {
+                    Some(k) => self.release(cv, asm, &[k], increment, iteration, events),
+                    None => {
+                        crossings.retain(|c| (c.0, c.1) == key);
+                        self.activate(cv, &crossings, increment, iteration, events);
+                    }
+                }
+                changes = 1;
+            }
+        } else {
+            changes += self.release_tensile(cv, asm, increment, iteration, events);
+            changes += self.activate(cv, &crossings, increment, iteration, events);
+        }
+        if self.too_deep.is_none() {
+            self.too_deep = self.passed_out_of_reach(cv, d, &views);
+        }
+        if changes > 0 && !self.seen.insert(self.pairs()) {
+            self.one_at_a_time = true;
+        }
+        changes
+    }
+
+    /// Whether crossing `k` (node n through an element of body b) lies on an end node m of that
+    /// element, and m already rests on (or, with a lower index, is about to rest on) a body n
+    /// belongs to: the two nodes touch node on node, and that contact keeps them apart.
+    fn node_on_node(
+        &self,
+        cv: &ContactView<'_>,
+        d: &[f64],
+        crossings: &[(usize, usize, Probe, f64)],
+        k: usize,
+    ) -> bool {
+        let m = &cv.model;
+        let (n, _, p, _) = crossings[k];
+        let xn = current(m, &cv.dofs, d, n).0;
+        let own = |body: usize| on_body(cv, n, body);
+        [m.beams[p.beam].i, m.beams[p.beam].j].iter().any(|&o| {
+            let xo = current(m, &cv.dofs, d, o).0;
+            (xn[0] - xo[0]).hypot(xn[1] - xo[1]) < NODE_ON_NODE * p.length
+                && (self.active.iter().any(|a| a.node == o && own(a.body))
+                    || crossings[..k].iter().any(|c| c.0 == o && own(c.1)))
+        })
+    }
+
+    /// Make the crossing nodes active contacts. Returns how many.
+    fn activate(
+        &mut self,
+        cv: &ContactView<'_>,
+        crossings: &[(usize, usize, Probe, f64)],
+        increment: usize,
+        iteration: usize,
+        events: &mut Vec<Event>,
+    ) -> usize {
+        for &(n, b, p, side) in crossings {
+            let a = ActiveContact {
+                node: n,
+                beam: p.beam,
+                body: b,
+                side,
+            };
+            events.push(Self::event(
+                cv,
+                &a,
+                ContactChange::Activated,
+                increment,
+                iteration,
+                p.xi,
+                0.0,
+            ));
+            self.active.push(a);
+        }
+        crossings.len()
+    }
+
+    /// Indices of the active contacts whose force (from `asm`) is tensile.
+    fn tensile(&self, asm: &Assembled) -> Vec<usize> {
+        let forces = &asm.elements.contact_forces;
+        (0..self.active.len())
+            .filter(|&k| self.active[k].side * forces[k].0 > 0.0)
+            .collect()
+    }
+
+    /// Release the active contacts with the given indices (ascending; from the `asm` they were
+    /// judged on).
+    fn release(
+        &mut self,
+        cv: &ContactView<'_>,
+        asm: &Assembled,
+        which: &[usize],
+        increment: usize,
+        iteration: usize,
+        events: &mut Vec<Event>,
+    ) {
+        let forces = &asm.elements.contact_forces;
+        for &k in which {
+            let (yc, xi) = forces[k];
+            events.push(Self::event(
+                cv,
+                &self.active[k],
+                ContactChange::Released,
+                increment,
+                iteration,
+                xi,
+                yc,
+            ));
+        }
+        let mut k = 0;
+        self.active.retain(|_| {
+            k += 1;
+            which.binary_search(&(k - 1)).is_err()
+        });
+    }
+
+    /// Release contacts whose force (from `asm`, assembled with the current contacts) is
+    /// tensile. Returns the number released.
+    pub fn release_tensile(
+        &mut self,
+        cv: &ContactView<'_>,
+        asm: &Assembled,
+        increment: usize,
+        iteration: usize,
+        events: &mut Vec<Event>,
+    ) -> usize {
+        let forces = &asm.elements.contact_forces;
+        // Contacts on one element are coupled (one contact element carries them all): releasing
+        // them together can cycle (A tensile with B, B tensile with A). Per element, only the
+        // most tensile is released; the others are judged again after the next converged pass.
+        let mut worst: IndexMap<usize, (f64, usize)> = IndexMap::default();
+        for k in self.tensile(asm) {
+            let t = self.active[k].side * forces[k].0;
+            let w = worst.entry(self.active[k].beam).or_insert((0.0, k));
+            if t > w.0 {
+                *w = (t, k);
+            }
+        }
+        let mut which: Vec<usize> = worst.values().map(|&(_, k)| k).collect();
+        which.sort_unstable();
+        self.release(cv, asm, &which, increment, iteration, events);
+        which.len()
+    }
+}

@@ -1,0 +1,21 @@
+//! Node-to-beam contact: the contact set and its life cycle (activation, transfer to the
+//! neighbouring element, release, slide-off), worked on a narrow view of the solver
+//! (`ContactView`: the structure and the last converged state).
+//!
+//! `broad_phase.rs` culls node-body pairs and elements; `probe.rs` finds where a node lies
+//! relative to a body's deformed shape; `sides.rs` remembers sides and detects crossings;
+//! `transfer.rs` moves contacts between elements and off free ends; `active_set.rs` decides
+//! activation and release at a converged pass.
+
+mod active_set;
+mod broad_phase;
+mod probe;
+mod set;
+mod sides;
+mod transfer;
+mod view;
+
+pub use broad_phase::{IndexHasher, IndexMap};
+pub use probe::Probe;
+pub use set::{ActiveContact, ContactSet};
+pub use view::ContactView;

@@ -1,0 +1,201 @@
+//! Where a node lies relative to a body's deformed shape (`Probe`): the element it projects
+//! onto, found through the element grid for a long body, and its gap from the element's
+//! deflected shape (the contact element's interpolation with the pass's active contacts).
+
+use std::cell::{OnceCell, RefCell};
+use std::rc::Rc;
+
+use super::broad_phase::{ElementGrid, IndexMap};
+use super::set::ContactSet;
+use super::view::ContactView;
+use crate::solver::assembly::current;
+use crate::solver::element::contact_element::{contact_response, deflection};
+
+/// Beyond this many element lengths from an element's chord, a node's gap is its distance
+/// from the chord (the deflected shape lies well within it).
+pub(super) const FAR: f64 = 2.0;
+/// Bodies of more elements than this are probed through the element grid.
+const GRID_MIN_ELEMENTS: usize = 32;
+
+/// Where a node lies relative to a body's deformed shape.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Probe {
+    /// Element the node projects onto.
+    pub beam: usize,
+    /// li/l on that element's chord.
+    pub xi: f64,
+    /// Signed distance from the deformed shape along the chord normal (m).
+    pub gap: f64,
+    /// Element chord length (m).
+    pub length: f64,
+}
+
+/// What the probes of one pass know about one state, built as they need it: the element grid
+/// (None with the broad phase off) and the deformed shapes (with the pass's active set). A view
+/// serves probes at its own state only.
+#[derive(Default)]
+pub(super) struct StateView {
+    pub(super) grid: OnceCell<Option<ElementGrid>>,
+    pub(super) shapes: RefCell<IndexMap<usize, Rc<Shape>>>,
+}
+
+/// The views of the iterate and of the last converged state, for one pass.
+#[derive(Default)]
+pub(super) struct PassViews {
+    pub(super) now: StateView,
+    pub(super) before: StateView,
+}
+
+/// Deformed shape of one element at a state: chord plus bending forces.
+pub(super) struct Shape {
+    pub(super) origin: [f64; 2],
+    pub(super) c: f64,
+    pub(super) s: f64,
+    pub(super) l: f64,
+    pub(super) bending: Vec<f64>,
+    pub(super) xis: Vec<f64>,
+}
+impl ContactSet {
+    /// li/l of node `n` on the current chord of beam `e`.
+    pub(super) fn chord_fraction(cv: &ContactView<'_>, d: &[f64], n: usize, e: usize) -> f64 {
+        let m = &cv.model;
+        let (xi, _) = current(m, &cv.dofs, d, m.beams[e].i);
+        let (xj, _) = current(m, &cv.dofs, d, m.beams[e].j);
+        let p = current(m, &cv.dofs, d, n).0;
+        let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
+        ((p[0] - xi[0]) * dx + (p[1] - xi[1]) * dy) / (dx * dx + dy * dy)
+    }
+
+    pub(super) fn shape(&self, cv: &ContactView<'_>, d: &[f64], e: usize) -> Shape {
+        let m = &cv.model;
+        let beam = &m.beams[e];
+        let el = &cv.elements[e];
+        let (xi, pi) = current(m, &cv.dofs, d, beam.i);
+        let (xj, pj) = current(m, &cv.dofs, d, beam.j);
+        let on: Vec<[f64; 2]> = self
+            .active
+            .iter()
+            .filter(|a| a.beam == e)
+            .map(|a| current(m, &cv.dofs, d, a.node).0)
+            .collect();
+        let opts = cv.params.contact_options(usize::MAX);
+        let r = contact_response(el, xi, xj, [pi, pj], &on, opts, false);
+        let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
+        let l = dx.hypot(dy);
+        let xis =
+            r.xi.iter()
+                .map(|x| x.clamp(opts.xi_min, 1.0 - opts.xi_min))
+                .collect();
+        Shape {
+            origin: xi,
+            c: dx / l,
+            s: dy / l,
+            l,
+            bending: r.forces[1..].to_vec(),
+            xis,
+        }
+    }
+
+    /// Where node `n` lies relative to body `b` at displacements `d` (None if it projects onto no
+    /// element of the body), with what `view` (of state `d`) knows: the elements its grid finds near the
+    /// node are tried first. The closest found there is the closest of all when its gap is
+    /// within the grid's reach: every element outside is farther than that from the node, and
+    /// far enough from it (more than `FAR` element lengths) that its gap is its plain distance.
+    /// Otherwise every element of the body is tried. Shapes are kept in the view.
+    pub(super) fn probe_near(
+        &self,
+        cv: &ContactView<'_>,
+        d: &[f64],
+        n: usize,
+        b: usize,
+        view: Option<&StateView>,
+    ) -> Option<Probe> {
+        let m = &cv.model;
+        let p = current(m, &cv.dofs, d, n).0;
+        // A short body is probed element by element: cheaper than building and asking a grid.
+        let long = m.bodies[b].elements.len() > GRID_MIN_ELEMENTS;
+        let grid = view.filter(|_| long).and_then(|v| {
+            v.grid
+                .get_or_init(|| ElementGrid::new(cv, d, FAR + 1.0))
+                .as_ref()
+                .map(|g| (g, v))
+        });
+        if let Some((g, v)) = grid {
+            let near = g.near(p).filter(|&e| m.beams[e].body == b);
+            let best = self.closest(cv, d, p, near, Some(v));
+            if best.is_some_and(|bp| bp.gap.abs() <= g.reach) {
+                return best;
+            }
+        }
+        self.closest(cv, d, p, m.bodies[b].elements.iter().copied(), view)
+    }
+
+    /// The element among `elements` whose deformed shape is closest to point `p` along the
+    /// chord normal, among those `p` projects onto (the lowest index on a tie).
+    pub(super) fn closest(
+        &self,
+        cv: &ContactView<'_>,
+        d: &[f64],
+        p: [f64; 2],
+        elements: impl Iterator<Item = usize>,
+        view: Option<&StateView>,
+    ) -> Option<Probe> {
+        let m = &cv.model;
+        let mut best: Option<Probe> = None;
+        for e in elements {
+            let (xi, _) = current(m, &cv.dofs, d, m.beams[e].i);
+            let (xj, _) = current(m, &cv.dofs, d, m.beams[e].j);
+            let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
+            let l = dx.hypot(dy);
+            let a = [p[0] - xi[0], p[1] - xi[1]];
+            let t = (a[0] * dx + a[1] * dy) / (l * l);
+            if !(0.0..=1.0).contains(&t) {
+                continue;
+            }
+            let off = (-a[0] * dy + a[1] * dx) / l;
+            // Far from the chord (more than two element lengths) the deflected shape cannot
+            // change the side: skip the element's shape (the costly part of a probe).
+            let gap = if off.abs() > FAR * l {
+                off
+            } else {
+                let sh = match view {
+                    Some(v) => Rc::clone(
+                        v.shapes
+                            .borrow_mut()
+                            .entry(e)
+                            .or_insert_with(|| Rc::new(self.shape(cv, d, e))),
+                    ),
+                    None => Rc::new(self.shape(cv, d, e)),
+                };
+                off - deflection(&cv.elements[e], &sh.bending, &sh.xis, t)
+            };
+            if best.is_none_or(|bp| {
+                gap.abs() < bp.gap.abs() || (gap.abs() == bp.gap.abs() && e < bp.beam)
+            }) {
+                best = Some(Probe {
+                    beam: e,
+                    xi: t,
+                    gap,
+                    length: l,
+                });
+            }
+        }
+        best
+    }
+
+    /// Gap of every active contact node from its beam's deformed shape, relative to the element
+    /// length (should be round-off small).
+    pub fn active_gaps(&self, cv: &ContactView<'_>, d: &[f64]) -> Vec<f64> {
+        self.active
+            .iter()
+            .map(|a| {
+                let sh = self.shape(cv, d, a.beam);
+                let p = current(&cv.model, &cv.dofs, d, a.node).0;
+                let q = [p[0] - sh.origin[0], p[1] - sh.origin[1]];
+                let t = (q[0] * sh.c + q[1] * sh.s) / sh.l;
+                let off = -q[0] * sh.s + q[1] * sh.c;
+                (off - deflection(&cv.elements[a.beam], &sh.bending, &sh.xis, t)) / sh.l
+            })
+            .collect()
+    }
+}

@@ -1,0 +1,101 @@
+//! The contact set: which nodes rest on which beam elements (`ActiveContact`), the side each
+//! candidate node was last seen on relative to each candidate body, and what the assembly and
+//! the records read of it. Probing a node against a body's deformed shape is `probe.rs`, sides
+//! and crossings `sides.rs`, transfers and slide-off `transfer.rs`, activation and release at a
+//! converged pass `active_set.rs`.
+
+use std::collections::HashSet;
+
+use super::broad_phase::IndexMap;
+use super::view::ContactView;
+use crate::solver::assembly::{Assembled, ContactLink};
+use crate::solver::report::ContactState;
+
+/// A contact node resting on a beam element.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ActiveContact {
+    /// Contact node index.
+    pub node: usize,
+    /// Beam element index.
+    pub beam: usize,
+    /// Body index of the beam.
+    pub body: usize,
+    /// Side of the beam (along its chord normal n) the node came from: +1 or -1.
+    pub side: f64,
+}
+
+/// The active contacts and the remembered sides of every candidate pair.
+#[derive(Clone, Debug, Default)]
+pub struct ContactSet {
+    /// Active contacts.
+    pub active: Vec<ActiveContact>,
+    /// Per (node, body): the side (+1/-1 along the chord normal) and the element it was
+    /// measured against, at the last converged state.
+    pub(super) sides: IndexMap<(usize, usize), (f64, usize)>,
+    /// Set by `after_convergence` when a node was found deeper through a body than
+    /// `max_penetration` element lengths: (node, body, depth / length). The increment is then
+    /// cut back so that the touch is caught close to where it happens.
+    pub(crate) too_deep: Option<(usize, usize, f64)>,
+    /// Active sets met at the converged passes of the current attempt, to tell cycling.
+    pub(super) seen: HashSet<Vec<(usize, usize)>>,
+    /// A candidate pair whose node touches the body with its own beam's neighbouring nodes not
+    /// all clear on one side of it, found by `remember_sides` (the first one): its side is
+    /// ambiguous, and a scene that starts so is refused (`SolveError::AmbiguousSide`).
+    pub(crate) ambiguous: Option<(usize, usize)>,
+    /// Set once an active set repeats within an attempt: from then on each converged pass fixes
+    /// one violation only (see `after_convergence`).
+    pub(crate) one_at_a_time: bool,
+}
+
+/// Whether node `n` is a node of body `body`.
+pub(super) fn on_body(cv: &ContactView<'_>, n: usize, body: usize) -> bool {
+    cv.node_beams[n]
+        .iter()
+        .any(|&e| cv.model.beams[e].body == body)
+}
+
+impl ContactSet {
+    /// The (node, body) pairs in contact, sorted.
+    pub fn pairs(&self) -> Vec<(usize, usize)> {
+        let mut set: Vec<(usize, usize)> = self.active.iter().map(|a| (a.node, a.body)).collect();
+        set.sort_unstable();
+        set
+    }
+
+    /// The assembly's view of the active contacts.
+    pub fn links(&self) -> Vec<ContactLink> {
+        self.active
+            .iter()
+            .map(|a| ContactLink {
+                node: a.node,
+                beam: a.beam,
+            })
+            .collect()
+    }
+
+    pub(crate) fn is_active(&self, node: usize, body: usize) -> bool {
+        self.active.iter().any(|a| a.node == node && a.body == body)
+    }
+
+    /// Candidate (node, body) pairs of the cv's model (computed once).
+    pub fn candidates<'a>(cv: &ContactView<'a>) -> &'a [(usize, usize)] {
+        &cv.structure.candidates
+    }
+
+    /// Report states of the active contacts from a converged assembly.
+    pub fn states(&self, cv: &ContactView<'_>, asm: &Assembled) -> Vec<ContactState> {
+        let m = &cv.model;
+        self.active
+            .iter()
+            .zip(&asm.elements.contact_forces)
+            .map(|(a, &(yc, xi))| ContactState {
+                node: m.nodes[a.node].id,
+                element: a.beam,
+                body: m.bodies[a.body].name.clone(),
+                xi,
+                force: yc,
+                pressure: -a.side * yc,
+            })
+            .collect()
+    }
+}

@@ -1,0 +1,339 @@
+//! Sides and crossings: the side every candidate node was last seen on relative to each
+//! candidate body (against the body's deformed shape), and the detection of a node that crossed
+//! a body since the last converged state (on the wrong side now, or swept through a chord).
+
+use super::broad_phase::{BodyBoxes, IndexMap};
+use super::probe::{PassViews, Probe, StateView, FAR};
+use super::set::{on_body, ContactSet};
+use super::view::ContactView;
+use crate::solver::assembly::current;
+
+/// A node found through a body by less than this (in element lengths) is taken as a crossing
+/// without the swept test: the chords used by that test miss the elements' own deflection.
+pub(super) const SHAPE_MARGIN: f64 = 0.05;
+
+/// A gap within this fraction of the element length (plus the round-off of the positions,
+/// `Solver::touching`) is touching when sides are recorded: it tells no side.
+pub(super) const SIDE: f64 = 1e-10;
+
+/// A node must be this fraction of the element length (plus the positions' round-off) on the
+/// wrong side of an element to have crossed it.
+pub(super) const THROUGH: f64 = 1e-10;
+
+impl ContactSet {
+    /// Whether node `n` passed through a chord of body `b` between the last converged state and
+    /// `d`, with every position interpolated linearly in between (continuous collision test):
+    /// the signed area cross(xj - xi, xc - xi) is quadratic in the interpolation parameter; a
+    /// root where the node projects inside the chord is a crossing. Tells a node that went
+    /// through a beam from one that went round its end while the beam swung.
+    pub(super) fn swept_through(cv: &ContactView<'_>, d: &[f64], n: usize, b: usize) -> bool {
+        Self::swept_crossing(cv, d, n, b, 0.0).is_some()
+    }
+
+    /// The element of body `b` whose chord node `n` passed through (see `swept_through`) at an
+    /// interpolation parameter in [`t_min`, 1], if any.
+    pub(super) fn swept_crossing(
+        cv: &ContactView<'_>,
+        d: &[f64],
+        n: usize,
+        b: usize,
+        t_min: f64,
+    ) -> Option<usize> {
+        let m = &cv.model;
+        let at = |dd: &[f64], k: usize| current(m, &cv.dofs, dd, k).0;
+        let (c0, c1) = (at(cv.d, n), at(d, n));
+        m.bodies[b].elements.iter().copied().find(|&e| {
+            let (i, j) = (m.beams[e].i, m.beams[e].j);
+            let (p0, p1, q0, q1) = (at(cv.d, i), at(d, i), at(cv.d, j), at(d, j));
+            // u(t) = q - p, v(t) = c - p, both linear in t: u = u0 + t du, v = v0 + t dv.
+            let sub = |a: [f64; 2], b: [f64; 2]| [a[0] - b[0], a[1] - b[1]];
+            let cross = |a: [f64; 2], b: [f64; 2]| a[0] * b[1] - a[1] * b[0];
+            let (u0, v0) = (sub(q0, p0), sub(c0, p0));
+            let (du, dv) = (sub(sub(q1, p1), u0), sub(sub(c1, p1), v0));
+            let (qa, qb, qc) = (cross(du, dv), cross(u0, dv) + cross(du, v0), cross(u0, v0));
+            let mut roots = Vec::with_capacity(2);
+            if qa.abs() < 1e-14 * (qb.abs() + qc.abs()) {
+                if qb != 0.0 {
+                    roots.push(-qc / qb);
+                }
+            } else {
+                let disc = qb * qb - 4.0 * qa * qc;
+                if disc >= 0.0 {
+                    let r = disc.sqrt();
+                    roots.push((-qb - r) / (2.0 * qa));
+                    roots.push((-qb + r) / (2.0 * qa));
+                }
+            }
+            roots
+                .into_iter()
+                .filter(|t| (t_min..=1.0).contains(t))
+                .any(|t| {
+                    let u = [u0[0] + t * du[0], u0[1] + t * du[1]];
+                    let v = [v0[0] + t * dv[0], v0[1] + t * dv[1]];
+                    let s = (u[0] * v[0] + u[1] * v[1]) / (u[0] * u[0] + u[1] * u[1]);
+                    (0.0..=1.0).contains(&s)
+                })
+        })
+    }
+
+    /// Whether elements `e` and `f` of body `b` are the same or neighbours. A node crossing a body
+    /// within one increment does so near one element; a side measured against a distant element
+    /// of a curled beam says nothing about a crossing.
+    pub(super) fn adjacent(cv: &ContactView<'_>, b: usize, e: usize, f: usize) -> bool {
+        let els = &cv.model.bodies[b].elements;
+        match (
+            els.iter().position(|&x| x == e),
+            els.iter().position(|&x| x == f),
+        ) {
+            (Some(i), Some(j)) => i.abs_diff(j) <= 1,
+            _ => false,
+        }
+    }
+
+    /// Record the side of every candidate pair that projects onto its body, and forget the pairs
+    /// that no longer do, at a converged state. Sides are compared between consecutive converged
+    /// states only: a beam that curls can bring a node to the other side of an element's
+    /// extension without the node ever crossing the element.
+    pub fn remember_sides(&mut self, cv: &ContactView<'_>, d: &[f64]) {
+        let pairs = Self::candidates(cv);
+        if pairs.is_empty() {
+            // No contact pairs: no side to remember (and no body boxes to build).
+            return;
+        }
+        let boxes = BodyBoxes::new(cv, &[d], FAR + 1.0);
+        let view = StateView::default();
+        for &(n, b) in pairs {
+            if let Some(a) = self.active.iter().find(|a| a.node == n && a.body == b) {
+                self.sides.insert((n, b), (a.side, a.beam));
+                continue;
+            }
+            // Broad phase: far from the body, the side is worked out when the node comes near
+            // (`side_of`, from this converged state).
+            if !boxes.near(cv, &[d], n, b) {
+                self.sides.remove(&(n, b));
+                continue;
+            }
+            match self.probe_near(cv, d, n, b, Some(&view)) {
+                Some(p) if p.gap.abs() > cv.touching(SIDE, p.length) => {
+                    // Every crossing since the last converged state was caught by
+                    // `after_convergence`, so the side now is the side to keep.
+                    self.sides.insert((n, b), (p.gap.signum(), p.beam));
+                }
+                // Touching: the node lies on the body, so its own position says nothing. A
+                // node of a beam touches from the side its own beam lies on: take the side of
+                // its neighbouring nodes (a pin has none and must start with a gap).
+                Some(p) if !self.sides.contains_key(&(n, b)) => {
+                    match self.neighbour_side(cv, d, n, b, Some(&view)) {
+                        Some(side) => {
+                            self.sides.insert((n, b), (side, p.beam));
+                        }
+                        // A node of a beam whose neighbours do not all lie clear on one side:
+                        // no rule gives its side.
+                        None if !cv.node_beams[n].is_empty() => {
+                            self.ambiguous.get_or_insert((n, b));
+                        }
+                        None => {}
+                    }
+                }
+                Some(_) => {}
+                None => {
+                    self.sides.remove(&(n, b));
+                }
+            }
+        }
+    }
+
+    /// Candidate pairs not in contact whose node came near the body between the last converged
+    /// state and `d` (the broad phase).
+    pub(super) fn near_inactive(&self, cv: &ContactView<'_>, d: &[f64]) -> Vec<(usize, usize)> {
+        let pairs = Self::candidates(cv);
+        if pairs.is_empty() {
+            return Vec::new();
+        }
+        let states = [cv.d, d];
+        let boxes = BodyBoxes::new(cv, &states, FAR + 1.0);
+        let active: IndexMap<(usize, usize), ()> =
+            self.active.iter().map(|a| ((a.node, a.body), ())).collect();
+        pairs
+            .iter()
+            .copied()
+            .filter(|&(n, b)| !active.contains_key(&(n, b)) && boxes.near(cv, &states, n, b))
+            .collect()
+    }
+
+    /// The side of body `b` node `n` was on at the last converged state, and the element it
+    /// projected onto: remembered if the node was near the body, else worked out now from that
+    /// state (far away, the node's side is plain geometry).
+    pub(super) fn side_of(
+        &self,
+        cv: &ContactView<'_>,
+        n: usize,
+        b: usize,
+        view: Option<&StateView>,
+    ) -> Option<(f64, usize)> {
+        if let Some(&s) = self.sides.get(&(n, b)) {
+            return Some(s);
+        }
+        let p = self.probe_near(cv, cv.d, n, b, view)?;
+        (p.gap.abs() > cv.touching(SIDE, p.length)).then(|| (p.gap.signum(), p.beam))
+    }
+
+    /// The side of body `b` on which the beam neighbours of node `n` lie, if they agree and are
+    /// clear of it.
+    pub(super) fn neighbour_side(
+        &self,
+        cv: &ContactView<'_>,
+        d: &[f64],
+        n: usize,
+        b: usize,
+        view: Option<&StateView>,
+    ) -> Option<f64> {
+        let m = &cv.model;
+        let mut side = None;
+        for beam in cv.node_beams[n]
+            .iter()
+            .map(|&e| &m.beams[e])
+            .filter(|e| e.body != b)
+        {
+            let other = if beam.i == n { beam.j } else { beam.i };
+            let p = self.probe_near(cv, d, other, b, view)?;
+            if p.gap.abs() <= cv.touching(SIDE, p.length) {
+                return None;
+            }
+            match side {
+                None => side = Some(p.gap.signum()),
+                Some(s) if s != p.gap.signum() => return None,
+                Some(_) => {}
+            }
+        }
+        side
+    }
+
+    /// Whether the inactive candidate node `n` crossed body `b` between the last converged state
+    /// and `d`: the probe now and the side the node came from.
+    ///
+    /// With a remembered side, a crossing is a node now on the other side of an element next to
+    /// the one the side was measured against, found either shallow or with a swept path through
+    /// a chord. Without one, because at the last converged state the node projected onto no
+    /// element (it lay past an end node of the body: beyond a free tip, or beyond a clamped
+    /// end), a crossing is a swept path through a chord: a node that passes the body right at
+    /// an end node (li/l = 0 or 1) goes from the region no element covers straight to the other
+    /// side, and a comparison of sides cannot see it. A node that merely goes round the end has
+    /// no such path.
+    pub(super) fn crossing(
+        &self,
+        cv: &ContactView<'_>,
+        d: &[f64],
+        n: usize,
+        b: usize,
+        views: &PassViews,
+    ) -> Option<(Probe, f64)> {
+        let p = self.probe_near(cv, d, n, b, Some(&views.now))?;
+        if let Some((side, was)) = self.side_of(cv, n, b, Some(&views.before)) {
+            // On the other side of an element next to the remembered one, shallow or with a
+            // swept path; on the other side of one further along (a beam springing back past a
+            // node that let go two elements away), only with a swept path: a beam that curls
+            // brings far elements round a node without passing through it.
+            let wrong_side = p.gap * side < -cv.touching(THROUGH, p.length);
+            let crossed = wrong_side
+                && ((-p.gap * side < SHAPE_MARGIN * p.length
+                    && Self::adjacent(cv, b, was, p.beam))
+                    || Self::swept_through(cv, d, n, b));
+            return crossed.then_some((p, side));
+        }
+        if p.gap.abs() <= cv.touching(THROUGH, p.length) {
+            return None;
+        }
+        if let Some(q) = self.probe_near(cv, cv.d, n, b, Some(&views.before)) {
+            // It projected onto the body before, so it touched it then (no side was recorded)
+            // or was in contact and slid off a tip in this increment. A node that touched with
+            // no side comes from the side opposite to its motion (the zero-gap rule): it is
+            // activated, and released again at the next pass if the contact pulls.
+            let touched = q.gap.abs() <= cv.touching(SIDE, q.length);
+            let was_active = cv.contacts.is_active(n, b);
+            return (touched && !was_active).then_some((p, -p.gap.signum()));
+        }
+        let e = Self::swept_crossing(cv, d, n, b, 0.0)?;
+        let m = &cv.model;
+        // A node of the crossed element resting on the node's own beam: the two chords meet at
+        // that contact (e.g. a tip resting on a beam as one of the beam's nodes passes under
+        // it), and the contact there is what keeps the bodies apart.
+        let (ei, ej) = (m.beams[e].i, m.beams[e].j);
+        if self
+            .active
+            .iter()
+            .any(|a| (a.node == ei || a.node == ej) && on_body(cv, n, a.body))
+        {
+            return None;
+        }
+        // It must have started clear of the chord it passed through (not exactly on its end).
+        let at = |k: usize| current(m, &cv.dofs, cv.d, k).0;
+        let (c, xi, xj) = (at(n), at(m.beams[e].i), at(m.beams[e].j));
+        let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
+        let l2 = dx * dx + dy * dy;
+        let t = (((c[0] - xi[0]) * dx + (c[1] - xi[1]) * dy) / l2).clamp(0.0, 1.0);
+        let clear = (c[0] - xi[0] - t * dx).hypot(c[1] - xi[1] - t * dy);
+        (clear > cv.touching(THROUGH, l2.sqrt()) && Self::adjacent(cv, b, e, p.beam))
+            .then_some((p, -p.gap.signum()))
+    }
+
+    /// A node that passed through a chord of a body since the last converged state but now
+    /// projects onto no element of it (the chord swept past it right at an end node, e.g. a
+    /// clamped end coming down past the other beam's tip): the contact cannot be placed, so the
+    /// increment is cut back until the node is caught while it still projects onto the body.
+    /// Returns (node, body, distance from the body's end node in element lengths).
+    pub(super) fn passed_out_of_reach(
+        &self,
+        cv: &ContactView<'_>,
+        d: &[f64],
+        views: &PassViews,
+    ) -> Option<(usize, usize, f64)> {
+        let m = &cv.model;
+        for (n, b) in self.near_inactive(cv, d) {
+            let Some((_, was)) = self.side_of(cv, n, b, Some(&views.before)) else {
+                continue;
+            };
+            if self.probe_near(cv, d, n, b, Some(&views.now)).is_some() {
+                continue;
+            }
+            let Some(e) = Self::swept_crossing(cv, d, n, b, 0.0) else {
+                continue;
+            };
+            let (ei, ej) = (m.beams[e].i, m.beams[e].j);
+            // A node of that element resting on the node's own beam keeps them apart there.
+            let explained = self
+                .active
+                .iter()
+                .any(|a| (a.node == ei || a.node == ej) && on_body(cv, n, a.body));
+            if explained || !Self::adjacent(cv, b, was, e) {
+                continue;
+            }
+            let p = current(m, &cv.dofs, d, n).0;
+            let (xi, xj) = (current(m, &cv.dofs, d, ei).0, current(m, &cv.dofs, d, ej).0);
+            let l = (xj[0] - xi[0]).hypot(xj[1] - xi[1]);
+            let dist = (p[0] - xi[0])
+                .hypot(p[1] - xi[1])
+                .min((p[0] - xj[0]).hypot(p[1] - xj[1]));
+            return Some((n, b, dist / l));
+        }
+        None
+    }
+
+    /// Largest penetration of an inactive candidate node through a body's deformed shape,
+    /// relative to the element length (0 if none), for a state `d` reached from the cv's
+    /// converged state (the sides are those of that state).
+    pub fn max_penetration(&self, cv: &ContactView<'_>, d: &[f64]) -> f64 {
+        let mut worst: f64 = 0.0;
+        let near = self.near_inactive(cv, d);
+        if near.is_empty() {
+            return worst;
+        }
+        let views = PassViews::default();
+        for (n, b) in near {
+            if let Some((p, side)) = self.crossing(cv, d, n, b, &views) {
+                worst = worst.max(-p.gap * side / p.length);
+            }
+        }
+        worst
+    }
+}

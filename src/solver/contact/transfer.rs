@@ -1,0 +1,196 @@
+//! Contacts that move during the iterations: transfer to the neighbouring element when li/l
+//! leaves (0, 1), and release when the node slides off a free end of the beam.
+
+use super::set::{ActiveContact, ContactSet};
+use super::view::ContactView;
+use crate::solver::assembly::current;
+use crate::solver::report::{ContactChange, ContactEvent, Event};
+
+impl ContactSet {
+    pub(super) fn event(
+        cv: &ContactView<'_>,
+        a: &ActiveContact,
+        change: ContactChange,
+        increment: usize,
+        iteration: usize,
+        xi: f64,
+        force: f64,
+    ) -> Event {
+        let m = &cv.model;
+        Event::Contact(ContactEvent {
+            change,
+            increment,
+            iteration,
+            node: m.nodes[a.node].id,
+            element: a.beam,
+            body: m.bodies[a.body].name.clone(),
+            xi,
+            force,
+        })
+    }
+
+    /// Move contacts whose li/l left [0, 1] to the neighbouring element. Between iterations a
+    /// contact moves by at most one element and never leaves the body (intermediate iterates can
+    /// be far off); at a converged state (`converged`) it walks to the element it now lies on, or
+    /// slides off a free end. Returns the number of changes.
+    pub fn transfer(
+        &mut self,
+        cv: &ContactView<'_>,
+        d: &[f64],
+        increment: usize,
+        iteration: usize,
+        converged: bool,
+        events: &mut Vec<Event>,
+    ) -> usize {
+        let margin = if converged {
+            cv.params.free_end_margin
+        } else {
+            -cv.params.transfer_tolerance
+        };
+        self.transfer_within(cv, d, (increment, iteration), converged, margin, events)
+    }
+
+    /// Slide off a free end every contact that lies within `margin` (a fraction of its element)
+    /// of it at the converged state `d`: for an increment that finds no equilibrium with the
+    /// contact on a tip (past the limit point where the tip slips under the node, the contact
+    /// point runs to the tip and Newton fails), the attempt that starts with the node let go.
+    /// Returns the number of contacts slid off.
+    pub(crate) fn slide_off_tips(
+        &mut self,
+        cv: &ContactView<'_>,
+        d: &[f64],
+        margin: f64,
+        increment: usize,
+        events: &mut Vec<Event>,
+    ) -> usize {
+        self.transfer_within(cv, d, (increment, 0), true, margin, events)
+    }
+
+    /// `transfer` with the free-end margin given: contacts within `margin` of a free end slide
+    /// off (a negative margin: only those past it).
+    pub(super) fn transfer_within(
+        &mut self,
+        cv: &ContactView<'_>,
+        d: &[f64],
+        (increment, iteration): (usize, usize),
+        converged: bool,
+        margin: f64,
+        events: &mut Vec<Event>,
+    ) -> usize {
+        let m = &cv.model;
+        let tol = cv.params.transfer_tolerance;
+        let mut changes = 0;
+        let mut k = 0;
+        while k < self.active.len() {
+            let mut a = self.active[k];
+            let mut moved = false;
+            let mut off_end = false;
+            let mut xi_now = 0.0;
+            let walk = if converged {
+                m.bodies[a.body].elements.len()
+            } else {
+                1
+            };
+            for _ in 0..walk {
+                let beam = &m.beams[a.beam];
+                let (xi, _) = current(m, &cv.dofs, d, beam.i);
+                let (xj, _) = current(m, &cv.dofs, d, beam.j);
+                let p = current(m, &cv.dofs, d, a.node).0;
+                let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
+                let t = ((p[0] - xi[0]) * dx + (p[1] - xi[1]) * dy) / (dx * dx + dy * dy);
+                xi_now = t;
+                let before = cv.node_beams[beam.i]
+                    .iter()
+                    .copied()
+                    .find(|&e| m.beams[e].body == a.body && m.beams[e].j == beam.i);
+                let after = cv.node_beams[beam.j]
+                    .iter()
+                    .copied()
+                    .find(|&e| m.beams[e].body == a.body && m.beams[e].i == beam.j);
+                let next = if t < -tol || (before.is_none() && t < margin) {
+                    before
+                } else if t > 1.0 + tol || (after.is_none() && t > 1.0 - margin) {
+                    after
+                } else {
+                    break;
+                };
+                match next {
+                    Some(e) => {
+                        a.beam = e;
+                        moved = true;
+                    }
+                    None => {
+                        off_end = converged;
+                        break;
+                    }
+                }
+            }
+            if off_end {
+                events.push(Self::event(
+                    cv,
+                    &a,
+                    ContactChange::SlidOff,
+                    increment,
+                    iteration,
+                    xi_now,
+                    0.0,
+                ));
+                // The node went round the end: its side is unknown until it projects again.
+                self.sides.remove(&(a.node, a.body));
+                // A tip resting on another body hands the node over to that body (the paper's
+                // "jump"): the node sits on the tip, so it sits on the other body's surface.
+                let beam = &m.beams[a.beam];
+                let tip = if xi_now > 0.5 { beam.j } else { beam.i };
+                let under = self
+                    .active
+                    .iter()
+                    .find(|b| b.node == tip && b.body != a.body)
+                    .copied();
+                if let Some(u) = under {
+                    if !self.is_active(a.node, u.body) {
+                        let h = ActiveContact {
+                            node: a.node,
+                            beam: u.beam,
+                            body: u.body,
+                            side: u.side,
+                        };
+                        let xi_there = Self::chord_fraction(cv, d, a.node, u.beam);
+                        events.push(Self::event(
+                            cv,
+                            &h,
+                            ContactChange::Activated,
+                            increment,
+                            iteration,
+                            xi_there,
+                            0.0,
+                        ));
+                        self.sides.insert((a.node, u.body), (u.side, u.beam));
+                        self.active[k] = h;
+                        changes += 1;
+                        k += 1;
+                        continue;
+                    }
+                }
+                self.active.remove(k);
+                changes += 1;
+                continue;
+            }
+            if moved {
+                let xi_there = Self::chord_fraction(cv, d, a.node, a.beam);
+                events.push(Self::event(
+                    cv,
+                    &a,
+                    ContactChange::Transferred,
+                    increment,
+                    iteration,
+                    xi_there,
+                    0.0,
+                ));
+                self.active[k] = a;
+                changes += 1;
+            }
+            k += 1;
+        }
+        changes
+    }
+}

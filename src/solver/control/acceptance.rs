@@ -1,0 +1,67 @@
+//! The solver's side of the acceptance check: a converged attempt is checked before it is
+//! committed (equilibrium status, then the geometric test), and a refused or failed attempt
+//! becomes a cut-back reason or, once the cut-backs are spent, a typed `SolveError`.
+
+use super::solver::Solver;
+use crate::solver::newton::{AttemptError, Converged};
+use crate::solver::report::{IncrementStatus, NodeState, SolveError};
+
+impl Solver {
+    /// The acceptance check (`acceptance`) of a converged attempt, before it is committed: its
+    /// equilibrium status from the residual of its final assembly, and no node through a body
+    /// it is not in contact with. Returns the status and the node states.
+    pub(crate) fn acceptance(
+        &self,
+        c: &Converged,
+    ) -> Result<(IncrementStatus, Vec<NodeState>), AttemptError> {
+        let p = &self.params;
+        let rel = (c.assembled.unbalanced_norm2.sqrt() / c.reference).max(c.relative_residual);
+        let status = IncrementStatus::of(rel, p.tolerance, p.roundoff_bound).ok_or(
+            AttemptError::AtFloor {
+                residual: rel,
+                floor: c.roundoff_floor,
+            },
+        )?;
+        let states = self.node_states(&c.d);
+        match self
+            .crossing
+            .find(&self.model, &states, &c.contacts.pairs())
+        {
+            Some(x) => Err(AttemptError::Crossed(x)),
+            None => Ok((status, states)),
+        }
+    }
+
+    /// The text of a failed attempt, for cut-back events.
+    pub(crate) fn failure_reason(&self, e: &AttemptError) -> String {
+        e.describe(&self.model, self.params.roundoff_bound)
+    }
+
+    /// The error of increment `increment` when its last attempt failed with `e` after
+    /// `cutbacks` cut-backs.
+    pub(crate) fn give_up(&self, increment: usize, cutbacks: usize, e: AttemptError) -> SolveError {
+        match e {
+            AttemptError::Stopped => SolveError::Stopped,
+            AttemptError::AtFloor { residual, floor } => SolveError::RoundOffFloor {
+                increment,
+                cutbacks,
+                residual,
+                floor,
+                bound: self.params.roundoff_bound,
+            },
+            AttemptError::Crossed(x) => SolveError::Crossing {
+                increment,
+                cutbacks,
+                node: self.model.nodes[x.node].id,
+                body: self.model.bodies[x.body].name.clone(),
+                element: x.element,
+                depth: x.depth,
+            },
+            other => SolveError::NoConvergence {
+                increment,
+                cutbacks,
+                reason: self.failure_reason(&other),
+            },
+        }
+    }
+}

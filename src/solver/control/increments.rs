@@ -1,0 +1,144 @@
+//! Displacement and load control: a scene step advances the prescribed displacements and the
+//! load factor; a step that finds no equilibrium is halved (reported as cut-back events) and
+//! grows again once Newton has it easy, with one last attempt that slides contacts off the
+//! tips they are about to leave before the run gives up.
+
+use std::time::Instant;
+
+use super::solver::Solver;
+use crate::solver::newton::{AttemptError, Constraint};
+use crate::solver::params::StretchCorrection;
+use crate::solver::report::{Event, Flow, IncrementRecord, Observer, SolveError};
+
+/// A contact within this fraction of its element from a free end slides off it when the
+/// increment finds no equilibrium after every cut-back (`Solver::advance_to`).
+const TIP_SLIDE_OFF: f64 = 1e-2;
+
+/// A sub-increment that converged in at most this many iterations lets the next one double.
+pub(super) const GROW_ITERATIONS: usize = 6;
+
+impl Solver {
+    /// Advance by one scene step (prescribed values += per_step, load factor += load_per_step),
+    /// or by one arc length if `params.arc_length` is set.
+    pub fn step(&mut self, obs: &mut dyn Observer) -> Result<Vec<IncrementRecord>, SolveError> {
+        if self.params.arc_length.is_some() {
+            return self.arc_length_step(obs);
+        }
+        let targets: Vec<f64> = self
+            .model
+            .prescribed
+            .iter()
+            .zip(&self.state.prescribed)
+            .map(|(p, v)| v + p.per_step)
+            .collect();
+        let lambda = self.state.load_factor + self.model.load_per_step;
+        self.advance_to(&targets, lambda, obs)
+    }
+
+    /// Advance from the converged state to the given prescribed values and load factor, halving
+    /// the increment on failure (at most `max_cutbacks` times in all). Returns the converged
+    /// increments (more than one if the step was cut back).
+    pub fn advance_to(
+        &mut self,
+        targets: &[f64],
+        lambda: f64,
+        obs: &mut dyn Observer,
+    ) -> Result<Vec<IncrementRecord>, SolveError> {
+        let start_p = self.state.prescribed.clone();
+        let start_l = self.state.load_factor;
+        let mut done = 0.0f64;
+        let mut h = 1.0f64;
+        let mut cutbacks = 0;
+        let mut out = Vec::new();
+        let mut clock = Instant::now();
+        // Set for the attempt that first slides contacts off the tips they are about to leave.
+        let mut slide_off = None;
+        while done < 1.0 {
+            let next = (done + h).min(1.0);
+            // The last sub-increment lands exactly on the targets.
+            let tp: Vec<f64> = if next >= 1.0 {
+                targets.to_vec()
+            } else {
+                start_p
+                    .iter()
+                    .zip(targets)
+                    .map(|(a, b)| a + next * (b - a))
+                    .collect()
+            };
+            let tl = if next >= 1.0 {
+                lambda
+            } else {
+                start_l + next * (lambda - start_l)
+            };
+            let number = self.state.increment + 1;
+            let constraint = Constraint::Prescribed {
+                targets: &tp,
+                lambda: tl,
+            };
+            let accepted = (self.newton())
+                .attempt(constraint, number, slide_off, obs)
+                .and_then(|conv| {
+                    let checked = self.acceptance(&conv)?;
+                    Ok((conv, checked))
+                });
+            match accepted {
+                Ok((conv, checked)) => {
+                    slide_off = None;
+                    // After a cut-back the sub-increment grows again (doubles) once Newton has
+                    // it easy, so one hard moment does not leave the rest of the step in
+                    // tiny pieces.
+                    if conv.iterations <= GROW_ITERATIONS && h < 1.0 {
+                        h *= 2.0;
+                    }
+                    let secs = clock.elapsed().as_secs_f64();
+                    let rec = self.commit(conv, checked, tp, cutbacks, secs);
+                    clock = Instant::now();
+                    done = next;
+                    for e in &rec.events {
+                        obs.event(e);
+                    }
+                    let flow = obs.increment(&rec);
+                    out.push(rec);
+                    if flow == Flow::Stop {
+                        return Ok(out);
+                    }
+                }
+                Err(AttemptError::Stopped) => return Err(SolveError::Stopped),
+                Err(e) => {
+                    // Halved at most `max_cutbacks` times below the full step. Before giving
+                    // up, one attempt with the contacts near a free tip slid off it: past the
+                    // limit point where a tip slips under a node there is no equilibrium with
+                    // the contact on the tip.
+                    if h <= 0.5f64.powi(self.params.max_cutbacks as i32) {
+                        if slide_off.is_none() && self.has_contact_near_a_tip(number) {
+                            slide_off = Some(TIP_SLIDE_OFF);
+                            continue;
+                        }
+                        return Err(self.give_up(number, cutbacks, e));
+                    }
+                    let reason = self.failure_reason(&e);
+                    cutbacks += 1;
+                    h *= 0.5;
+                    obs.event(&Event::CutBack {
+                        increment: number,
+                        reason,
+                        fraction: h,
+                    });
+                    if !std::mem::replace(&mut self.state.cut_back, true)
+                        && self.params.stretch_correction == StretchCorrection::AfterCutBack
+                    {
+                        obs.event(&Event::StretchCorrectionOn { increment: number });
+                    }
+                }
+            }
+        }
+        Ok(out)
+    }
+
+    /// Whether a contact of the converged state lies within `TIP_SLIDE_OFF` of a free end.
+    fn has_contact_near_a_tip(&self, increment: usize) -> bool {
+        let mut contacts = self.state.contacts.clone();
+        let d = &self.state.d;
+        contacts.slide_off_tips(&self.view(), d, TIP_SLIDE_OFF, increment, &mut Vec::new()) > 0
+    }
+}

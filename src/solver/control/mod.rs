@@ -1,0 +1,12 @@
+//! Increment control: the `Solver` of a run (`solver.rs`), displacement and load control with
+//! cut-backs (`increments.rs`), arc-length control (`arc_length.rs`), the acceptance check
+//! before a commit and the typed errors of a run that gives up (`acceptance.rs`), and the
+//! commit of an accepted attempt into the converged state and its record (`commit.rs`).
+
+mod acceptance;
+mod arc_length;
+mod commit;
+mod increments;
+mod solver;
+
+pub use solver::Solver;

@@ -1,0 +1,155 @@
+//! The `Solver`: the structure, its converged state and the Newton workspace of one run, set
+//! up at the undeformed state, with what callers read of it.
+
+use std::ops::Deref;
+
+use crate::solver::acceptance::CrossingCheck;
+use crate::solver::assembly::assemble;
+use crate::solver::contact::{ContactSet, ContactView};
+use crate::solver::model::Model;
+use crate::solver::newton::{Newton, Workspace};
+use crate::solver::params::SolverParams;
+use crate::solver::report::SolveError;
+use crate::solver::state::State;
+use crate::solver::structure::Structure;
+
+/// The TSM solver for one model: the structure (read through `Deref`), the converged state, and
+/// everything needed to advance it.
+#[derive(Clone, Debug)]
+pub struct Solver {
+    /// The model prepared for the solver.
+    pub(crate) structure: Structure,
+    /// The last converged state.
+    pub(crate) state: State,
+    /// Scratch space of the Newton attempts.
+    pub(crate) work: Workspace,
+    /// The acceptance check's geometric test, at the last accepted state.
+    pub(crate) crossing: CrossingCheck,
+}
+
+impl Deref for Solver {
+    type Target = Structure;
+
+    fn deref(&self) -> &Structure {
+        &self.structure
+    }
+}
+
+impl Solver {
+    /// Set up a solver at the undeformed state; fails if the structure is a mechanism or a
+    /// contact candidate node starts on a body with no side to tell.
+    pub fn new(model: Model, params: SolverParams) -> Result<Solver, SolveError> {
+        let structure = Structure::new(model, params);
+        let state = State {
+            d: vec![0.0; structure.dofs.len()],
+            prescribed: vec![0.0; structure.model.prescribed.len()],
+            ..State::default()
+        };
+        let free = structure.mechanism_dofs(&state.d);
+        if !free.is_empty() {
+            return Err(SolveError::Mechanism { dofs: free });
+        }
+        let mut solver = Solver {
+            structure,
+            state,
+            work: Workspace::default(),
+            crossing: CrossingCheck::default(),
+        };
+        let mut contacts = std::mem::take(&mut solver.state.contacts);
+        contacts.remember_sides(&solver.view(), &solver.state.d);
+        if let Some((n, b)) = contacts.ambiguous {
+            return Err(SolveError::AmbiguousSide {
+                node: solver.model.nodes[n].id,
+                body: solver.model.bodies[b].name.clone(),
+            });
+        }
+        solver.state.contacts = contacts;
+        if !solver.candidates.is_empty() {
+            let start = solver.node_states(&solver.state.d);
+            let pairs = solver.candidates.clone();
+            solver.crossing = CrossingCheck::new(&solver.model, pairs, start);
+        }
+        Ok(solver)
+    }
+
+    /// The parameters, to change between increments (e.g. the stretch correction).
+    pub fn params_mut(&mut self) -> &mut SolverParams {
+        &mut self.structure.params
+    }
+
+    /// What a Newton attempt reads of the solver.
+    pub(crate) fn newton(&self) -> Newton<'_> {
+        Newton {
+            structure: &self.structure,
+            state: &self.state,
+            work: &self.work,
+        }
+    }
+
+    /// What the contact stage reads of the solver.
+    pub fn view(&self) -> ContactView<'_> {
+        ContactView {
+            structure: &self.structure,
+            d: &self.state.d,
+            contacts: &self.state.contacts,
+        }
+    }
+
+    /// Unbalanced force `lambda F - sum J S` over the free dofs and the dense tangent over the
+    /// same dofs, at displacements `d` with the current contacts and load factor. Returns the
+    /// free global dofs too, in the order of the vector and matrix. For checks and tests.
+    pub fn unbalanced_force_and_tangent(
+        &self,
+        d: &[f64],
+    ) -> (Vec<f64>, nalgebra::DMatrix<f64>, Vec<usize>) {
+        let ord = self
+            .work
+            .ordering_for(&self.structure, &self.state.contacts);
+        let asm = assemble(&self.context(&ord), d, true, None);
+        let fext = self.external_force(self.state.load_factor);
+        let free: Vec<usize> = ord.dof_of.iter().map(|&g| g as usize).collect();
+        // Assembled with no loads: the unbalanced force is -sum J S.
+        let r = (free.iter().zip(&asm.unbalanced))
+            .map(|(&g, u)| fext.at(g) + u)
+            .collect();
+        let k = asm.tangent.expect("tangent");
+        let dense = nalgebra::DMatrix::from_fn(ord.n_eq, ord.n_eq, |i, j| k.get(i, j));
+        (r, dense, free)
+    }
+
+    /// Number of converged increments so far.
+    pub fn increment(&self) -> usize {
+        self.state.increment
+    }
+
+    /// Current values of the prescribed displacements.
+    pub fn prescribed_values(&self) -> &[f64] {
+        &self.state.prescribed
+    }
+
+    /// Current load factor.
+    pub fn load_factor(&self) -> f64 {
+        self.state.load_factor
+    }
+
+    /// Converged displacements over all dofs.
+    pub fn displacements(&self) -> &[f64] {
+        &self.state.d
+    }
+
+    /// The active contacts.
+    pub fn contacts(&self) -> &ContactSet {
+        &self.state.contacts
+    }
+
+    /// Current position (in the scene's coordinates) and rotation of node `n`.
+    pub fn node_state(&self, n: usize) -> ([f64; 2], f64) {
+        self.node_state_at(&self.state.d, n)
+    }
+
+    /// Whether the next attempt's Newton updates take the chords' stretch out
+    /// (`SolverParams::stretch_correction`).
+    pub fn stretch_correcting(&self) -> bool {
+        self.newton().stretch_correcting()
+    }
+}

@@ -1,0 +1,147 @@
+//! Why a Newton attempt failed, as a type: each failure the increment control can answer
+//! (a smaller increment, a slide-off, a located error) is told apart by its variant.
+
+use crate::solver::acceptance::Crossing;
+use crate::solver::contact::ContactSet;
+use crate::solver::model::Model;
+
+/// Why an attempt failed.
+#[derive(Clone, Debug, PartialEq)]
+pub enum AttemptError {
+    /// The residual grew past `SolverParams::divergence`.
+    Diverged {
+        /// Iteration (of the attempt).
+        iteration: usize,
+        /// Relative residual there.
+        residual: f64,
+    },
+    /// A pass used up `SolverParams::max_iterations`.
+    NoConvergence {
+        /// The iteration limit.
+        iterations: usize,
+        /// Relative residual reached.
+        residual: f64,
+        /// Round-off floor estimate there.
+        floor: f64,
+    },
+    /// The residual is not finite.
+    NonFinite {
+        /// Iteration (of the attempt).
+        iteration: usize,
+    },
+    /// A pivot of the tangent vanished.
+    Singular {
+        /// The dof of that pivot ("node N u").
+        dof: String,
+    },
+    /// Too many contact state changes in one increment.
+    Chattering {
+        /// Changes counted.
+        changes: usize,
+    },
+    /// A node was found deeper through a body than `SolverParams::max_penetration` before its
+    /// contact was detected.
+    TooDeep {
+        /// Node index.
+        node: usize,
+        /// Body index.
+        body: usize,
+        /// Depth, in element lengths.
+        depth: f64,
+    },
+    /// Arc length: the reference load does no work on the free dofs.
+    NoLoadPath,
+    /// Arc length: the constraint has no real root.
+    NoArcRoot {
+        /// Iteration (of the attempt).
+        iteration: usize,
+    },
+    /// Newton stalled at the round-off floor above `SolverParams::roundoff_bound`.
+    AtFloor {
+        /// Relative residual reached.
+        residual: f64,
+        /// Round-off floor estimate there.
+        floor: f64,
+    },
+    /// The acceptance check found a node through a body it is not in contact with.
+    Crossed(Crossing),
+    /// The observer asked to stop.
+    Stopped,
+}
+
+impl AttemptError {
+    /// The failure in words, with nodes and bodies named from `model`; `bound` is
+    /// `SolverParams::roundoff_bound`.
+    pub fn describe(&self, model: &Model, bound: f64) -> String {
+        match self {
+            AttemptError::Diverged {
+                iteration,
+                residual,
+            } => format!("diverged at iteration {iteration}: relative residual {residual:.3e}"),
+            AttemptError::NoConvergence {
+                iterations,
+                residual,
+                floor,
+            } => format!(
+                "no convergence in {iterations} iterations: relative residual {residual:.3e} (round-off floor {floor:.1e})"
+            ),
+            AttemptError::NonFinite { iteration } => {
+                format!("non-finite residual at iteration {iteration}")
+            }
+            AttemptError::Singular { dof } => format!("singular tangent at {dof}"),
+            AttemptError::Chattering { changes } => {
+                format!("{changes} contact state changes in one increment (chattering)")
+            }
+            AttemptError::TooDeep { node, body, depth } => format!(
+                "{} went {depth:.2} element lengths through {} before contact was detected",
+                model.node_label(*node),
+                model.bodies[*body].name
+            ),
+            AttemptError::NoLoadPath => {
+                "arc length: the reference load does no work on the free dofs".into()
+            }
+            AttemptError::NoArcRoot { iteration } => {
+                format!("arc length: no real root at iteration {iteration}")
+            }
+            AttemptError::AtFloor { residual, floor } => format!(
+                "Newton stalls at relative residual {residual:.3e} (round-off floor {floor:.1e}), above the bound {bound:.0e}"
+            ),
+            AttemptError::Crossed(x) => format!(
+                "{} passes through element {} of {} ({:.2e} element lengths beyond it)",
+                model.node_label(x.node),
+                x.element,
+                model.bodies[x.body].name,
+                x.depth
+            ),
+            AttemptError::Stopped => "stopped by the caller".into(),
+        }
+    }
+}
+
+/// The converged outcome of one attempt, before it is committed.
+pub struct Converged {
+    /// Displacements.
+    pub d: Vec<f64>,
+    /// Load factor (the target's, or the one arc length found).
+    pub load_factor: f64,
+    /// Contact state.
+    pub contacts: ContactSet,
+    /// Final assembly at the converged state.
+    pub assembled: crate::solver::assembly::Assembled,
+    /// Total iterations.
+    pub iterations: usize,
+    /// Iterations to an 8-order drop of the unbalanced force.
+    pub iterations_8_orders: Option<usize>,
+    /// Relative residual at convergence.
+    pub relative_residual: f64,
+    /// Reference force.
+    pub reference: f64,
+    /// Round-off floor estimate of the relative residual.
+    pub roundoff_floor: f64,
+    /// Iteration records.
+    pub residuals: Vec<crate::solver::report::IterationRecord>,
+    /// Contact events.
+    pub events: Vec<crate::solver::report::Event>,
+    /// Largest penetration through a body, in element lengths (see `IncrementRecord`).
+    pub max_penetration: f64,
+}

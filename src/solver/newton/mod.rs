@@ -1,0 +1,19 @@
+//! Newton-Raphson for one increment attempt, the same iteration for every increment control:
+//! `iteration.rs` runs it; `constraint.rs` closes the equations (prescribed displacements and
+//! load factor, or an arc length); `convergence.rs` tells convergence, stall and failure;
+//! `stretch.rs` corrects the chords of an update; `failure.rs` types what goes wrong;
+//! `workspace.rs` holds the scratch space the attempts share.
+
+mod constraint;
+mod convergence;
+mod failure;
+mod iteration;
+mod stretch;
+#[cfg(test)]
+mod tests;
+mod workspace;
+
+pub use constraint::Constraint;
+pub use failure::{AttemptError, Converged};
+pub use iteration::Newton;
+pub use workspace::Workspace;

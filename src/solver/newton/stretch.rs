@@ -1,0 +1,86 @@
+//! The stretch correction of a Newton update: the chords' second-order gaps that a linear
+//! update leaves (a turned chord comes out too long and turned by less) taken out with the
+//! tangent just factored.
+
+use super::iteration::Newton;
+use crate::solver::assembly::Ordering;
+use crate::solver::linear::reduce::sum_squares;
+use crate::solver::linear::{BandMatrix, NOT_FREE};
+
+impl Newton<'_> {
+    /// Take the chords' second-order errors out of the update from `before` to `d`.
+    ///
+    /// A linear update moves an element's end j by dc relative to i: dl along the old chord e
+    /// and l dpsi across it (n). The element meant by that is the old chord turned by dpsi and
+    /// stretched by dl; the update instead puts the chord at `(l + dl) e + l dpsi n`, which is
+    /// longer by about l dpsi^2 / 2 and turned by less (atan). Times EA/L and 12 EI / l^3, those
+    /// gaps are spurious forces that on fine meshes of stiff beams dwarf the residual the
+    /// update came to remove: Newton zig-zags (every other iterate is stretched), and load
+    /// steps fail. The correction loads the tangent just factored with each element's elastic
+    /// forces for its gap (its end j moved by the gap, rotations held) and adds the
+    /// displacements they produce: on a structure free to take them up (a tree), the turned
+    /// chords exactly, up to the geometric stiffness; where supports hold the chords, what
+    /// the structure really gives. `buf` is scratch (the right-hand side's storage). Returns
+    /// the norm of the displacements added.
+    pub(crate) fn take_out_stretch(
+        &self,
+        before: &[f64],
+        d: &mut [f64],
+        ordering: &Ordering,
+        factors: &BandMatrix,
+        buf: &mut Vec<f64>,
+    ) -> f64 {
+        let first = &self.dofs.first;
+        let nodes = &self.model.nodes;
+        let at = |d: &[f64], n: usize| [nodes[n].x + d[first[n]], nodes[n].y + d[first[n] + 1]];
+        buf.clear();
+        buf.resize(ordering.n_eq, 0.0);
+        let mut any = false;
+        let beams = self.model.beams.iter().zip(&self.elements);
+        for ((beam, el), eqs) in beams.zip(&ordering.beam_eqs) {
+            let (pi, pj) = (at(before, beam.i), at(before, beam.j));
+            let (qi, qj) = (at(d, beam.i), at(d, beam.j));
+            let c = [pj[0] - pi[0], pj[1] - pi[1]];
+            let l = c[0].hypot(c[1]);
+            let e = [c[0] / l, c[1] / l];
+            let dc = [qj[0] - qi[0] - c[0], qj[1] - qi[1] - c[1]];
+            let stretched = l + e[0] * dc[0] + e[1] * dc[1];
+            let turn = (e[0] * dc[1] - e[1] * dc[0]) / l;
+            if turn == 0.0 || !turn.is_finite() {
+                continue;
+            }
+            // The gap from the update's chord, `stretched e + l turn n`, to the meant one,
+            // `stretched (cos turn e + sin turn n)`, along e and across it (written without
+            // cancellation).
+            let half = (0.5 * turn).sin();
+            let gap_along = -2.0 * stretched * half * half;
+            let sin = turn.sin();
+            let gap_across = l * (sin - turn) + (stretched - l) * sin;
+            // The element's elastic forces for its end j moved by the gap, rotations held.
+            let k = el.constants();
+            let axial = k.ka * gap_along;
+            let moment = -(k.k11 + k.k12) * gap_across / l;
+            let shear = -2.0 * moment / l;
+            let force = [axial * e[0] - shear * e[1], axial * e[1] + shear * e[0]];
+            for (slot, value) in [
+                (0, -force[0]),
+                (1, -force[1]),
+                (2, moment),
+                (3, force[0]),
+                (4, force[1]),
+                (5, moment),
+            ] {
+                if eqs[slot] != NOT_FREE {
+                    buf[eqs[slot] as usize] += value;
+                }
+            }
+            any = true;
+        }
+        if !any {
+            return 0.0;
+        }
+        factors.solve(buf);
+        ordering.add_scaled(d, 1.0, buf);
+        sum_squares(buf).sqrt()
+    }
+}

@@ -1,0 +1,144 @@
+//! Unit tests of the Newton iteration: the reused converged assembly, the stretch correction
+//! and the round-off floor's bound, each against an independent computation.
+
+use crate::solver::Silent;
+
+/// The predictor of a load-driven increment starts from the assembly kept at the last
+/// converged state instead of assembling that state again: the increment must come out
+/// identical, residual for residual and bit for bit, to one that assembles afresh.
+#[test]
+fn reusing_the_converged_assembly_changes_nothing() {
+    let mut warm = crate::scene::builtin::long_beam(300)
+        .solver()
+        .expect("stable");
+    warm.step(&mut Silent).expect("converges");
+    let kept = |s: &crate::solver::Solver| {
+        s.work
+            .converged_assembly
+            .0
+            .borrow()
+            .as_ref()
+            .is_some_and(|(i, asm)| *i == s.increment() && asm.tangent.is_some())
+    };
+    assert!(kept(&warm), "no assembly kept at the converged state");
+    let mut fresh = warm.clone();
+    fresh.work.converged_assembly = Default::default();
+    for _ in 0..2 {
+        let a = warm.step(&mut Silent).expect("converges");
+        let b = fresh.step(&mut Silent).expect("converges");
+        let (a, b) = (a.last().expect("record"), b.last().expect("record"));
+        assert_eq!(a.iterations, b.iterations);
+        let bits = |r: &crate::solver::IncrementRecord| {
+            r.residuals
+                .iter()
+                .map(|i| i.residual.to_bits())
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(bits(a), bits(b));
+        assert_eq!(warm.state.d, fresh.state.d);
+        fresh.work.converged_assembly = Default::default();
+    }
+}
+
+/// The stretch correction on a tree at rest (its tangent the elastic stiffness): a linear
+/// update that turns every chord by its own angle (up to 0.3 rad; the update alone leaves
+/// the chords up to 4.4% too long and turned by atan t) comes out with every chord at its
+/// length and turned by exactly its angle, to 1e-12. Bernoulli-Euler (Mattiasson's
+/// cantilever) and Timoshenko (the pin's cantilever, G = 0.4 E) elements.
+#[test]
+fn stretch_correction_turns_the_chords_of_a_tree_exactly() {
+    use crate::solver::assembly::assemble;
+    for scene in ["mattiasson", "pin_on_cantilever"] {
+        let s = crate::test_support::solver_after(scene, 0);
+        let ord = s.newton().ordering_for(&s.state.contacts);
+        let rest = s.state.d.clone();
+        let mut tangent = assemble(&s.context(&ord), &rest, true, None)
+            .tangent
+            .expect("tangent");
+        tangent.factor(0.0).expect("regular");
+        let first = &s.dofs.first;
+        let at = |d: &[f64], n: usize| {
+            let node = &s.model.nodes[n];
+            [node.x + d[first[n]], node.y + d[first[n] + 1]]
+        };
+        let turns: Vec<f64> = (0..s.model.beams.len())
+            .map(|e| 0.3 * (((e * 7) % 11) as f64 / 5.0 - 1.0))
+            .collect();
+        let mut d = rest.clone();
+        let mut offset = [0.0, 0.0];
+        for (b, t) in s.model.beams.iter().zip(&turns) {
+            let (pi, pj) = (at(&rest, b.i), at(&rest, b.j));
+            offset[0] -= t * (pj[1] - pi[1]);
+            offset[1] += t * (pj[0] - pi[0]);
+            d[first[b.j]] = offset[0];
+            d[first[b.j] + 1] = offset[1];
+        }
+        let chord = |d: &[f64], b: &crate::solver::Beam| {
+            let (i, j) = (at(d, b.i), at(d, b.j));
+            [j[0] - i[0], j[1] - i[1]]
+        };
+        let chords = |d: &[f64]| -> Vec<(f64, f64)> {
+            let beams = s.model.beams.iter();
+            beams
+                .map(|b| {
+                    let (c0, c1) = (chord(&rest, b), chord(d, b));
+                    let l0 = c0[0].hypot(c0[1]);
+                    let turn = (c0[0] * c1[1] - c0[1] * c1[0]).atan2(c0[0] * c1[0] + c0[1] * c1[1]);
+                    (c1[0].hypot(c1[1]) / l0 - 1.0, turn)
+                })
+                .collect()
+        };
+        let worst = |d: &[f64]| {
+            (chords(d).iter().zip(&turns))
+                .map(|(&(strain, turn), t)| strain.abs().max((turn - t).abs()))
+                .fold(0.0f64, f64::max)
+        };
+        assert!(
+            worst(&d) > 0.04,
+            "{scene}: the update alone is off by {}",
+            worst(&d)
+        );
+        let mut buf = Vec::new();
+        s.newton()
+            .take_out_stretch(&rest, &mut d, &ord, &tangent, &mut buf);
+        assert!(worst(&d) < 1e-12, "{scene}: {}", worst(&d));
+    }
+}
+
+/// The round-off floor's bound stands in for the floor where the floor cannot decide
+/// anything; it must never fall below it. From a loaded state of the Mattiasson cantilever,
+/// the coordinates move by random corrections (recorded by their largest entry) and the
+/// tangent is assembled again: the bound holds at every step, and is tight (within 1e-9)
+/// before any move, where the diagonal peak and the coordinate scale are exact.
+#[test]
+fn the_floor_bound_never_falls_below_the_floor() {
+    use super::convergence::FloorBound;
+    use crate::solver::assembly::assemble;
+    let s = crate::test_support::solver_after("mattiasson", 3);
+    let ord = s.newton().ordering_for(&s.state.contacts);
+    let mut d = s.state.d.clone();
+    let mut bound = FloorBound::new(s.coordinate_scale(&d));
+    let mut rng = crate::test_support::Rng(0x5eed_f100);
+    for step in 0..20 {
+        let asm = assemble(&s.context(&ord), &d, true, None);
+        let tangent = asm.tangent.expect("tangent");
+        let reference = 3.0;
+        let (scale, floor) = s.newton().roundoff_floor(&tangent, &d, reference);
+        let (scale_bound, floor_bound) = bound.get(&tangent, reference);
+        assert!(scale <= scale_bound && floor <= floor_bound, "step {step}");
+        if step == 0 {
+            assert!(
+                floor_bound <= floor * (1.0 + 1e-9),
+                "{floor_bound} vs {floor}"
+            );
+        }
+        let size = 0.05 * (step % 4) as f64;
+        let mut largest = 0.0f64;
+        for v in d.iter_mut() {
+            let dv = size * (rng.unit() - 0.5);
+            *v += dv;
+            largest = largest.max(dv.abs());
+        }
+        bound.moved(largest);
+    }
+}

@@ -1,0 +1,215 @@
+//! The structure: the model as the solver prepares it once and then only reads (elements with
+//! their initial geometry and stiffness, the dof map, the contact candidates, the scales the
+//! tests are measured against), and what can be worked out from it and a displacement vector
+//! alone: node positions, the external force at a load factor, the assembly context, dof names,
+//! and the dofs of a mechanism.
+
+use super::assembly::{
+    assemble, current, AssemblyContext, DofMap, ExternalForce, Ordering, PackedBeam,
+};
+use super::element::beam::BeamElement;
+use super::model::Model;
+use super::params::SolverParams;
+use super::report::NodeState;
+
+/// Up to this many equations a singular structure gets every dof of its null space named (dense
+/// symmetric eigen-decomposition); above, the first vanishing pivot of the band LU.
+const DENSE_MECHANISM_CHECK: usize = 200;
+
+/// The model prepared for the solver, fixed for a run (only `params` may be changed between
+/// increments).
+#[derive(Clone, Debug)]
+pub struct Structure {
+    /// The model being solved, its coordinates measured from `origin` (the scene's own, unless
+    /// the scene lies far from the origin: see `Model::recentred`).
+    pub model: Model,
+    /// Parameters.
+    pub params: SolverParams,
+    /// The beam element evaluators (initial geometry, stiffness), one per beam.
+    pub(crate) elements: Vec<BeamElement>,
+    /// The beam elements packed for the assembly (`PackedBeam`).
+    pub(crate) packed: Vec<PackedBeam>,
+    /// The dof numbering.
+    pub(crate) dofs: DofMap,
+    /// The smallest reference force (`SolverParams::force_floor` times the largest EA).
+    pub(crate) force_floor: f64,
+    /// Contact candidate (node, body) pairs.
+    pub(crate) candidates: Vec<(usize, usize)>,
+    /// Distinct candidate nodes.
+    pub(crate) candidate_nodes: usize,
+    /// The beam elements at each node.
+    pub(crate) node_beams: Vec<Vec<usize>>,
+    /// Where the model's coordinates are measured from (`Model::recentred`): positions handed
+    /// out add it back.
+    pub(crate) origin: [f64; 2],
+    /// The round-off of a node position: 64 units of the largest initial coordinate.
+    pub(crate) position_roundoff: f64,
+    /// The larger side of the model's bounding box at rest.
+    pub(crate) size: f64,
+}
+
+impl Structure {
+    /// Prepare `model` (recentred where it lies far from the origin) for the solver.
+    pub fn new(model: Model, params: SolverParams) -> Structure {
+        let (model, origin) = model.recentred();
+        let elements: Vec<BeamElement> = (model.beams.iter())
+            .map(|b| {
+                BeamElement::new(
+                    model.position(b.i),
+                    model.position(b.j),
+                    b.section,
+                    b.section.psi(model.formulation),
+                )
+            })
+            .collect();
+        let dofs = DofMap::new(&model);
+        let packed = PackedBeam::all(&model, &dofs, &elements);
+        let max_ea = model.beams.iter().map(|b| b.section.ea).fold(0.0, f64::max);
+        let candidates = model.contact_candidates();
+        let mut nodes: Vec<usize> = candidates.iter().map(|c| c.0).collect();
+        nodes.sort_unstable();
+        nodes.dedup();
+        let (lo, hi) = model.bounds();
+        Structure {
+            force_floor: params.force_floor * max_ea.max(f64::MIN_POSITIVE),
+            candidates,
+            candidate_nodes: nodes.len(),
+            node_beams: model.node_beams(),
+            origin,
+            size: (hi[0] - lo[0]).max(hi[1] - lo[1]).max(0.0),
+            position_roundoff: 64.0
+                * f64::EPSILON
+                * (model.nodes.iter()).fold(0.0f64, |m, n| m.max(n.x.abs()).max(n.y.abs())),
+            elements,
+            packed,
+            dofs,
+            params,
+            model,
+        }
+    }
+
+    /// The gap below which a node touches an element of chord `length`: `fraction` of the
+    /// length plus the round-off of the positions at the model's scale (64 units of the
+    /// largest initial coordinate), so that a translated scene decides alike.
+    pub(crate) fn touching(&self, fraction: f64, length: f64) -> f64 {
+        fraction * length + self.position_roundoff
+    }
+
+    /// The larger side of the model's bounding box at rest (m).
+    pub fn model_size(&self) -> f64 {
+        self.size
+    }
+
+    /// Position and rotation of every node at displacements `d`, in the scene's coordinates.
+    pub fn node_states(&self, d: &[f64]) -> Vec<NodeState> {
+        (0..self.model.nodes.len())
+            .map(|n| {
+                let (x, phi) = self.node_state_at(d, n);
+                [x[0], x[1], phi]
+            })
+            .collect()
+    }
+
+    /// Position (in the scene's coordinates) and rotation of node `n` at displacements `d`.
+    pub fn node_state_at(&self, d: &[f64], n: usize) -> ([f64; 2], f64) {
+        let (x, phi) = current(&self.model, &self.dofs, d, n);
+        ([x[0] + self.origin[0], x[1] + self.origin[1]], phi)
+    }
+
+    /// The element evaluators (initial geometry, stiffness), one per beam.
+    pub fn elements(&self) -> &[BeamElement] {
+        &self.elements
+    }
+
+    /// The dof numbering.
+    pub fn dofs(&self) -> &DofMap {
+        &self.dofs
+    }
+
+    /// The external force at load factor `lambda`.
+    pub fn external_force(&self, lambda: f64) -> ExternalForce {
+        ExternalForce::of(&self.model, &self.dofs, lambda)
+    }
+
+    /// The assembly's view of the structure under equation ordering `ord`, without loads.
+    pub(crate) fn context<'a>(&'a self, ord: &'a Ordering) -> AssemblyContext<'a> {
+        AssemblyContext {
+            model: &self.model,
+            elements: &self.elements,
+            packed: &self.packed,
+            dofs: &self.dofs,
+            ordering: ord,
+            contact: self.params.contact_options(usize::MAX),
+            loads: &[],
+        }
+    }
+
+    /// "node N u" for a global dof.
+    pub fn dof_label(&self, g: usize) -> String {
+        let (n, o) = self.dofs.owner(g);
+        self.model.dof_label(n, o)
+    }
+
+    /// "node N u" for an equation number of ordering `ord`.
+    pub(crate) fn equation_label(&self, ord: &Ordering, eq: usize) -> String {
+        match ord.dof_of.get(eq) {
+            Some(&g) => self.dof_label(g as usize),
+            None => format!("equation {eq}"),
+        }
+    }
+
+    /// The largest |coordinate| of the nodes at displacements `d` (at least 1e-300).
+    pub(crate) fn coordinate_scale(&self, d: &[f64]) -> f64 {
+        // x and y: two independent chains of maxima.
+        let (mut mx, mut my) = (1e-300f64, 1e-300f64);
+        for (node, &f) in self.model.nodes.iter().zip(&self.dofs.first) {
+            let (x, y) = ((node.x + d[f]).abs(), (node.y + d[f + 1]).abs());
+            if x > mx {
+                mx = x;
+            }
+            if y > my {
+                my = y;
+            }
+        }
+        mx.max(my)
+    }
+
+    /// The free dofs that have no stiffness at displacements `d` without contacts (empty if the
+    /// structure is stable). Small models get every dof of the null space; large ones the
+    /// first failing pivot.
+    pub fn mechanism_dofs(&self, d: &[f64]) -> Vec<String> {
+        let ord = Ordering::new(&self.model, &self.dofs, &[]);
+        if ord.n_eq == 0 {
+            return Vec::new();
+        }
+        let asm = assemble(&self.context(&ord), d, true, None);
+        let k = asm.tangent.expect("tangent");
+        let scale = k.max_diagonal().max(f64::MIN_POSITIVE);
+        // The band LU decides (O(n)); only a singular structure pays for the dense
+        // eigen-decomposition that names every dof of the null space.
+        let first = match k.clone().factor(1e-14 * scale) {
+            Ok(()) => return Vec::new(),
+            Err(sp) => self.equation_label(&ord, sp.equation),
+        };
+        if ord.n_eq > DENSE_MECHANISM_CHECK {
+            return vec![first];
+        }
+        let dense = nalgebra::DMatrix::from_fn(ord.n_eq, ord.n_eq, |i, j| k.get(i, j));
+        let eig = nalgebra::SymmetricEigen::new(&dense + dense.transpose());
+        let mut out = Vec::new();
+        for (m, lam) in eig.eigenvalues.iter().enumerate() {
+            if lam.abs() < 1e-13 * scale {
+                for (e, c) in eig.eigenvectors.column(m).iter().enumerate() {
+                    let label = self.equation_label(&ord, e);
+                    if c.abs() > 1e-3 && !out.contains(&label) {
+                        out.push(label);
+                    }
+                }
+            }
+        }
+        if out.is_empty() {
+            out.push(first);
+        }
+        out
+    }
+}
