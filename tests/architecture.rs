@@ -257,7 +257,19 @@ fn paths(text: &str) -> Vec<(Vec<String>, Vec<String>)> {
 
 /// The paths of a `use` tree (`a::{b, c::{d, e}}` gives a::b, a::c::d, a::c::e).
 fn expand(tree: &str) -> Vec<Vec<String>> {
-    let t: String = tree.chars().filter(|c| !c.is_whitespace()).collect();
+    // Aliases dropped (`x as y`: the path is x's), then the whitespace.
+    let mut words = Vec::new();
+    let mut alias = false;
+    for w in tree.split_whitespace() {
+        if w == "as" {
+            alias = true;
+        } else if std::mem::take(&mut alias) {
+            words.push(w.trim_start_matches(|c: char| ident_char(c)).to_string());
+        } else {
+            words.push(w.to_string());
+        }
+    }
+    let t: String = words.concat();
     let t = t.trim_start_matches("::");
     fn go(prefix: &[String], t: &str, out: &mut Vec<Vec<String>>) {
         let mut segs: Vec<String> = prefix.to_vec();
@@ -271,8 +283,7 @@ fn expand(tree: &str) -> Vec<Vec<String>> {
                 return;
             }
             let end = rest.find("::").unwrap_or(rest.len());
-            let seg = rest[..end].split(" as ").next().unwrap_or("");
-            let seg = seg.split("as").next().unwrap_or(seg);
+            let seg = &rest[..end];
             if !seg.is_empty() && seg != "*" {
                 segs.push(seg.chars().take_while(|c| ident_char(*c)).collect());
             }
@@ -646,4 +657,19 @@ fn the_checks_find_a_planted_circle_and_an_upward_arrow() {
     assert_eq!(circles(&edges).len(), 1);
     assert_eq!(edges.len(), 4, "{edges:?}");
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The import graph, one arrow per line, for a reader tracing a circle:
+/// `cargo test --test architecture -- --ignored --nocapture` (`ARROWS_FROM=solver/contact`
+/// keeps the arrows from files under that folder).
+#[test]
+#[ignore]
+fn print_the_import_graph() {
+    let g = Graph::new(&src());
+    let from = std::env::var("ARROWS_FROM").unwrap_or_default();
+    for (a, b) in g.edges() {
+        if rel(&a).starts_with(&from) {
+            println!("{} -> {}", rel(&a), rel(&b));
+        }
+    }
 }

@@ -14,6 +14,7 @@ pub mod assembly;
 pub mod contact;
 pub mod control;
 pub mod element;
+pub mod index_map;
 pub mod linear;
 pub mod model;
 pub mod newton;

@@ -9,7 +9,7 @@ use std::sync::Arc;
 
 use super::chord::{swept_through, Chord};
 use super::grid::SweptGrid;
-use crate::solver::contact::IndexMap;
+use crate::solver::index_map::IndexMap;
 use crate::solver::model::Model;
 use crate::solver::report::NodeState;
 

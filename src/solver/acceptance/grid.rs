@@ -2,7 +2,7 @@
 //! increment, so that the check stays linear in the candidate pairs.
 
 use super::chord::Chord;
-use crate::solver::contact::IndexMap;
+use crate::solver::index_map::IndexMap;
 
 /// A uniform grid over the boxes the chords sweep over an increment (grown by the longer of the
 /// element's two chords), so that a node's path meets only the elements near it: the check

@@ -1,8 +1,8 @@
 //! The internal forces over the free equations while an assembly adds to them (`Internal`), and
 //! the adds of one element's forces, tangent and K_fp dp coupling.
 
-use super::assemble::PackedBeam;
 use super::dofs::{DofKind, DofMap, Ordering};
+use super::packed::PackedBeam;
 use crate::solver::element::beam::TangentEntries;
 use crate::solver::linear::{zero_ahead, BandMatrix, NOT_FREE};
 

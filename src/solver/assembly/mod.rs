@@ -7,11 +7,11 @@ mod assemble;
 mod dofs;
 mod internal;
 mod loads;
+mod packed;
 #[cfg(test)]
 mod tests;
 
-pub use assemble::{
-    assemble, assemble_into, Assembled, AssemblyContext, ElementResults, PackedBeam,
-};
+pub use assemble::{assemble, assemble_into, Assembled, AssemblyContext, ElementResults};
 pub use dofs::{current, relative, ContactLink, DofKind, DofMap, Ordering};
 pub use loads::ExternalForce;
+pub use packed::PackedBeam;

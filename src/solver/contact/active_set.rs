@@ -3,11 +3,11 @@
 //! active set comes back within an attempt (cycling), one violation per pass, Murty's
 //! least-index rule. Node-on-node pairs get one contact, not two.
 
-use super::broad_phase::IndexMap;
 use super::probe::{PassViews, Probe};
+use super::set::ContactView;
 use super::set::{on_body, ActiveContact, ContactSet};
-use super::view::ContactView;
 use crate::solver::assembly::{current, Assembled};
+use crate::solver::index_map::IndexMap;
 use crate::solver::report::{ContactChange, Event};
 
 /// Two nodes of different bodies closer than this (in element lengths) touch node on node: one

@@ -3,10 +3,9 @@
 //! node-body pairs; a uniform grid over element bounding boxes at one state hands a probe the
 //! elements near a node, so that a node near a long body does not test every element of it.
 
-use std::collections::HashMap;
-use std::hash::{BuildHasherDefault, Hasher};
+use crate::solver::index_map::IndexMap;
 
-use super::view::ContactView;
+use super::set::ContactView;
 use crate::solver::assembly::current;
 
 /// Bounding boxes of the bodies over one or more states, grown by `margin` element lengths
@@ -61,34 +60,6 @@ fn grow(bx: &mut [f64; 4], p: [f64; 2]) {
         bx[3].max(p[1]),
     ];
 }
-
-/// A fast hasher for small integer keys (cells, element indices): multiply and rotate, as in
-/// rustc's FxHasher. Not resistant to adversarial keys, which these are not.
-#[derive(Default, Clone, Copy)]
-pub struct IndexHasher(u64);
-
-impl Hasher for IndexHasher {
-    fn write(&mut self, bytes: &[u8]) {
-        for &b in bytes {
-            self.write_u64(u64::from(b));
-        }
-    }
-    fn write_u64(&mut self, v: u64) {
-        self.0 = (self.0.rotate_left(5) ^ v).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
-    }
-    fn write_i64(&mut self, v: i64) {
-        self.write_u64(v as u64);
-    }
-    fn write_usize(&mut self, v: usize) {
-        self.write_u64(v as u64);
-    }
-    fn finish(&self) -> u64 {
-        self.0
-    }
-}
-
-/// A `HashMap` keyed by small integers, hashed with `IndexHasher`.
-pub type IndexMap<K, V> = HashMap<K, V, BuildHasherDefault<IndexHasher>>;
 
 /// A uniform grid over the elements' bounding boxes (chords) at one state. Cells are `reach`
 /// wide, `reach` at least `margin` times the longest current chord: every element within

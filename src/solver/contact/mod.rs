@@ -13,9 +13,6 @@ mod probe;
 mod set;
 mod sides;
 mod transfer;
-mod view;
 
-pub use broad_phase::{IndexHasher, IndexMap};
 pub use probe::Probe;
-pub use set::{ActiveContact, ContactSet};
-pub use view::ContactView;
+pub use set::{ActiveContact, ContactSet, ContactView};

@@ -5,11 +5,12 @@
 use std::cell::{OnceCell, RefCell};
 use std::rc::Rc;
 
-use super::broad_phase::{ElementGrid, IndexMap};
+use super::broad_phase::ElementGrid;
 use super::set::ContactSet;
-use super::view::ContactView;
+use super::set::ContactView;
 use crate::solver::assembly::current;
 use crate::solver::element::contact_element::{contact_response, deflection};
+use crate::solver::index_map::IndexMap;
 
 /// Beyond this many element lengths from an element's chord, a node's gap is its distance
 /// from the chord (the deflected shape lies well within it).

@@ -2,14 +2,16 @@
 //! candidate node was last seen on relative to each candidate body, and what the assembly and
 //! the records read of it. Probing a node against a body's deformed shape is `probe.rs`, sides
 //! and crossings `sides.rs`, transfers and slide-off `transfer.rs`, activation and release at a
-//! converged pass `active_set.rs`.
+//! converged pass `active_set.rs`. The contact stage reads the solver through a `ContactView`:
+//! the structure, and the last converged displacements and contact set, nothing more.
 
 use std::collections::HashSet;
+use std::ops::Deref;
 
-use super::broad_phase::IndexMap;
-use super::view::ContactView;
 use crate::solver::assembly::{Assembled, ContactLink};
+use crate::solver::index_map::IndexMap;
 use crate::solver::report::ContactState;
+use crate::solver::structure::Structure;
 
 /// A contact node resting on a beam element.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -97,5 +99,25 @@ impl ContactSet {
                 pressure: -a.side * yc,
             })
             .collect()
+    }
+}
+
+/// What the contact stage reads of the solver: the structure (through `Deref`), and the last
+/// converged displacements and contact set that every test of a pass is measured from.
+#[derive(Clone, Copy)]
+pub struct ContactView<'a> {
+    /// The model prepared for assembly.
+    pub structure: &'a Structure,
+    /// Displacements at the last converged state.
+    pub d: &'a [f64],
+    /// Contact set at the last converged state.
+    pub contacts: &'a ContactSet,
+}
+
+impl Deref for ContactView<'_> {
+    type Target = Structure;
+
+    fn deref(&self) -> &Structure {
+        self.structure
     }
 }

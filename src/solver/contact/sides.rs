@@ -2,11 +2,12 @@
 //! candidate body (against the body's deformed shape), and the detection of a node that crossed
 //! a body since the last converged state (on the wrong side now, or swept through a chord).
 
-use super::broad_phase::{BodyBoxes, IndexMap};
+use super::broad_phase::BodyBoxes;
 use super::probe::{PassViews, Probe, StateView, FAR};
+use super::set::ContactView;
 use super::set::{on_body, ContactSet};
-use super::view::ContactView;
 use crate::solver::assembly::current;
+use crate::solver::index_map::IndexMap;
 
 /// A node found through a body by less than this (in element lengths) is taken as a crossing
 /// without the swept test: the chords used by that test miss the elements' own deflection.

@@ -1,29 +1,19 @@
-//! The one Newton-Raphson iteration of the solver, for every kind of increment control: from
-//! the last converged state, a predictor and corrections with the exact tangent under the
-//! increment's constraint (`constraint.rs`), the stretch correction of an update
-//! (`stretch.rs`), the convergence, stall and divergence tests (`convergence.rs`), and the
-//! contact active-set passes (transfers during the iterations; activation and release between
-//! converged passes; release of contacts that turn tensile while the structure springs back).
+//! What a Newton attempt reads (`Newton`: the structure, the last converged state and the
+//! workspace) and the tests and measures its iteration (`attempt.rs`) applies: the residual
+//! and its reference force, equilibrium, divergence, chattering, a node too deep, the
+//! round-off floor, and the factor-and-solve that names a singular dof.
 
 use std::ops::Deref;
 use std::sync::Arc;
 
-use super::constraint::{Constraint, Path};
-use super::convergence::{FloorBound, IterationLog, Stall, STAGNATION};
-use super::failure::{AttemptError, Converged};
+use super::failure::AttemptError;
 use super::workspace::Workspace;
-use crate::solver::assembly::{assemble_into, Assembled, AssemblyContext, ExternalForce, Ordering};
+use crate::solver::assembly::{Assembled, ExternalForce, Ordering};
 use crate::solver::contact::{ContactSet, ContactView};
-use crate::solver::linear::reduce::sum_squares;
 use crate::solver::linear::{BandMatrix, NOT_FREE};
 use crate::solver::params::StretchCorrection;
-use crate::solver::report::{ContactChange, Event, IterationRecord, Observer};
 use crate::solver::state::State;
 use crate::solver::structure::Structure;
-
-/// The largest correction of an attempt that starts by sliding contacts off tips, as a fraction
-/// of the model's size (`Newton::attempt`).
-const SPRING_BACK_STEP: f64 = 0.2;
 
 /// What a Newton attempt reads: the structure (through `Deref`), the last converged state, and
 /// the scratch space it borrows buffers from.
@@ -106,7 +96,7 @@ impl<'a> Newton<'a> {
 
     /// The error for a node found deeper through a body than `max_penetration` at a converged
     /// pass (the increment is then cut back), if there is one.
-    fn too_deep(&self, contacts: &ContactSet) -> Result<(), AttemptError> {
+    pub(super) fn too_deep(&self, contacts: &ContactSet) -> Result<(), AttemptError> {
         match contacts.too_deep {
             Some((node, body, depth)) => Err(AttemptError::TooDeep { node, body, depth }),
             None => Ok(()),
@@ -136,7 +126,7 @@ impl<'a> Newton<'a> {
     /// Fail a pass that diverged or ran out of iterations. The first residual of a pass
     /// measures the penetration of the contacts just activated (large where a node touches next
     /// to an element end), not divergence, so it is not tested.
-    fn pass_failed(
+    pub(super) fn pass_failed(
         &self,
         rel: f64,
         floor: f64,
@@ -161,7 +151,7 @@ impl<'a> Newton<'a> {
     }
 
     /// Add `more` contact state changes to `so_far`; too many in one increment is chattering.
-    fn count_changes(&self, so_far: usize, more: usize) -> Result<usize, AttemptError> {
+    pub(super) fn count_changes(&self, so_far: usize, more: usize) -> Result<usize, AttemptError> {
         let total = so_far + more;
         // Every candidate node may touch, let go and touch again (one change per pass once an
         // active set repeats); beyond that, the allowance is for chattering.
@@ -189,7 +179,7 @@ impl<'a> Newton<'a> {
     /// Factor the tangent in place and solve for `rhs` with it (in one pass where the band
     /// allows, `BandMatrix::factor_and_solve`); a vanishing pivot fails the attempt, naming its
     /// dof.
-    fn factor_and_solve(
+    pub(super) fn factor_and_solve(
         &self,
         tangent: &mut BandMatrix,
         ord: &Ordering,
@@ -200,205 +190,5 @@ impl<'a> Newton<'a> {
             .map_err(|sp| AttemptError::Singular {
                 dof: self.equation_label(ord, sp.equation),
             })
-    }
-
-    /// One attempt to meet `constraint` from the last converged state.
-    /// `slide_off`: first slide off the free ends the contacts within that fraction of their
-    /// element of one (`ContactSet::slide_off_tips`); the beam then springs back, a large
-    /// motion for one Newton solve, so each correction is held to `SPRING_BACK_STEP` of the
-    /// model's size.
-    pub(crate) fn attempt(
-        &self,
-        constraint: Constraint<'_>,
-        increment: usize,
-        slide_off: Option<f64>,
-        obs: &mut dyn Observer,
-    ) -> Result<Converged, AttemptError> {
-        let p = &self.params;
-        // The buffers of the last attempt (fresh memory would cost page faults).
-        let (mut d, mut rhs) = {
-            let mut spare = self.work.spare.borrow_mut();
-            (std::mem::take(&mut spare.d), std::mem::take(&mut spare.rhs))
-        };
-        d.clear();
-        d.extend_from_slice(&self.state.d);
-        let mut contacts = self.state.contacts.clone();
-        contacts.begin_attempt();
-        let mut events = Vec::new();
-        let mut max_step = p.max_step;
-        if let Some(margin) = slide_off {
-            contacts.slide_off_tips(&self.view(), &self.state.d, margin, increment, &mut events);
-            max_step = max_step.min(SPRING_BACK_STEP * self.model_size());
-        }
-        let mut path = Path::new(constraint, self);
-        let mut ordering = self.ordering_for(&contacts);
-        let mut predictor = true;
-        let mut iterations = 0;
-        let mut log = IterationLog::default();
-        let mut changes = 0;
-        let mut pass_iter = 0;
-        let mut last_step = 0.0;
-        let mut springback = false;
-        let mut stall = Stall::new();
-        let mut bound = FloorBound::new(self.coordinate_scale(&d));
-        // The stretch correction (`take_out_stretch`), and the displacements before each
-        // update that it starts from.
-        let correcting = self.stretch_correcting();
-        let mut before = Vec::new();
-        // Buffers reused by every iteration: the assembly (band tangent included) and the
-        // right-hand side.
-        let mut asm = Assembled::default();
-        // The predictor's assembly is the last converged one when nothing differs: no contact
-        // element and no prescribed increment (which would need the coupling K_fp dp).
-        let mut reuse = false;
-        if ordering.links.is_empty() && path.starts_at_the_converged_state() {
-            if let Some(kept) = self.work.converged_assembly.take(self.state.increment) {
-                asm = kept;
-                asm.coupling.clear();
-                reuse = asm
-                    .tangent
-                    .as_ref()
-                    .is_some_and(|t| t.len() == ordering.n_eq);
-            }
-        }
-        loop {
-            let (fext, ext2) = path.external_force();
-            let loads = Self::loads_at_equations(fext, &ordering);
-            let ctx = AssemblyContext {
-                contact: p.contact_options(pass_iter + 1),
-                loads: &loads,
-                ..self.context(&ordering)
-            };
-            if std::mem::take(&mut reuse) {
-                asm.reload(&loads);
-            } else {
-                let dp = path.dp().filter(|_| predictor);
-                assemble_into(&ctx, &d, true, dp, &mut asm);
-            }
-            let (norm, reference) = self.residual_norms(&asm, fext, ext2);
-            if springback && !predictor && !contacts.one_at_a_time {
-                let released = contacts.release_tensile(
-                    &self.view(),
-                    &asm,
-                    increment,
-                    iterations,
-                    &mut events,
-                );
-                if released > 0 {
-                    changes = self.count_changes(changes, released)?;
-                    ordering = self.ordering_for(&contacts);
-                    continue;
-                }
-            }
-            let mut tangent = asm.tangent.take().expect("tangent requested");
-            if predictor {
-                for (e, c) in asm.unbalanced.iter_mut().zip(&asm.coupling) {
-                    *e -= c;
-                }
-                log.r0 = Some(sum_squares(&asm.unbalanced).sqrt());
-            } else {
-                let rel = norm / reference;
-                log.record(
-                    obs,
-                    IterationRecord {
-                        increment,
-                        iteration: iterations,
-                        residual: norm,
-                        relative_residual: rel,
-                        reference,
-                        step_norm: last_step,
-                        active_contacts: contacts.active.len(),
-                    },
-                )?;
-                let (scale, floor) = if bound.may_decide(rel, &tangent, reference, p, pass_iter) {
-                    self.roundoff_floor(&tangent, &d, reference)
-                } else {
-                    bound.get(&tangent, reference)
-                };
-                let at_floor = stall.at_floor(rel, floor, ordering.n_eq, last_step, scale);
-                let accepted = self.equilibrium_reached(rel, floor, at_floor)?;
-                // At the round-off floor the state is as converged as it can be: let the contact
-                // state settle there too (e.g. a node that must slide off a tip), even if the
-                // tolerance itself is out of reach for this contact set.
-                let settled = rel <= STAGNATION * floor;
-                if accepted || settled {
-                    let changed = contacts.after_convergence(
-                        &self.view(),
-                        &d,
-                        &asm,
-                        increment,
-                        iterations,
-                        &mut events,
-                    );
-                    self.too_deep(&contacts)?;
-                    if changed == 0 && accepted {
-                        let max_penetration = contacts.max_penetration(&self.view(), &d);
-                        // Unfactored: the next increment's predictor may start from it.
-                        asm.tangent = Some(tangent);
-                        self.work.spare.borrow_mut().rhs = rhs;
-                        return Ok(Converged {
-                            max_penetration,
-                            d,
-                            load_factor: path.lambda(),
-                            contacts,
-                            assembled: asm,
-                            iterations,
-                            iterations_8_orders: log.it8,
-                            relative_residual: rel,
-                            reference,
-                            roundoff_floor: floor,
-                            residuals: log.residuals,
-                            events,
-                        });
-                    }
-                    if changed > 0 {
-                        // A contact let go: the structure springs back, and contacts that turn
-                        // tensile on the way are released as soon as they do.
-                        springback |= events.iter().any(|e| {
-                            matches!(e, Event::Contact(c) if matches!(c.change, ContactChange::Released | ContactChange::SlidOff))
-                        });
-                        changes = self.count_changes(changes, changed)?;
-                        ordering = self.ordering_for(&contacts);
-                        pass_iter = 0;
-                        stall = Stall::new();
-                        continue;
-                    }
-                }
-                self.pass_failed(rel, floor, pass_iter, iterations)?;
-            }
-            // The unbalanced force is the right-hand side, which the solve overwrites; the next
-            // assembly gets the last right-hand side's storage.
-            std::mem::swap(&mut rhs, &mut asm.unbalanced);
-            self.factor_and_solve(&mut tangent, &ordering, &mut rhs)?;
-            if correcting {
-                before.clear();
-                before.extend_from_slice(&d);
-            }
-            let step = path.update(
-                self, predictor, &ordering, &tangent, &rhs, &mut d, max_step, iterations, &mut log,
-                &mut bound,
-            );
-            asm.tangent = Some(tangent);
-            last_step = step?;
-            predictor = false;
-            if correcting {
-                let factors = asm.tangent.as_ref().expect("factored");
-                let after = path.counts_moves().then(|| d.clone());
-                let moved = self.take_out_stretch(&before, &mut d, &ordering, factors, &mut rhs);
-                bound.moved(moved);
-                if let Some(after) = after {
-                    path.moved(&after, &d);
-                }
-            }
-            iterations += 1;
-            pass_iter += 1;
-            let moved =
-                contacts.transfer(&self.view(), &d, increment, iterations, false, &mut events);
-            // A transfer during the iterations follows the iterate (the next iterate may move
-            // the contact back): not an active-set change, so not counted as chattering.
-            if moved > 0 {
-                ordering = self.ordering_for(&contacts);
-            }
-        }
     }
 }

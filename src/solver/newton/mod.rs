@@ -1,9 +1,10 @@
 //! Newton-Raphson for one increment attempt, the same iteration for every increment control:
-//! `iteration.rs` runs it; `constraint.rs` closes the equations (prescribed displacements and
+//! `attempt.rs` runs it, on what `iteration.rs` gives it to read; `constraint.rs` closes the equations (prescribed displacements and
 //! load factor, or an arc length); `convergence.rs` tells convergence, stall and failure;
 //! `stretch.rs` corrects the chords of an update; `failure.rs` types what goes wrong;
 //! `workspace.rs` holds the scratch space the attempts share.
 
+mod attempt;
 mod constraint;
 mod convergence;
 mod failure;
