@@ -1,22 +1,18 @@
 //! The interactive visualiser (feature `gui`): `run` opens the eframe window on a scene, or
-//! renders a screenshot and exits. The app state lives in `state`, each panel in its own module,
-//! the beam strips in `beams_gpu` (wgpu) with `strips` / `shapes` for the geometry.
+//! renders a screenshot and exits. The app state lives in `state.rs` (the camera in `view.rs`),
+//! the window that lays out the panels in `window.rs`, the panels in `panels/`, the viewport
+//! and what it draws in `canvas/`; `export.rs`, `screenshot.rs`, `units.rs` and `frame_log.rs`
+//! serve them.
 
-pub mod beams_gpu;
-pub mod controls;
-pub mod details;
+pub mod canvas;
 pub mod export;
 pub mod frame_log;
-pub mod overlays;
-pub mod plots;
+pub mod panels;
 pub mod screenshot;
-pub mod shapes;
 pub mod state;
-pub mod strips;
-pub mod timeline;
 pub mod units;
 pub mod view;
-pub mod viewport;
+pub mod window;
 
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicI32, Ordering};

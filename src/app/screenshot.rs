@@ -3,7 +3,7 @@
 //! the "Save PNG" button.
 
 use std::path::PathBuf;
-use std::sync::atomic::AtomicI32;
+use std::sync::atomic::{AtomicI32, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
@@ -11,7 +11,6 @@ use egui::{ColorImage, Rect};
 use serde::Serialize;
 
 use super::export::save_png;
-use super::state::set_exit;
 use super::view::View;
 
 /// Longest a screenshot run may take before it gives up.
@@ -230,5 +229,12 @@ impl Shot {
             Phase::Load | Phase::Solving(_) | Phase::Done => {}
         }
         ctx.request_repaint_after(Duration::from_millis(10));
+    }
+}
+
+/// Exit code holder for the screenshot run.
+pub(crate) fn set_exit(exit: &Option<Arc<AtomicI32>>, code: i32) {
+    if let Some(e) = exit {
+        e.store(code, Ordering::SeqCst);
     }
 }

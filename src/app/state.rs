@@ -1,22 +1,18 @@
 //! `TsmApp`: the visualiser's state (the worker handle, the converged history, the selection,
-//! the camera, the targets of the prescribed dofs), draining the worker's messages each frame
-//! without blocking, persistence, and the `eframe::App` implementation that lays out the panels.
+//! the camera, the targets of the prescribed dofs) and draining the worker's messages each
+//! frame without blocking. The panels read and change it; `window.rs` lays them out.
 
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicI32, Ordering};
+use std::sync::atomic::AtomicI32;
 use std::sync::Arc;
 
 use crate::scene::Scene;
 use crate::solver::{Event, IncrementRecord, IterationRecord};
 use crate::worker::{Command, Loaded, Message, Worker};
 
+use super::frame_log::FrameLog;
 use super::screenshot::{Layout, Phase, Shot};
-use super::view::View;
-use super::{controls, details, frame_log::FrameLog, plots, timeline, viewport};
-
-/// Storage keys.
-const KEY_SCENE: &str = "tsm_scene";
-const KEY_VIEW: &str = "tsm_view";
+use super::view::{Drag, View};
 
 /// How the app starts.
 #[derive(Clone, Debug, Default)]
@@ -73,10 +69,10 @@ pub struct TsmApp {
     /// Where this frame drew the viewport and the convergence plot (for the screenshot sidecar).
     pub(crate) layout: Layout,
     pub(crate) run_steps: Option<usize>,
-    pub(crate) drag: Option<viewport::Drag>,
+    pub(crate) drag: Option<Drag>,
     pub(crate) hover_handle: Option<usize>,
-    frame_log: Option<FrameLog>,
-    persist: bool,
+    pub(crate) frame_log: Option<FrameLog>,
+    pub(crate) persist: bool,
 }
 
 /// Load a scene from a path if it exists, else a built-in by name.
@@ -94,79 +90,6 @@ pub fn load_scene(name: &str) -> Result<Scene, String> {
 }
 
 impl TsmApp {
-    /// Create the app, start the worker and load the start-up scene.
-    pub fn new(cc: &eframe::CreationContext<'_>, startup: Startup) -> TsmApp {
-        cc.egui_ctx.set_theme(egui::Theme::Light);
-        let ctx = cc.egui_ctx.clone();
-        // At most one repaint per display frame however fast the worker reports.
-        let worker = Worker::spawn(Some(Box::new(move || {
-            ctx.request_repaint_after(std::time::Duration::from_millis(15))
-        })));
-        let gpu = !startup.no_gpu
-            && std::env::var_os("TSM_NO_GPU").is_none()
-            && cc
-                .wgpu_render_state
-                .as_ref()
-                .is_some_and(super::beams_gpu::init);
-        let persist = startup.screenshot.is_none();
-        let stored_scene: Option<String> = if persist {
-            cc.storage.and_then(|s| eframe::get_value(s, KEY_SCENE))
-        } else {
-            None
-        };
-        let stored_view: Option<View> = if persist {
-            cc.storage.and_then(|s| eframe::get_value(s, KEY_VIEW))
-        } else {
-            None
-        };
-        let default = crate::scene::builtin::BUILTIN[0]
-            .0
-            .trim_end_matches(".ron")
-            .to_string();
-        let name = startup
-            .scene
-            .clone()
-            .or(stored_scene.clone())
-            .unwrap_or(default);
-        let keep_view = stored_view.is_some() && stored_scene.as_deref() == Some(name.as_str());
-        let mut app = TsmApp {
-            worker,
-            scene_name: name.clone(),
-            loaded: None,
-            history: Vec::new(),
-            events: Vec::new(),
-            live: Vec::new(),
-            selected: 0,
-            busy: false,
-            playing: false,
-            last_play: 0.0,
-            view: stored_view.unwrap_or_default(),
-            fit_pending: !keep_view,
-            targets: Vec::new(),
-            targeting: false,
-            plot_all: true,
-            status: String::new(),
-            error: None,
-            open_path: String::new(),
-            export_stem: "tsm-history".into(),
-            gpu,
-            shot: startup
-                .screenshot
-                .map(|p| Shot::new(p, startup.exit.clone(), true)),
-            layout: Layout::default(),
-            run_steps: startup.steps.filter(|&k| k > 0),
-            drag: None,
-            hover_handle: None,
-            frame_log: FrameLog::from_env(),
-            persist,
-        };
-        app.open(&name);
-        if !keep_view {
-            app.fit_pending = true;
-        }
-        app
-    }
-
     /// Load a scene by path or built-in name and hand it to the worker.
     pub(crate) fn open(&mut self, name: &str) {
         match load_scene(name) {
@@ -238,7 +161,7 @@ impl TsmApp {
     }
 
     /// Apply every waiting worker message. Never blocks.
-    fn drain(&mut self) {
+    pub(crate) fn drain(&mut self) {
         while let Some(m) = self.worker.try_recv() {
             match m {
                 Message::Loaded(l) => {
@@ -306,7 +229,7 @@ impl TsmApp {
     }
 
     /// Advance the playback of the timeline.
-    fn play(&mut self, ctx: &egui::Context) {
+    pub(crate) fn play(&mut self, ctx: &egui::Context) {
         if !self.playing {
             return;
         }
@@ -320,70 +243,5 @@ impl TsmApp {
             }
         }
         ctx.request_repaint_after(std::time::Duration::from_millis(16));
-    }
-}
-
-impl eframe::App for TsmApp {
-    fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
-        let t0 = std::time::Instant::now();
-        self.drain();
-        let ctx = ui.ctx().clone();
-        self.play(&ctx);
-        egui::Panel::top("toolbar").show(ui, |ui| controls::toolbar(self, ui));
-        egui::Panel::bottom("timeline")
-            .resizable(true)
-            .default_size(300.0)
-            .min_size(200.0)
-            .show(ui, |ui| {
-                timeline::show(self, ui);
-                ui.separator();
-                plots::show(self, ui);
-            });
-        egui::Panel::right("details")
-            .resizable(true)
-            .default_size(330.0)
-            .show(ui, |ui| {
-                egui::ScrollArea::vertical().show(ui, |ui| {
-                    controls::sliders(self, ui);
-                    ui.separator();
-                    details::show(self, ui);
-                });
-            });
-        let gpu = if self.gpu {
-            frame.wgpu_render_state().cloned()
-        } else {
-            None
-        };
-        egui::CentralPanel::no_frame().show(ui, |ui| viewport::show(self, ui, gpu.as_ref()));
-        if let Some(shot) = &mut self.shot {
-            shot.frame(&ctx, &self.layout);
-            if shot.finished() {
-                self.shot = None;
-            }
-        }
-        let increments = self.last();
-        if let Some(log) = &mut self.frame_log {
-            log.frame(t0.elapsed(), self.busy, increments);
-            // Keep drawing so that idle frames are measured too.
-            ctx.request_repaint();
-        }
-    }
-
-    fn persist_egui_memory(&self) -> bool {
-        self.persist
-    }
-
-    fn save(&mut self, storage: &mut dyn eframe::Storage) {
-        if self.persist {
-            eframe::set_value(storage, KEY_SCENE, &self.scene_name);
-            eframe::set_value(storage, KEY_VIEW, &self.view);
-        }
-    }
-}
-
-/// Exit code holder for the screenshot run.
-pub(crate) fn set_exit(exit: &Option<Arc<AtomicI32>>, code: i32) {
-    if let Some(e) = exit {
-        e.store(code, Ordering::SeqCst);
     }
 }

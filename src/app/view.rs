@@ -4,6 +4,8 @@
 use egui::{Pos2, Rect, Vec2};
 use serde::{Deserialize, Serialize};
 
+use crate::solver::{Dof, IncrementRecord, Model};
+
 /// World-to-screen mapping: `center` (m) sits at the middle of the viewport, `scale` points per
 /// metre, y up.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -86,4 +88,32 @@ pub fn bounds<'a>(points: impl IntoIterator<Item = &'a [f64; 3]>) -> [f64; 4] {
         b[3] = b[3].max(p[1]);
     }
     b
+}
+
+/// A drag of a prescribed-dof handle in progress.
+#[derive(Clone, Copy, Debug)]
+pub struct Drag {
+    /// Which prescribed dof.
+    pub index: usize,
+    /// The dof's target when the drag started.
+    pub start: f64,
+    /// Pointer motion so far (screen points).
+    pub moved: egui::Vec2,
+}
+
+/// World position of the handle of prescribed dof `k` (initial position plus the target).
+pub(crate) fn handle_world(
+    model: &Model,
+    r: &IncrementRecord,
+    k: usize,
+    target: f64,
+) -> Option<[f64; 2]> {
+    let p = model.prescribed.get(k)?;
+    let n = p.node;
+    let cur = [r.nodes[n][0], r.nodes[n][1]];
+    match p.dof {
+        Dof::U => Some([model.nodes[n].x + target, cur[1]]),
+        Dof::V => Some([cur[0], model.nodes[n].y + target]),
+        Dof::Phi => None,
+    }
 }

@@ -5,26 +5,17 @@
 
 use egui::{Align2, Color32, FontId, Pos2, Rect, Sense, Vec2};
 
-use crate::solver::{Dof, IncrementRecord, Model};
+use crate::solver::Dof;
 use crate::worker::Command;
 
 use super::beams_gpu::{self, Strip};
 use super::overlays::{self, INK};
 use super::shapes::{deformed_bodies, max_moment, moment_color, undeformed_bodies};
-use super::state::TsmApp;
 use super::strips::Polyline;
-use super::view::bounds;
+use crate::app::state::TsmApp;
+use crate::app::view::{bounds, handle_world, Drag};
 
 const GHOST: Color32 = Color32::from_rgb(175, 178, 186);
-
-/// A drag of a prescribed-dof handle in progress.
-#[derive(Clone, Copy, Debug)]
-pub struct Drag {
-    /// Which prescribed dof.
-    pub index: usize,
-    start: f64,
-    moved: Vec2,
-}
 
 /// Show the viewport.
 pub fn show(app: &mut TsmApp, ui: &mut egui::Ui, gpu: Option<&egui_wgpu::RenderState>) {
@@ -100,23 +91,6 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui, gpu: Option<&egui_wgpu::RenderS
         FontId::proportional(14.0),
         INK,
     );
-}
-
-/// World position of the handle of prescribed dof `k` (initial position plus the target).
-pub(crate) fn handle_world(
-    model: &Model,
-    r: &IncrementRecord,
-    k: usize,
-    target: f64,
-) -> Option<[f64; 2]> {
-    let p = model.prescribed.get(k)?;
-    let n = p.node;
-    let cur = [r.nodes[n][0], r.nodes[n][1]];
-    match p.dof {
-        Dof::U => Some([model.nodes[n].x + target, cur[1]]),
-        Dof::V => Some([cur[0], model.nodes[n].y + target]),
-        Dof::Phi => None,
-    }
 }
 
 /// Interact with the prescribed-dof handles: dragging one sets its target.

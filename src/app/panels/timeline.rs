@@ -5,7 +5,7 @@
 
 use crate::worker::Command;
 
-use super::state::TsmApp;
+use crate::app::state::TsmApp;
 
 /// Show the timeline row.
 pub fn show(app: &mut TsmApp, ui: &mut egui::Ui) {

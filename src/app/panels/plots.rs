@@ -8,7 +8,7 @@ use egui_plot::{GridInput, GridMark, HLine, HoverPosition, Line, MarkerShape, Pl
 
 use crate::solver::{Dof, Event, IncrementRecord, IncrementStatus, IterationRecord};
 
-use super::state::TsmApp;
+use crate::app::state::TsmApp;
 
 const RESIDUAL: Color32 = Color32::from_rgb(40, 90, 170);
 const SELECTED: Color32 = Color32::from_rgb(230, 120, 0);

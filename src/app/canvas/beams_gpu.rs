@@ -10,7 +10,7 @@ use egui_wgpu::{CallbackResources, CallbackTrait, RenderState, ScreenDescriptor}
 
 use super::strips::{push_gpu_strip, push_mesh_strip, Polyline, StripVertex};
 
-const SHADER: &str = include_str!("../../shaders/beams.wgsl");
+const SHADER: &str = include_str!("../../../shaders/beams.wgsl");
 
 /// A strip to draw: polyline and half width in pixels.
 pub struct Strip {

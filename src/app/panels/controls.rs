@@ -4,9 +4,9 @@
 use crate::solver::{Formulation, StretchCorrection};
 use crate::worker::Command;
 
-use super::export;
-use super::screenshot::Shot;
-use super::state::TsmApp;
+use crate::app::export;
+use crate::app::screenshot::Shot;
+use crate::app::state::TsmApp;
 
 /// The stretch-correction mode of Newton's updates (`StretchCorrection`): a change reloads
 /// the scene, as the formulation toggle does.

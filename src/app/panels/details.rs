@@ -4,8 +4,8 @@
 use egui::RichText;
 
 use super::plots::ROUNDOFF;
-use super::state::TsmApp;
-use super::units::num;
+use crate::app::state::TsmApp;
+use crate::app::units::num;
 use crate::solver::IncrementStatus;
 
 /// Show the details of the selected increment.

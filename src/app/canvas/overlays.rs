@@ -7,9 +7,9 @@ use egui::{Align2, Color32, FontId, Pos2, Rect, Shape, Stroke, Vec2};
 use crate::solver::{Dof, IncrementRecord, Model};
 
 use super::shapes::moment_color;
-use super::state::TsmApp;
-use super::units::num;
-use super::viewport::handle_world;
+use crate::app::state::TsmApp;
+use crate::app::units::num;
+use crate::app::view::handle_world;
 
 /// Lines and text.
 pub const INK: Color32 = Color32::from_rgb(40, 44, 52);

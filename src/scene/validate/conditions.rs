@@ -1,0 +1,78 @@
+//! The boundary conditions and loading of a scene: `supports`, `loads` and `prescribed`
+//! displacements, each on a node that has the dof, none both supported and prescribed.
+
+use super::errors::{Ctx, SceneError};
+use super::geometry::Geometry;
+use crate::scene::format::SceneFile;
+use crate::solver::{Dof, Load, Prescribed, Support};
+
+/// Supports, loads and prescribed displacements of a scene.
+pub(super) struct Conditions {
+    pub(super) supports: Vec<Support>,
+    pub(super) loads: Vec<Load>,
+    pub(super) prescribed: Vec<Prescribed>,
+}
+
+/// The conditions of `sf` on geometry `g`.
+pub(super) fn conditions(
+    ctx: &Ctx,
+    sf: &SceneFile,
+    g: &Geometry,
+) -> Result<Conditions, SceneError> {
+    let mut supports = Vec::new();
+    for (k, s) in sf.supports.iter().enumerate() {
+        let n = g.node_of(ctx, format!("supports[{k}].node"), s.node)?;
+        for (on, dof) in [(s.u, Dof::U), (s.v, Dof::V), (s.phi, Dof::Phi)] {
+            if on {
+                g.check_dof(ctx, format!("supports[{k}].phi (node {})", s.node), n, dof)?;
+                if !supports.contains(&Support { node: n, dof }) {
+                    supports.push(Support { node: n, dof });
+                }
+            }
+        }
+    }
+    let mut loads = Vec::new();
+    for (k, l) in sf.loads.iter().enumerate() {
+        let n = g.node_of(ctx, format!("loads[{k}].node"), l.node)?;
+        if l.m != 0.0 {
+            g.check_dof(ctx, format!("loads[{k}].m (node {})", l.node), n, Dof::Phi)?;
+        }
+        if ![l.fx, l.fy, l.m].iter().all(|v| v.is_finite()) {
+            return Err(ctx.err(
+                format!("loads[{k}] (node {})", l.node),
+                Some(format!("node:{}", l.node)),
+                "load must be finite",
+            ));
+        }
+        loads.push(Load {
+            node: n,
+            force: [l.fx, l.fy, l.m],
+        });
+    }
+    let mut prescribed: Vec<Prescribed> = Vec::new();
+    for (k, p) in sf.prescribed.iter().enumerate() {
+        let field = format!("prescribed[{k}] (node {} {})", p.node, p.dof.name());
+        let n = g.node_of(ctx, field.clone(), p.node)?;
+        g.check_dof(ctx, field.clone(), n, p.dof)?;
+        let nd = Some(format!("node:{}", p.node));
+        if !p.per_step.is_finite() {
+            return Err(ctx.err(field, nd, "per_step must be finite"));
+        }
+        if supports.iter().any(|s| s.node == n && s.dof == p.dof) {
+            return Err(ctx.err(field, nd, "a dof cannot be both supported and prescribed"));
+        }
+        if prescribed.iter().any(|q| q.node == n && q.dof == p.dof) {
+            return Err(ctx.err(field, nd, "prescribed twice"));
+        }
+        prescribed.push(Prescribed {
+            node: n,
+            dof: p.dof,
+            per_step: p.per_step,
+        });
+    }
+    Ok(Conditions {
+        supports,
+        loads,
+        prescribed,
+    })
+}

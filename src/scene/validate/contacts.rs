@@ -1,0 +1,42 @@
+//! The `contacts` of a scene: candidate nodes (listed, or every node of the named bodies) and
+//! the bodies they may touch.
+
+use super::errors::{Ctx, SceneError};
+use super::geometry::Geometry;
+use crate::scene::format::SceneFile;
+use crate::solver::{Beam, ContactPair};
+
+/// The contact pairs of `sf` on geometry `g`.
+pub(super) fn contacts(
+    ctx: &Ctx,
+    sf: &SceneFile,
+    g: &Geometry,
+) -> Result<Vec<ContactPair>, SceneError> {
+    let mut contacts = Vec::new();
+    for (k, c) in sf.contacts.iter().enumerate() {
+        let mut cn = Vec::new();
+        for (m, &id) in c.nodes.iter().enumerate() {
+            cn.push(g.node_of(ctx, format!("contacts[{k}].nodes[{m}]"), id)?);
+        }
+        for (m, name) in c.node_bodies.iter().enumerate() {
+            let b = g.body_of(ctx, format!("contacts[{k}].node_bodies[{m}]"), name)?;
+            for &e in &g.bodies[b].elements {
+                let beam: &Beam = &g.beams[e];
+                for n in [beam.i, beam.j] {
+                    if !cn.contains(&n) {
+                        cn.push(n);
+                    }
+                }
+            }
+        }
+        let mut cb = Vec::new();
+        for (m, name) in c.bodies.iter().enumerate() {
+            cb.push(g.body_of(ctx, format!("contacts[{k}].bodies[{m}]"), name)?);
+        }
+        contacts.push(ContactPair {
+            nodes: cn,
+            bodies: cb,
+        });
+    }
+    Ok(contacts)
+}

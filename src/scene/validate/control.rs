@@ -1,0 +1,79 @@
+//! The `control` section of a scene: solver parameters, steps and the load per step, with
+//! arc-length control only for a load-driven scene whose prescribed displacements are held.
+
+use super::conditions::Conditions;
+use super::errors::{positive, Ctx, SceneError};
+use crate::scene::format::SceneFile;
+use crate::solver::SolverParams;
+
+/// The run settings of a scene.
+pub(super) struct Control {
+    pub(super) params: SolverParams,
+    pub(super) steps: usize,
+    pub(super) load_per_step: f64,
+}
+
+/// The control settings of `sf`, whose conditions are `c_`.
+pub(super) fn control(ctx: &Ctx, sf: &SceneFile, c_: &Conditions) -> Result<Control, SceneError> {
+    let c = &sf.control;
+    let mut params = SolverParams::default();
+    if let Some(t) = c.tolerance {
+        positive(ctx, "control.tolerance".into(), Some("tolerance".into()), t)?;
+        params.tolerance = t;
+    }
+    if let Some(b) = c.roundoff_bound {
+        positive(
+            ctx,
+            "control.roundoff_bound".into(),
+            Some("roundoff_bound".into()),
+            b,
+        )?;
+        params.roundoff_bound = b;
+    }
+    if let Some(s) = c.max_step {
+        positive(ctx, "control.max_step".into(), Some("max_step".into()), s)?;
+        params.max_step = s;
+    }
+    params.stretch_correction = c.stretch_correction;
+    if let Some(s) = c.arc_length {
+        positive(
+            ctx,
+            "control.arc_length".into(),
+            Some("arc_length".into()),
+            s,
+        )?;
+        if c_.loads.is_empty() {
+            return Err(ctx.err(
+                "control.arc_length",
+                Some("arc_length".into()),
+                "arc-length control needs at least one load (the load factor is what it solves for)",
+            ));
+        }
+        if let Some(k) = c_.prescribed.iter().position(|p| p.per_step != 0.0) {
+            return Err(ctx.err(
+                format!("prescribed[{k}].per_step"),
+                Some("per_step".into()),
+                "with control.arc_length, prescribed displacements are held: per_step must be 0",
+            ));
+        }
+        params.arc_length = Some(s);
+    }
+    let steps = c.steps.max(1);
+    let load_per_step = match c.load_per_step {
+        Some(v) if v.is_finite() => v,
+        Some(v) => {
+            return Err(ctx.err(
+                "control.load_per_step",
+                Some("load_per_step".into()),
+                format!("must be finite, got {v}"),
+            ))
+        }
+        None if c_.loads.is_empty() => 0.0,
+        None => 1.0 / steps as f64,
+    };
+    Ok(Control {
+        params,
+        steps,
+        load_per_step,
+    })
+}

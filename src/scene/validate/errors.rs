@@ -1,0 +1,79 @@
+//! Errors of scene validation, located by file, line and field (`SceneError`), and the
+//! context that finds the line of a field in the scene text.
+
+use std::fmt;
+
+/// A problem with a scene, located as precisely as possible.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneError {
+    /// File name (or `"<memory>"`).
+    pub file: String,
+    /// 1-based line, when known.
+    pub line: Option<usize>,
+    /// Field path, e.g. `bodies[1].section`.
+    pub field: String,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl fmt::Display for SceneError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.line {
+            Some(l) => write!(f, "{}:{}: {}: {}", self.file, l, self.field, self.message),
+            None => write!(f, "{}: {}: {}", self.file, self.field, self.message),
+        }
+    }
+}
+
+impl std::error::Error for SceneError {}
+
+/// Where the scene text came from, for locating errors.
+pub(super) struct Ctx<'a> {
+    pub(super) text: &'a str,
+    pub(super) file: &'a str,
+}
+
+impl Ctx<'_> {
+    /// The error for `field`, located at the first line holding `needle`.
+    pub(super) fn err(
+        &self,
+        field: impl Into<String>,
+        needle: Option<String>,
+        message: impl Into<String>,
+    ) -> SceneError {
+        let line = needle.and_then(|n| locate(self.text, &n));
+        SceneError {
+            file: self.file.into(),
+            line,
+            field: field.into(),
+            message: message.into(),
+        }
+    }
+}
+
+/// First line containing `needle` (whitespace-insensitive around ':').
+fn locate(text: &str, needle: &str) -> Option<usize> {
+    let squash = |s: &str| s.chars().filter(|c| !c.is_whitespace()).collect::<String>();
+    let n = squash(needle);
+    text.lines()
+        .position(|l| squash(l).contains(&n))
+        .map(|i| i + 1)
+}
+
+/// `v` must be positive and finite.
+pub(super) fn positive(
+    ctx: &Ctx,
+    field: String,
+    needle: Option<String>,
+    v: f64,
+) -> Result<(), SceneError> {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(ctx.err(
+            field,
+            needle,
+            format!("must be positive and finite, got {v}"),
+        ))
+    }
+}

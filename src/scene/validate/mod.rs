@@ -1,0 +1,18 @@
+//! Scene validation: parse RON, check every reference and value section by section, and build
+//! the solver `Model`. Every error names the file, the line where it could be located, the
+//! field and the node, element or body concerned. Never panics on user input.
+//! `parse.rs` reads a scene; `sections.rs`, `geometry.rs` (nodes and bodies),
+//! `conditions.rs` (supports, loads, prescribed), `contacts.rs` and `control.rs` check one
+//! part each; `errors.rs` locates what is wrong.
+
+mod conditions;
+mod contacts;
+mod control;
+mod errors;
+mod geometry;
+mod parse;
+mod sections;
+
+pub use errors::SceneError;
+pub use geometry::MAX_ELEMENTS;
+pub use parse::{load_file, parse, Scene};

@@ -1,0 +1,105 @@
+//! Reading a scene: the RON text parsed and validated section by section into the solver's
+//! `Model` and the run settings (`Scene`), and the final check that the structure is not a
+//! mechanism.
+
+use std::path::Path;
+
+use super::conditions::conditions;
+use super::contacts::contacts;
+use super::control::control;
+use super::errors::{Ctx, SceneError};
+use super::geometry::geometry;
+use super::sections::sections;
+use crate::scene::format::SceneFile;
+use crate::solver::{Model, SolveError, Solver, SolverParams};
+
+/// A validated scene: the file as written, the model and the run settings.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    /// The file contents as parsed.
+    pub file: SceneFile,
+    /// The solver model.
+    pub model: Model,
+    /// Solver parameters (defaults plus the scene's control settings).
+    pub params: SolverParams,
+    /// Steps a run makes.
+    pub steps: usize,
+}
+
+impl Scene {
+    /// A solver at the scene's initial state.
+    pub fn solver(&self) -> Result<Solver, SolveError> {
+        Solver::new(self.model.clone(), self.params)
+    }
+}
+
+/// Read and validate a scene file.
+pub fn load_file(path: &Path) -> Result<Scene, SceneError> {
+    let name = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| SceneError {
+        file: name.clone(),
+        line: None,
+        field: "(file)".into(),
+        message: format!("cannot read: {e}"),
+    })?;
+    parse(&text, &name)
+}
+
+/// Parse and validate scene text; `file` is used in messages.
+pub fn parse(text: &str, file: &str) -> Result<Scene, SceneError> {
+    let options =
+        ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
+    let sf: SceneFile = options.from_str(text).map_err(|e| SceneError {
+        file: file.into(),
+        line: Some(e.span.start.line),
+        field: "(syntax)".into(),
+        message: format!("{} (column {})", e.code, e.span.start.col),
+    })?;
+    build(sf, text, file)
+}
+
+/// Validate parsed scene `sf` (from `text` of `file`) and build its model.
+fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
+    let ctx = Ctx { text, file };
+    let sections = sections(&ctx, &sf)?;
+    let g = geometry(&ctx, &sf, &sections)?;
+    let c = conditions(&ctx, &sf, &g)?;
+    let contacts = contacts(&ctx, &sf, &g)?;
+    let run = control(&ctx, &sf, &c)?;
+    if g.beams.is_empty() {
+        return Err(ctx.err("bodies", None, "the scene has no beam elements"));
+    }
+    let model = Model {
+        nodes: g.nodes,
+        beams: g.beams,
+        bodies: g.bodies,
+        supports: c.supports,
+        loads: c.loads,
+        prescribed: c.prescribed,
+        load_per_step: run.load_per_step,
+        formulation: sf.formulation,
+        contacts,
+    };
+    let scene = Scene {
+        file: sf,
+        model,
+        params: run.params,
+        steps: run.steps,
+    };
+    if let Err(e) = scene.solver() {
+        if let SolveError::AmbiguousSide { .. } = e {
+            return Err(ctx.err("contacts", None, e.to_string()));
+        }
+        let message = match e {
+            SolveError::Mechanism { dofs } => {
+                format!(
+                    "the structure is a mechanism; these free dofs have no stiffness: {}",
+                    dofs.join(", ")
+                )
+            }
+            other => other.to_string(),
+        };
+        return Err(ctx.err("supports", None, message));
+    }
+    Ok(scene)
+}

@@ -1,0 +1,79 @@
+//! What goes over the worker's channels: the commands it takes and the messages it streams
+//! back.
+
+use crate::scene::Scene;
+use crate::solver::element::beam::BeamElement;
+use crate::solver::{Event, Formulation, IncrementRecord, IterationRecord, StretchCorrection};
+
+/// Capacity of the worker's outgoing message channel.
+pub const CHANNEL_CAPACITY: usize = 1024;
+
+/// A request to the worker. Commands are handled in order; a command that arrives while the
+/// worker is solving interrupts the current Newton attempt unless it is `Run`, `RunSteps`,
+/// `Step` or `Pause` (those wait for the current increment to converge).
+#[derive(Debug)]
+pub enum Command {
+    /// Replace the scene and start from its undeformed state.
+    LoadScene(Box<Scene>),
+    /// Solve the scene's remaining steps (up to `Scene::steps` steps in all).
+    Run,
+    /// Solve this many more steps.
+    RunSteps(usize),
+    /// Stop after the increment being solved.
+    Pause,
+    /// Solve one more step.
+    Step,
+    /// March prescribed dof `index` from the current equilibrium to `value`, in increments no
+    /// larger than that dof's `|per_step|`. A newer target replaces the old one at once.
+    SetTarget {
+        /// Index into `Model::prescribed`.
+        index: usize,
+        /// Target value (m or rad).
+        value: f64,
+    },
+    /// Reload the scene with this element formulation.
+    SetFormulation(Formulation),
+    /// Reload the scene with this stretch-correction mode (`SolverParams::stretch_correction`).
+    SetStretchCorrection(StretchCorrection),
+    /// Back to the undeformed state of the current scene.
+    Reset,
+    /// Abandon the current work at once (the last converged state is kept).
+    Cancel,
+    /// End the thread.
+    Shutdown,
+}
+
+/// The state right after a scene (re)load.
+#[derive(Clone, Debug)]
+pub struct Loaded {
+    /// The scene as solved (its model carries the formulation in use).
+    pub scene: Scene,
+    /// The element evaluators, needed by `solver::element::shape::element_curve`.
+    pub elements: Vec<BeamElement>,
+    /// The undeformed state as increment 0 (no forces, no contacts).
+    pub initial: IncrementRecord,
+    /// "node N v"-style label of every prescribed dof.
+    pub prescribed_labels: Vec<String>,
+}
+
+/// What the worker reports.
+#[derive(Clone, Debug)]
+pub enum Message {
+    /// A Newton iteration (may be dropped when the channel is full).
+    Iteration(IterationRecord),
+    /// A converged increment.
+    Increment(Box<IncrementRecord>),
+    /// A cut-back or contact event.
+    Event(Event),
+    /// A solver error or a caught panic; the worker stays usable.
+    Error(String),
+    /// A scene was (re)loaded.
+    Loaded(Box<Loaded>),
+    /// The worker started solving.
+    Busy,
+    /// The worker has nothing left to do.
+    Idle,
+}
+
+/// Called after the worker sends messages (e.g. `egui::Context::request_repaint`).
+pub type Repaint = Box<dyn Fn() + Send>;

@@ -1,0 +1,72 @@
+//! What the worker works out from a solver: the next target of a drag (no further than one
+//! scene step per increment), whether the targets are reached, the record of the initial
+//! state, and the text of a caught panic.
+
+use crate::solver::{IncrementRecord, Solver};
+
+/// The next prescribed values on the way to `targets`: the whole way if every dof is within its
+/// `|per_step|`, else scaled so that no dof moves more than its `|per_step|`.
+pub fn next_target(solver: &Solver, targets: &[f64]) -> Vec<f64> {
+    let cur = solver.prescribed_values();
+    let mut f = 1.0f64;
+    for ((p, c), t) in solver.model.prescribed.iter().zip(cur).zip(targets) {
+        let d = (t - c).abs();
+        let h = p.per_step.abs();
+        if d > h && h > 0.0 {
+            f = f.min(h / d);
+        }
+    }
+    if f >= 1.0 {
+        return targets.to_vec();
+    }
+    cur.iter()
+        .zip(targets)
+        .map(|(c, t)| c + f * (t - c))
+        .collect()
+}
+
+/// Whether the prescribed values are at the targets (to a negligible fraction of a step).
+pub(super) fn reached(solver: &Solver, targets: &[f64]) -> bool {
+    solver
+        .model
+        .prescribed
+        .iter()
+        .zip(solver.prescribed_values())
+        .zip(targets)
+        .all(|((p, c), t)| (t - c).abs() <= 1e-12 * p.per_step.abs().max(t.abs()).max(1e-300))
+}
+
+/// The undeformed state of a fresh solver as increment 0.
+pub fn initial_record(solver: &Solver) -> IncrementRecord {
+    let model = &solver.model;
+    IncrementRecord {
+        increment: 0,
+        prescribed: solver.prescribed_values().to_vec(),
+        load_factor: solver.load_factor(),
+        iterations: 0,
+        iterations_8_orders: None,
+        relative_residual: 0.0,
+        reference: 0.0,
+        roundoff_floor: 0.0,
+        status: Default::default(),
+        cutbacks: 0,
+        residuals: Vec::new(),
+        nodes: solver.node_states(solver.displacements()),
+        element_forces: vec![[0.0; 3]; model.beams.len()],
+        reactions: Vec::new(),
+        contacts: Vec::new(),
+        max_penetration: 0.0,
+        events: Vec::new(),
+        seconds: 0.0,
+    }
+}
+
+pub(super) fn panic_text(p: &Box<dyn std::any::Any + Send>) -> String {
+    if let Some(s) = p.downcast_ref::<&str>() {
+        (*s).to_string()
+    } else if let Some(s) = p.downcast_ref::<String>() {
+        s.clone()
+    } else {
+        "unknown panic".into()
+    }
+}
