@@ -85,12 +85,12 @@ fn example_3_2(c: &mut Criterion) {
 /// prescribed displacement moves one step's worth and the solver converges there
 /// (`Solver::advance_to`, as the worker does for `SetTarget`). Target: within a 16 ms frame.
 fn slider_update(c: &mut Criterion) {
-    use tsm_contact::reports::interactive::{converged_states, one_step_targets};
+    use tsm_contact::reports::interactive::converged_states;
     let mut g = c.benchmark_group("slider_update");
     for scene in tsm_contact::reports::interactive::SCENES {
         let states = converged_states(scene);
         let state = states[states.len() / 2].clone();
-        let (targets, lambda) = one_step_targets(&state);
+        let (targets, lambda) = (state.step_targets().0, state.load_factor());
         g.bench_function(scene, |b| {
             b.iter_batched(
                 || state.clone(),

@@ -18,7 +18,7 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicI32, Ordering};
 use std::sync::Arc;
 
-pub use state::{load_scene, Startup, TsmApp};
+pub use state::{Startup, TsmApp};
 
 /// Open the visualiser on `scene` (a path or built-in name; default: the last one used, else
 /// the first built-in), solve `steps` steps first, and with `screenshot` save a PNG after the

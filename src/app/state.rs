@@ -6,7 +6,6 @@ use std::path::PathBuf;
 use std::sync::atomic::AtomicI32;
 use std::sync::Arc;
 
-use crate::scene::Scene;
 use crate::solver::{Event, IncrementRecord, IterationRecord};
 use crate::worker::{Command, Loaded, Message, Worker};
 
@@ -75,24 +74,10 @@ pub struct TsmApp {
     pub(crate) persist: bool,
 }
 
-/// Load a scene from a path if it exists, else a built-in by name.
-pub fn load_scene(name: &str) -> Result<Scene, String> {
-    let path = std::path::Path::new(name);
-    if path.exists() {
-        return crate::scene::load_file(path).map_err(|e| e.to_string());
-    }
-    match crate::scene::builtin::builtin(name) {
-        Some(r) => r.map_err(|e| e.to_string()),
-        None => Err(format!(
-            "{name}: no such file and no built-in scene of that name"
-        )),
-    }
-}
-
 impl TsmApp {
     /// Load a scene by path or built-in name and hand it to the worker.
     pub(crate) fn open(&mut self, name: &str) {
-        match load_scene(name) {
+        match crate::scene::builtin::open(name).map_err(|e| e.to_string()) {
             Ok(scene) => {
                 self.scene_name = name.to_string();
                 self.error = None;

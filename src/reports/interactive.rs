@@ -28,19 +28,6 @@ pub struct SliderRow {
     pub max_ms: f64,
 }
 
-/// The targets one slider step away from the solver's converged state: every prescribed value
-/// moved by its `per_step`, at the current load factor.
-pub fn one_step_targets(solver: &Solver) -> (Vec<f64>, f64) {
-    let targets = solver
-        .model
-        .prescribed
-        .iter()
-        .zip(solver.prescribed_values())
-        .map(|(p, v)| v + p.per_step)
-        .collect();
-    (targets, solver.load_factor())
-}
-
 /// The converged states of a built-in scene after 0, 1, ... steps (as far as it solves).
 pub fn converged_states(scene: &str) -> Vec<Solver> {
     let sc = builtin(scene).expect("built-in scene").expect("valid");
@@ -57,7 +44,8 @@ pub fn converged_states(scene: &str) -> Vec<Solver> {
 
 /// Time one slider update from `state` (seconds); `None` if it does not converge.
 pub fn time_update(state: &Solver) -> Option<f64> {
-    let (targets, lambda) = one_step_targets(state);
+    // A slider step: the prescribed values one step on, at the current load factor.
+    let (targets, lambda) = (state.step_targets().0, state.load_factor());
     let mut s = state.clone();
     let t = Instant::now();
     s.advance_to(&targets, lambda, &mut Silent).ok()?;

@@ -1,6 +1,6 @@
 //! The built-in scenes, compiled into the binary from `assets/scenes/`.
 
-use super::validate::{parse, Scene, SceneError};
+use super::validate::{load_file, parse, Scene, SceneError};
 
 /// (file name, RON text) of every built-in scene, default first.
 pub const BUILTIN: &[(&str, &str)] = &[
@@ -119,4 +119,23 @@ pub fn long_beam(n: usize) -> Scene {
     sc.model.load_per_step = 0.1 / (span * span) as f64;
     sc.params.tolerance = 1e-5;
     sc
+}
+
+/// Open a scene by path, or (where no file of that name exists) a built-in by name: what the
+/// CLI and the app accept wherever a scene is named.
+pub fn open(name: &str) -> Result<Scene, SceneError> {
+    let path = std::path::Path::new(name);
+    if path.exists() {
+        return load_file(path);
+    }
+    match builtin(name) {
+        Some(r) => r,
+        None => Err(SceneError {
+            file: name.into(),
+            line: None,
+            field: "(file)".into(),
+            message: "no such file and no built-in scene of that name (try `tsm-contact scenes`)"
+                .into(),
+        }),
+    }
 }

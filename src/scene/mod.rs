@@ -5,5 +5,6 @@ pub mod builtin;
 pub mod format;
 pub mod validate;
 
+pub use builtin::open;
 pub use format::SceneFile;
 pub use validate::{load_file, parse, Scene, SceneError};

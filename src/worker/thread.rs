@@ -201,16 +201,7 @@ impl Thread {
             return self.go_idle();
         };
         let (goal, lambda) = match &self.mode {
-            Mode::Running(_) => (
-                solver
-                    .model
-                    .prescribed
-                    .iter()
-                    .zip(solver.prescribed_values())
-                    .map(|(p, v)| v + p.per_step)
-                    .collect(),
-                solver.load_factor() + solver.model.load_per_step,
-            ),
+            Mode::Running(_) => solver.step_targets(),
             Mode::Targeting(t) => (t.clone(), solver.load_factor()),
             Mode::Idle => {
                 self.solver = Some(solver);

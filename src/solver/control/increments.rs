@@ -24,15 +24,18 @@ impl Solver {
         if self.params.arc_length.is_some() {
             return self.arc_length_step(obs);
         }
-        let targets: Vec<f64> = self
-            .model
-            .prescribed
-            .iter()
+        let (targets, lambda) = self.step_targets();
+        self.advance_to(&targets, lambda, obs)
+    }
+
+    /// Where one scene step from the converged state goes: every prescribed value moved by its
+    /// `per_step`, and the load factor by `load_per_step`.
+    pub fn step_targets(&self) -> (Vec<f64>, f64) {
+        let targets = (self.model.prescribed.iter())
             .zip(&self.state.prescribed)
             .map(|(p, v)| v + p.per_step)
             .collect();
-        let lambda = self.state.load_factor + self.model.load_per_step;
-        self.advance_to(&targets, lambda, obs)
+        (targets, self.state.load_factor + self.model.load_per_step)
     }
 
     /// Advance from the converged state to the given prescribed values and load factor, halving

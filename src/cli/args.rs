@@ -1,0 +1,116 @@
+//! The command line as clap parses it: the subcommands and their arguments.
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+
+/// The command line.
+#[derive(Parser)]
+#[command(
+    name = "tsm-contact",
+    version,
+    about = "Tangent Stiffness Method for large-displacement contact of plane frames"
+)]
+pub(super) struct Cli {
+    #[command(subcommand)]
+    pub(super) command: Option<Command>,
+}
+
+/// `--formulation`'s values.
+#[derive(Clone, Copy, ValueEnum)]
+pub(super) enum FormulationArg {
+    Timoshenko,
+    BernoulliEuler,
+}
+
+/// `--stretch-correction`'s values (`StretchCorrection`).
+#[derive(Clone, Copy, ValueEnum)]
+pub(super) enum StretchArg {
+    Never,
+    AfterCutBack,
+    Always,
+}
+
+/// The `solve` command's arguments.
+#[derive(Args)]
+pub(super) struct SolveArgs {
+    /// Scene file (RON) or the name of a built-in scene.
+    pub(super) scene: String,
+    /// Number of steps (default: the scene's).
+    #[arg(long)]
+    pub(super) steps: Option<usize>,
+    /// Override the element formulation.
+    #[arg(long, value_enum)]
+    pub(super) formulation: Option<FormulationArg>,
+    /// Write the full history as JSON.
+    #[arg(long)]
+    pub(super) json: Option<PathBuf>,
+    /// Print every Newton iteration's residual.
+    #[arg(long)]
+    pub(super) verbose: bool,
+    /// Use the contact element's unsymmetric tangent term from this iteration of each pass
+    /// on (1 = always, the default; 0 = never).
+    #[arg(long)]
+    pub(super) unsymmetric_from: Option<usize>,
+    /// When Newton's updates take the chords' second-order gaps out (the scene's
+    /// `control: (stretch_correction: ...)`, by default after the run's first cut-back): for
+    /// fine meshes of axially stiff beams in large rotation. Given without a value: always.
+    #[arg(long, num_args = 0..=1, default_missing_value = "always")]
+    pub(super) stretch_correction: Option<StretchArg>,
+}
+
+/// The subcommands.
+#[derive(Subcommand)]
+pub(super) enum Command {
+    /// Solve a scene headless: one line per increment, contact events as they happen.
+    Solve(SolveArgs),
+    /// List the built-in scenes.
+    Scenes,
+    /// Work-precision report: error against wall time for reference problems, formulations,
+    /// meshes and tolerances; writes work-precision.csv and .svg into --out and prints a table,
+    /// then the slider-update timings of the paper scenes (see `interactive`).
+    #[cfg(feature = "reports")]
+    Bench {
+        /// Fewer meshes, one tolerance, one repeat.
+        #[arg(long)]
+        quick: bool,
+        /// Output folder.
+        #[arg(long, default_value = "docs")]
+        out: PathBuf,
+    },
+    /// Scaling report: one Newton increment of a cantilever of 10 to 10^5 elements (time per
+    /// element per iteration, peak memory).
+    #[cfg(feature = "reports")]
+    Scale {
+        /// Largest size (default 100000).
+        #[arg(long, default_value_t = 100_000)]
+        max: usize,
+        /// Instead: contact scaling, a bed of 100 to 10^5 elements pressed by a pin in every
+        /// span (up to --max), with and without the broad phase.
+        #[arg(long)]
+        contact: bool,
+    },
+    /// Stability suite: hard cases for both formulations; prints a Markdown table and writes
+    /// stress.md into --out.
+    #[cfg(feature = "reports")]
+    Stress {
+        /// Add the long variants (finer load paths, more turns).
+        #[arg(long)]
+        long: bool,
+        /// Output folder.
+        #[arg(long, default_value = "docs")]
+        out: PathBuf,
+    },
+    /// Open the visualiser on a scene (default: the built-in default scene).
+    #[cfg(feature = "gui")]
+    View {
+        /// Scene file or built-in name.
+        scene: Option<String>,
+        /// Solve this many steps before showing (with --screenshot: before the shot).
+        #[arg(long)]
+        steps: Option<usize>,
+        /// Render to this PNG file after the steps and exit.
+        #[arg(long)]
+        screenshot: Option<PathBuf>,
+    },
+}

@@ -1,0 +1,64 @@
+//! Command-line interface, one file per subcommand: `solve` runs a scene headless
+//! (`solve.rs`); `bench`, `stress` and `scale` measure the solver (`reports.rs`); `scenes`
+//! lists the built-in scenes; `view` (feature `gui`) opens the visualiser or renders a
+//! screenshot. `args.rs` is the command line as clap parses it.
+
+/// `println!` that ends the program quietly when stdout is closed (output piped into `head`)
+/// instead of panicking.
+macro_rules! out {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        if let Err(e) = writeln!(std::io::stdout(), $($arg)*) {
+            if e.kind() == std::io::ErrorKind::BrokenPipe {
+                std::process::exit(0);
+            }
+            panic!("cannot write to stdout: {e}");
+        }
+    }};
+}
+
+mod args;
+#[cfg(feature = "reports")]
+mod reports;
+mod solve;
+
+use clap::Parser;
+
+use args::{Cli, Command};
+
+/// Parse the command line and run it; returns the process exit code.
+pub fn run() -> i32 {
+    let cli = Cli::parse();
+    match cli.command {
+        Some(Command::Solve(args)) => solve::solve(args),
+        #[cfg(feature = "reports")]
+        Some(Command::Bench { quick, out }) => reports::bench(quick, &out),
+        #[cfg(feature = "reports")]
+        Some(Command::Stress { long, out }) => reports::stress(long, &out),
+        #[cfg(feature = "reports")]
+        Some(Command::Scale { max, contact }) => reports::scale(max, contact),
+        Some(Command::Scenes) => {
+            for (f, _) in tsm_contact::scene::builtin::BUILTIN {
+                out!("{}", f.trim_end_matches(".ron"));
+            }
+            0
+        }
+        #[cfg(feature = "gui")]
+        Some(Command::View {
+            scene,
+            steps,
+            screenshot,
+        }) => tsm_contact::app::run(scene, steps, screenshot),
+        None => {
+            #[cfg(feature = "gui")]
+            {
+                tsm_contact::app::run(None, None, None)
+            }
+            #[cfg(not(feature = "gui"))]
+            {
+                eprintln!("built without the `gui` feature; use `tsm-contact solve SCENE`");
+                2
+            }
+        }
+    }
+}

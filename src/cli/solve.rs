@@ -1,0 +1,201 @@
+//! `solve`: a scene run headless, one line per increment and contact events as they happen,
+//! the full history written as JSON on request, and a closing line on how the increments met
+//! the equilibrium test.
+
+use std::time::Instant;
+
+use super::args::{FormulationArg, SolveArgs, StretchArg};
+use tsm_contact::history::History;
+use tsm_contact::scene;
+use tsm_contact::solver::report::{ContactChange, Flow};
+use tsm_contact::solver::{
+    Event, Formulation, IncrementRecord, IncrementStatus, Observer, StretchCorrection,
+};
+
+struct Printer {
+    history: History,
+    verbose: bool,
+}
+
+impl Observer for Printer {
+    fn iteration(&mut self, r: &tsm_contact::solver::IterationRecord) -> Flow {
+        if self.verbose {
+            out!(
+                "      iter {:>3}  |R| = {:.3e}  |R|/ref = {:.3e}  |du| = {:.3e}  contacts {}",
+                r.iteration,
+                r.residual,
+                r.relative_residual,
+                r.step_norm,
+                r.active_contacts
+            );
+        }
+        Flow::Continue
+    }
+    fn increment(&mut self, r: &IncrementRecord) -> Flow {
+        let driven = if r.prescribed.is_empty() {
+            format!("lambda {:>9.4}", r.load_factor)
+        } else {
+            r.prescribed
+                .iter()
+                .map(|v| format!("{v:>+10.5}"))
+                .collect::<Vec<_>>()
+                .join(" ")
+        };
+        let it8 = r.iterations_8_orders.map_or("-".into(), |v| v.to_string());
+        // A relative residual accepted at the round-off floor (above the tolerance) is marked.
+        let mark = match r.status {
+            IncrementStatus::Converged => ' ',
+            IncrementStatus::RoundOff { .. } => 'r',
+        };
+        out!(
+            "{:>5}  {}  {:>4}  {:>4}  {:>9.2e}{}  {:>3}  {:>3}  {:>8.2}",
+            r.increment,
+            driven,
+            r.iterations,
+            it8,
+            r.relative_residual,
+            mark,
+            r.cutbacks,
+            r.contacts.len(),
+            r.seconds * 1e3
+        );
+        self.history.increment(r)
+    }
+    fn event(&mut self, e: &Event) {
+        match e {
+            Event::CutBack {
+                increment,
+                reason,
+                fraction,
+            } => {
+                out!("      cut-back in increment {increment}: {reason}; now trying {fraction} of the step")
+            }
+            Event::StretchCorrectionOn { increment } => {
+                out!("      stretch correction on from increment {increment} (the run's first cut-back)")
+            }
+            Event::Contact(c) => {
+                let what = match c.change {
+                    ContactChange::Activated => "touches",
+                    ContactChange::Transferred => "moves onto",
+                    ContactChange::Released => "releases from",
+                    ContactChange::SlidOff => "slides off",
+                };
+                out!(
+                    "      event: node {} {} {} element {} (li/l = {:.4}, Yc = {:+.4e}) at iteration {}",
+                    c.node, what, c.body, c.element, c.xi, c.force, c.iteration
+                );
+            }
+        }
+        self.history.event(e);
+    }
+}
+
+pub(super) fn solve(args: SolveArgs) -> i32 {
+    let SolveArgs {
+        scene: name,
+        steps,
+        formulation,
+        json,
+        verbose,
+        unsymmetric_from,
+        stretch_correction,
+    } = args;
+    let name = name.as_str();
+    let mut scene = match scene::builtin::open(name) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return 2;
+        }
+    };
+    if let Some(f) = formulation {
+        scene.model.formulation = match f {
+            FormulationArg::Timoshenko => Formulation::Timoshenko,
+            FormulationArg::BernoulliEuler => Formulation::BernoulliEuler,
+        };
+    }
+    if let Some(k) = unsymmetric_from {
+        scene.params.unsymmetric_from = if k == 0 { usize::MAX } else { k };
+    }
+    if let Some(m) = stretch_correction {
+        scene.params.stretch_correction = match m {
+            StretchArg::Never => StretchCorrection::Never,
+            StretchArg::AfterCutBack => StretchCorrection::AfterCutBack,
+            StretchArg::Always => StretchCorrection::Always,
+        };
+    }
+    let steps = steps.unwrap_or(scene.steps);
+    let mut solver = match scene.solver() {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return 2;
+        }
+    };
+    out!(
+        "# {} ({:?}), {} steps, tolerance {:.0e}",
+        scene.file.name,
+        scene.model.formulation,
+        steps,
+        scene.params.tolerance
+    );
+    out!("# incr  prescribed/load  iter  it8  rel.resid   cut  act   ms   (r: accepted at the round-off floor)");
+    let mut printer = Printer {
+        history: History {
+            scene: scene.file.name.clone(),
+            formulation: Some(scene.model.formulation),
+            params: Some(scene.params),
+            node_ids: scene.model.nodes.iter().map(|n| n.id).collect(),
+            ..History::default()
+        },
+        verbose,
+    };
+    let t0 = Instant::now();
+    let mut code = 0;
+    for _ in 0..steps {
+        if let Err(e) = solver.step(&mut printer) {
+            eprintln!("error: {e}");
+            printer.history.error = Some(e.to_string());
+            code = 1;
+            break;
+        }
+    }
+    let total: usize = printer
+        .history
+        .increments
+        .iter()
+        .map(|r| r.iterations)
+        .sum();
+    out!(
+        "# {} increments, {} iterations, {:.1} ms",
+        printer.history.increments.len(),
+        total,
+        t0.elapsed().as_secs_f64() * 1e3
+    );
+    out!(
+        "# {}",
+        acceptance_summary(&printer.history.increments, code != 0)
+    );
+    if let Some(path) = json {
+        if let Err(e) = printer.history.write_json(&path) {
+            eprintln!("error: cannot write {}: {e}", path.display());
+            return 2;
+        }
+    }
+    code
+}
+
+/// One line on how the increments met the acceptance rule: how many converged to the tolerance,
+/// how many were accepted at the round-off floor, the worst relative residual, and whether the
+/// run stopped on a failure.
+fn acceptance_summary(increments: &[IncrementRecord], failed: bool) -> String {
+    let roundoff = (increments.iter())
+        .filter(|r| matches!(r.status, IncrementStatus::RoundOff { .. }))
+        .count();
+    let worst = (increments.iter()).fold(0.0f64, |w, r| w.max(r.relative_residual));
+    format!(
+        "{} increments converged, {roundoff} accepted at round-off, worst relative residual {worst:.2e}{}",
+        increments.len() - roundoff,
+        if failed { "; the run stopped on a failure" } else { "" }
+    )
+}
