@@ -151,7 +151,8 @@ fn cancel_stops_promptly() {
     }
     let took = sent.elapsed();
     eprintln!("cancel took effect after {took:?}");
-    // The issue asks for 50 ms; the solver thread checks the flag at every Newton iteration.
+    // The solver thread checks for a newer command at every Newton iteration: a cancel
+    // takes effect within 50 ms.
     assert!(took < Duration::from_millis(50), "cancel took {took:?}");
     assert!(last < 100_000, "ran on to increment {last}");
     // Nothing more arrives once idle.
