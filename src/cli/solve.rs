@@ -7,12 +7,14 @@ use std::time::Instant;
 use super::args::{FormulationArg, SolveArgs, StretchArg};
 use tsm_contact::history::History;
 use tsm_contact::scene;
-use tsm_contact::solver::report::{ContactChange, Flow};
+use tsm_contact::solver::report::Flow;
 use tsm_contact::solver::{
-    Event, Formulation, IncrementRecord, IncrementStatus, Observer, StretchCorrection,
+    Event, Formulation, IncrementRecord, IncrementStatus, Model, Observer, StretchCorrection,
 };
 
 struct Printer {
+    /// The model, for naming elements.
+    model: Model,
     history: History,
     verbose: bool,
 }
@@ -62,30 +64,7 @@ impl Observer for Printer {
         self.history.increment(r)
     }
     fn event(&mut self, e: &Event) {
-        match e {
-            Event::CutBack {
-                increment,
-                reason,
-                fraction,
-            } => {
-                out!("      cut-back in increment {increment}: {reason}; now trying {fraction} of the step")
-            }
-            Event::StretchCorrectionOn { increment } => {
-                out!("      stretch correction on from increment {increment} (the run's first cut-back)")
-            }
-            Event::Contact(c) => {
-                let what = match c.change {
-                    ContactChange::Activated => "touches",
-                    ContactChange::Transferred => "moves onto",
-                    ContactChange::Released => "releases from",
-                    ContactChange::SlidOff => "slides off",
-                };
-                out!(
-                    "      event: node {} {} {} element {} (li/l = {:.4}, Yc = {:+.4e}) at iteration {}",
-                    c.node, what, c.body, c.element, c.xi, c.force, c.iteration
-                );
-            }
-        }
+        out!("      event: {}", e.describe(&self.model));
         self.history.event(e);
     }
 }
@@ -141,6 +120,7 @@ pub(super) fn solve(args: SolveArgs) -> i32 {
     );
     out!("# incr  prescribed/load  iter  it8  rel.resid   cut  act   ms   (r: accepted at the round-off floor)");
     let mut printer = Printer {
+        model: scene.model.clone(),
         history: History {
             scene: scene.file.name.clone(),
             formulation: Some(scene.model.formulation),

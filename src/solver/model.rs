@@ -222,6 +222,16 @@ impl Model {
         (q[0] - p[0]).hypot(q[1] - p[1])
     }
 
+    /// "bar element 3": beam element `e` named by its body and its place in the body, from 1
+    /// (what every message and panel calls an element).
+    pub fn element_label(&self, e: usize) -> String {
+        let b = self.beams[e].body;
+        let place = (self.bodies[b].elements.iter())
+            .position(|&x| x == e)
+            .map_or(e, |k| k + 1);
+        format!("{} element {place}", self.bodies[b].name)
+    }
+
     /// "node N u": dof `offset` (0 u, 1 v, 2 phi) of node `n`, by the node's user id.
     pub fn dof_label(&self, n: usize, offset: usize) -> String {
         format!("node {} {}", self.nodes[n].id, Dof::ALL[offset].name())

@@ -4,6 +4,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::model::Model;
+
 /// A node's position and rotation at one state: x, y, phi.
 pub type NodeState = [f64; 3];
 
@@ -91,6 +93,46 @@ pub enum ContactChange {
     Released,
     /// The node slid off a free end of the beam.
     SlidOff,
+}
+
+impl ContactChange {
+    /// The change as the verb of an event line ("node 7 touches bar element 3").
+    pub fn verb(self) -> &'static str {
+        match self {
+            ContactChange::Activated => "touches",
+            ContactChange::Transferred => "moves onto",
+            ContactChange::Released => "releases from",
+            ContactChange::SlidOff => "slides off",
+        }
+    }
+}
+
+impl Event {
+    /// The event in one line, its element named by `model` (`Model::element_label`): what the
+    /// CLI prints and the app lists.
+    pub fn describe(&self, model: &Model) -> String {
+        match self {
+            Event::CutBack {
+                increment,
+                reason,
+                fraction,
+            } => format!(
+                "cut-back in increment {increment}: {reason}; now trying {fraction} of the step"
+            ),
+            Event::StretchCorrectionOn { increment } => format!(
+                "stretch correction on from increment {increment} (the run's first cut-back)"
+            ),
+            Event::Contact(c) => format!(
+                "node {} {} {} (li/l = {:.4}, Yc = {:+.4e}) at iteration {}",
+                c.node,
+                c.change.verb(),
+                model.element_label(c.element),
+                c.xi,
+                c.force,
+                c.iteration
+            ),
+        }
+    }
 }
 
 /// A contact event with where and when it happened.
@@ -249,7 +291,7 @@ pub enum SolveError {
     /// A node passes through a body it is not in contact with in every attempt, even after the
     /// allowed cut-backs (the acceptance check's geometric test).
     #[error(
-        "increment {increment}: node {node} passes through element {element} of {body} ({depth:.2e} element lengths beyond it) after {cutbacks} cut-backs"
+        "increment {increment}: node {node} passes through {body} element {element} ({depth:.2e} element lengths beyond it) after {cutbacks} cut-backs"
     )]
     Crossing {
         /// Increment number.
@@ -260,7 +302,7 @@ pub enum SolveError {
         node: u32,
         /// Name of the body.
         body: String,
-        /// Element index (0-based) the node ends beyond.
+        /// The place in its body (from 1) of the element the node ends beyond.
         element: usize,
         /// How far beyond, in element lengths.
         depth: f64,

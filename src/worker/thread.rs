@@ -179,7 +179,7 @@ impl Thread {
                         .model
                         .prescribed
                         .iter()
-                        .map(|p| format!("node {} {}", scene.model.nodes[p.node].id, p.dof.name()))
+                        .map(|p| scene.model.dof_label(p.node, p.dof.offset()))
                         .collect(),
                     scene,
                 };

@@ -1,5 +1,6 @@
 //! The details panel for the selected increment: "Increment k / n", prescribed values,
-//! iterations, "residual 3.2e-11 (converged)" or its acceptance at the round-off floor, the active contacts (li/l, Yc) and the reactions.
+//! iterations, "residual 3.2e-11 (converged)" or its acceptance at the round-off floor, the
+//! active contacts (li/l, Yc), the events and the reactions.
 
 use egui::RichText;
 
@@ -15,6 +16,7 @@ pub fn show(app: &TsmApp, ui: &mut egui::Ui) {
         return;
     };
     let Some(r) = app.record() else { return };
+    let model = &l.scene.model;
     ui.heading(RichText::new(&l.scene.file.name).strong());
     if !l.scene.file.description.is_empty() {
         ui.label(RichText::new(&l.scene.file.description).small());
@@ -62,13 +64,13 @@ pub fn show(app: &TsmApp, ui: &mut egui::Ui) {
             }
             for c in &r.contacts {
                 ui.label(c.node.to_string());
-                ui.label(format!("{} el {}", c.body, c.element + 1));
+                ui.label(model.element_label(c.element));
                 ui.label(format!("{:.4}", c.xi));
                 ui.label(num(c.force));
                 ui.end_row();
             }
         });
-    let events: Vec<_> = r.events.iter().filter_map(event_text).collect();
+    let events: Vec<_> = r.events.iter().map(|e| e.describe(model)).collect();
     if !events.is_empty() {
         ui.separator();
         ui.label(RichText::new("Events").strong());
@@ -96,29 +98,5 @@ pub fn show(app: &TsmApp, ui: &mut egui::Ui) {
                     ui.end_row();
                 }
             });
-    }
-}
-
-/// One line for a contact event.
-fn event_text(e: &crate::solver::Event) -> Option<String> {
-    use crate::solver::ContactChange as C;
-    match e {
-        crate::solver::Event::Contact(c) => {
-            let what = match c.change {
-                C::Activated => "touches",
-                C::Transferred => "moves onto",
-                C::Released => "releases from",
-                C::SlidOff => "slides off",
-            };
-            Some(format!(
-                "node {} {what} {} el {} (it {})",
-                c.node,
-                c.body,
-                c.element + 1,
-                c.iteration
-            ))
-        }
-        crate::solver::Event::CutBack { fraction, .. } => Some(format!("cut-back to {fraction}")),
-        crate::solver::Event::StretchCorrectionOn { .. } => Some("stretch correction on".into()),
     }
 }

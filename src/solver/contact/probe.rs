@@ -56,15 +56,20 @@ pub(super) struct Shape {
     pub(super) bending: Vec<f64>,
     pub(super) xis: Vec<f64>,
 }
+/// li/l of point `p` projected onto the chord from `xi` to `xj`.
+#[inline]
+pub(super) fn chord_fraction_of(p: [f64; 2], xi: [f64; 2], xj: [f64; 2]) -> f64 {
+    let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
+    ((p[0] - xi[0]) * dx + (p[1] - xi[1]) * dy) / (dx * dx + dy * dy)
+}
+
 impl ContactSet {
     /// li/l of node `n` on the current chord of beam `e`.
     pub(super) fn chord_fraction(cv: &ContactView<'_>, d: &[f64], n: usize, e: usize) -> f64 {
         let m = &cv.model;
         let (xi, _) = current(m, &cv.dofs, d, m.beams[e].i);
         let (xj, _) = current(m, &cv.dofs, d, m.beams[e].j);
-        let p = current(m, &cv.dofs, d, n).0;
-        let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
-        ((p[0] - xi[0]) * dx + (p[1] - xi[1]) * dy) / (dx * dx + dy * dy)
+        chord_fraction_of(current(m, &cv.dofs, d, n).0, xi, xj)
     }
 
     pub(super) fn shape(&self, cv: &ContactView<'_>, d: &[f64], e: usize) -> Shape {

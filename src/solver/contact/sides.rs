@@ -3,7 +3,7 @@
 //! a body since the last converged state (on the wrong side now, or swept through a chord).
 
 use super::broad_phase::BodyBoxes;
-use super::probe::{PassViews, Probe, StateView, FAR};
+use super::probe::{chord_fraction_of, PassViews, Probe, StateView, FAR};
 use super::set::ContactView;
 use super::set::{on_body, ContactSet};
 use crate::solver::assembly::current;
@@ -271,10 +271,10 @@ impl ContactSet {
         let at = |k: usize| current(m, &cv.dofs, cv.d, k).0;
         let (c, xi, xj) = (at(n), at(m.beams[e].i), at(m.beams[e].j));
         let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
-        let l2 = dx * dx + dy * dy;
-        let t = (((c[0] - xi[0]) * dx + (c[1] - xi[1]) * dy) / l2).clamp(0.0, 1.0);
+        let t = chord_fraction_of(c, xi, xj).clamp(0.0, 1.0);
         let clear = (c[0] - xi[0] - t * dx).hypot(c[1] - xi[1] - t * dy);
-        (clear > cv.touching(THROUGH, l2.sqrt()) && Self::adjacent(cv, b, e, p.beam))
+        let l = (dx * dx + dy * dy).sqrt();
+        (clear > cv.touching(THROUGH, l) && Self::adjacent(cv, b, e, p.beam))
             .then_some((p, -p.gap.signum()))
     }
 

@@ -2,6 +2,7 @@
 //! leaves (0, 1), and release when the node slides off a free end of the beam.
 
 use super::set::ContactView;
+use super::probe::chord_fraction_of;
 use super::set::{ActiveContact, ContactSet};
 use crate::solver::assembly::current;
 use crate::solver::report::{ContactChange, ContactEvent, Event};
@@ -96,8 +97,7 @@ impl ContactSet {
                 let (xi, _) = current(m, &cv.dofs, d, beam.i);
                 let (xj, _) = current(m, &cv.dofs, d, beam.j);
                 let p = current(m, &cv.dofs, d, a.node).0;
-                let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
-                let t = ((p[0] - xi[0]) * dx + (p[1] - xi[1]) * dy) / (dx * dx + dy * dy);
+                let t = chord_fraction_of(p, xi, xj);
                 xi_now = t;
                 let before = cv.node_beams[beam.i]
                     .iter()

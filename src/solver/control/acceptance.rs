@@ -54,7 +54,9 @@ impl Solver {
                 cutbacks,
                 node: self.model.nodes[x.node].id,
                 body: self.model.bodies[x.body].name.clone(),
-                element: x.element,
+                element: (self.model.bodies[x.body].elements.iter())
+                    .position(|&e| e == x.element)
+                    .map_or(x.element, |k| k + 1),
                 depth: x.depth,
             },
             other => SolveError::NoConvergence {

@@ -107,10 +107,9 @@ impl AttemptError {
                 "Newton stalls at relative residual {residual:.3e} (round-off floor {floor:.1e}), above the bound {bound:.0e}"
             ),
             AttemptError::Crossed(x) => format!(
-                "{} passes through element {} of {} ({:.2e} element lengths beyond it)",
+                "{} passes through {} ({:.2e} element lengths beyond it)",
                 model.node_label(x.node),
-                x.element,
-                model.bodies[x.body].name,
+                model.element_label(x.element),
                 x.depth
             ),
             AttemptError::Stopped => "stopped by the caller".into(),
