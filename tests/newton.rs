@@ -97,7 +97,10 @@ fn the_last_correction_of_an_arc_length_increment_is_small() {
             .sum::<f64>()
             .sqrt();
         // The increment is the arc (or a cut-back share of it).
-        assert!(moved <= arc * (1.0 + 1e-9), "moved {moved} on an arc of {arc}");
+        assert!(
+            moved <= arc * (1.0 + 1e-9),
+            "moved {moved} on an arc of {arc}"
+        );
         let last = rec.residuals.last().expect("iterations").step_norm;
         assert!(
             last < 1e-3 * moved,

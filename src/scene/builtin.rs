@@ -1,6 +1,8 @@
 //! The built-in scenes, compiled into the binary from `assets/scenes/`.
 
-use super::validate::{load_file, parse, Scene, SceneError};
+use super::format::{LoadDef, SupportDef};
+use super::remesh::remesh;
+use super::validate::{from_scene_file, load_file, parse, Scene, SceneError};
 
 /// (file name, RON text) of every built-in scene, default first.
 pub const BUILTIN: &[(&str, &str)] = &[
@@ -44,35 +46,20 @@ pub fn text(name: &str) -> Option<&'static str> {
         .map(|(_, t)| *t)
 }
 
-/// A built-in scene of one straight body numbered from 1 (Mattiasson's cantilever, the end
-/// moment, the pin on a cantilever) divided into `n` elements instead of its own K: the
-/// body's `elements` and every reference to its last node (`(node: K + 1,`, where loads and
-/// supports name it) follow. `None` for an unknown name or any other kind of scene (more
-/// than one body, or a polyline whose element count is not the body's).
+/// A built-in scene of one body (Mattiasson's cantilever, the end moment, the pin on a
+/// cantilever, Lee's frame) divided into `n` elements per path segment instead of its own
+/// (`remesh::remesh`). `None` for an unknown name or a scene that cannot be re-meshed so.
 pub fn with_elements(name: &str, n: usize) -> Option<Result<Scene, SceneError>> {
-    let text = text(name)?;
-    let mut counts = text.match_indices("elements: ").map(|(at, key)| {
-        let digits = &text[at + key.len()..];
-        let end = digits
-            .find(|c: char| !c.is_ascii_digit())
-            .unwrap_or(digits.len());
-        digits[..end].parse::<usize>().ok()
-    });
-    let own = match (counts.next(), counts.next()) {
-        (Some(Some(k)), None) => k,
-        _ => return None,
+    let scene = match builtin(name)? {
+        Ok(scene) => scene,
+        Err(e) => return Some(Err(e)),
     };
-    let text = text
-        .replace(&format!("elements: {own}"), &format!("elements: {n}"))
-        .replace(
-            &format!("(node: {},", own + 1),
-            &format!("(node: {},", n + 1),
-        );
-    let file = format!("assets/scenes/{}.ron", name.trim_end_matches(".ron"));
-    match parse(&text, &format!("{file} on {n} elements")) {
-        Ok(sc) if sc.model.beams.len() != n => None,
-        parsed => Some(parsed),
-    }
+    let file = remesh(&scene.file, n)?;
+    let label = format!(
+        "assets/scenes/{}.ron on {n} elements",
+        name.trim_end_matches(".ron")
+    );
+    Some(from_scene_file(file, &label))
 }
 
 /// Parse a built-in scene by file name (with or without `.ron`).
@@ -96,26 +83,30 @@ pub fn builtin(name: &str) -> Option<Result<Scene, SceneError>> {
 /// each operation many times slower (1.6 us per element per iteration at 10^5 elements against
 /// 0.46 us with subnormals flushed to zero, session 4).
 pub fn long_beam(n: usize) -> Scene {
-    let len = n as f64;
     let span = n.min(100);
-    let rollers: String = (1..n / span)
-        .map(|k| format!(", (node: {}, v: true)", 1 + k * span))
-        .collect();
-    let loads: String = (0..n / span)
-        .map(|k| format!("(node: {}, fy: -1.0), ", 1 + k * span + span / 2))
-        .collect();
-    let text = text("mattiasson")
+    let mut file = builtin("mattiasson")
         .expect("built-in")
-        .replace(
-            "(1.0, 0.0)], elements: 32",
-            &format!("({len:?}, 0.0)], elements: {n}"),
-        )
-        .replace("phi: true)]", &format!("phi: true){rollers}]"))
-        .replace(
-            "loads: [(node: 33,",
-            &format!("loads: [{loads}(node: {},", n + 1),
-        );
-    let mut sc = parse(&text, "long beam").expect("valid");
+        .expect("valid")
+        .file;
+    file.bodies[0].path[1] = (n as f64, 0.0);
+    file.bodies[0].elements = n;
+    file.loads[0].node = n as u32 + 1;
+    for k in 1..n / span {
+        file.supports.push(SupportDef {
+            node: (1 + k * span) as u32,
+            u: false,
+            v: true,
+            phi: false,
+        });
+    }
+    let spans = (0..n / span).map(|k| LoadDef {
+        node: (1 + k * span + span / 2) as u32,
+        fx: 0.0,
+        fy: -1.0,
+        m: 0.0,
+    });
+    file.loads.splice(0..0, spans);
+    let mut sc = from_scene_file(file, "long beam").expect("valid");
     sc.model.load_per_step = 0.1 / (span * span) as f64;
     sc.params.tolerance = 1e-5;
     sc

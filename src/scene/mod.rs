@@ -3,8 +3,9 @@
 
 pub mod builtin;
 pub mod format;
+pub mod remesh;
 pub mod validate;
 
 pub use builtin::open;
 pub use format::SceneFile;
-pub use validate::{load_file, parse, Scene, SceneError};
+pub use validate::{from_scene_file, load_file, parse, Scene, SceneError};

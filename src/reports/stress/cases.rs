@@ -3,7 +3,10 @@
 //! and stubby cantilevers, stacked beams, short elements next to long ones, a beam rolled up by
 //! an end moment, and Lee's frame by arc length.
 
-use super::run::{first_peak, ron_name, run, Path, Run};
+use super::run::{first_peak, ron_name, run, run_scene, Path, Run};
+use crate::scene::builtin::builtin;
+use crate::scene::from_scene_file;
+use crate::scene::remesh::remesh;
 use crate::solver::Formulation;
 
 /// The paper's strip section (E = 2.0e7 N/m^2, A = 3.0e-4 m^2, I = 2.2e-8 m^4, G = 7.142e6).
@@ -297,21 +300,14 @@ pub fn roll_up(turns: f64, n: usize, steps: usize, f: Formulation) -> Run {
 /// Measure: the first limit load (parabola through the peak) against `reference` if given.
 pub fn lee_frame(n: usize, ds: f64, steps: usize, f: Formulation) -> Run {
     assert!(n.is_multiple_of(5), "the load sits at 1/5 of the beam");
-    let text = builtin_text("lee_frame.ron")
-        .replace("elements: 10", &format!("elements: {n}"))
-        .replace("(node: 21,", &format!("(node: {},", 2 * n + 1))
-        .replace("(node: 13,", &format!("(node: {},", n + 1 + n / 5))
-        .replace("arc_length: 0.5", &format!("arc_length: {ds:e}"))
-        .replace("steps: 160", &format!("steps: {steps}"))
-        .replace(
-            "formulation: BernoulliEuler",
-            &format!("formulation: {}", ron_name(f)),
-        );
-    let mut r = run(
-        &format!("Lee's frame, {n} elements per member, arc length {ds}"),
-        &text,
-        &Path::Steps(steps),
-    );
+    let scene = builtin("lee_frame").expect("built-in").expect("valid");
+    let mut file = remesh(&scene.file, n).expect("one body, the load at a node of the new mesh");
+    file.control.arc_length = Some(ds);
+    file.control.steps = steps;
+    file.formulation = f;
+    let case = format!("Lee's frame, {n} elements per member, arc length {ds}");
+    let scene = from_scene_file(file, &case).expect("valid");
+    let mut r = run_scene(&case, &scene, &Path::Steps(steps));
     let curve: Vec<(f64, f64)> = r
         .records
         .iter()
@@ -325,8 +321,4 @@ pub fn lee_frame(n: usize, ds: f64, steps: usize, f: Formulation) -> Run {
         ));
     }
     r
-}
-
-fn builtin_text(file: &str) -> &'static str {
-    crate::scene::builtin::text(file).expect("built-in scene")
 }

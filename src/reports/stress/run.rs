@@ -2,7 +2,7 @@
 //! (increments, iterations, cut-backs, transfers, the contact point closest to an element end)
 //! into a `Run`, and the `StressRow` a case becomes in the table.
 
-use crate::scene::parse;
+use crate::scene::{parse, Scene};
 use crate::solver::{
     ContactChange, Event, Formulation, IncrementRecord, IterationRecord, Observer, Solver,
 };
@@ -100,6 +100,11 @@ pub enum Path {
 /// Run scene text along a path and summarise it.
 pub fn run(case: &str, text: &str, path: &Path) -> Run {
     let sc = parse(text, case).unwrap_or_else(|e| panic!("stress scene {case}: {e}"));
+    run_scene(case, &sc, path)
+}
+
+/// `run` of a scene already validated.
+pub fn run_scene(case: &str, sc: &Scene, path: &Path) -> Run {
     let mut solver = sc.solver().expect("stable scene");
     let tolerance = sc.params.tolerance;
     let mut row = StressRow {

@@ -58,6 +58,12 @@ pub fn parse(text: &str, file: &str) -> Result<Scene, SceneError> {
     build(sf, text, file)
 }
 
+/// Validate a scene already parsed (or built in code), `sf`; `file` names it in messages
+/// (which cannot give lines: there is no text).
+pub fn from_scene_file(sf: SceneFile, file: &str) -> Result<Scene, SceneError> {
+    build(sf, "", file)
+}
+
 /// Validate parsed scene `sf` (from `text` of `file`) and build its model.
 fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
     let ctx = Ctx { text, file };

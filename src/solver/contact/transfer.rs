@@ -1,8 +1,8 @@
 //! Contacts that move during the iterations: transfer to the neighbouring element when li/l
 //! leaves (0, 1), and release when the node slides off a free end of the beam.
 
-use super::set::ContactView;
 use super::probe::chord_fraction_of;
+use super::set::ContactView;
 use super::set::{ActiveContact, ContactSet};
 use crate::solver::assembly::current;
 use crate::solver::report::{ContactChange, ContactEvent, Event};

@@ -1,0 +1,58 @@
+//! Re-meshing a scene on its parsed form (`SceneFile`): a one-body scene divided into `n`
+//! elements per path segment instead of its own K, with every reference to a node of the body
+//! (supports, loads, prescribed displacements, contact nodes) moved to the node at the same
+//! place along the new mesh.
+
+use super::format::SceneFile;
+
+/// `sf` with its one body divided into `n` elements per path segment. `None` where the scene
+/// has more than one body or explicit nodes, or names a node of the body that has no node at
+/// the same place in the new mesh (the place must be a whole number of new elements along its
+/// segment).
+pub fn remesh(sf: &SceneFile, n: usize) -> Option<SceneFile> {
+    let [body] = sf.bodies.as_slice() else {
+        return None;
+    };
+    if !sf.nodes.is_empty() || n == 0 || body.elements == 0 {
+        return None;
+    }
+    let own = body.elements;
+    let first = body.first_node;
+    let last = first as usize + own * (body.path.len() - 1);
+    // The id in the new mesh of node `id` of the old one (other ids stay).
+    let moved = |id: u32| -> Option<u32> {
+        let k = (id as usize).checked_sub(first as usize)?;
+        if id as usize > last {
+            return Some(id);
+        }
+        let (segment, along) = (k / own, k % own);
+        if (along * n) % own != 0 {
+            return None;
+        }
+        u32::try_from(first as usize + segment * n + along * n / own).ok()
+    };
+    let map = |id: u32| -> Option<u32> {
+        if id < first {
+            Some(id)
+        } else {
+            moved(id)
+        }
+    };
+    let mut out = sf.clone();
+    out.bodies[0].elements = n;
+    for s in &mut out.supports {
+        s.node = map(s.node)?;
+    }
+    for l in &mut out.loads {
+        l.node = map(l.node)?;
+    }
+    for p in &mut out.prescribed {
+        p.node = map(p.node)?;
+    }
+    for c in &mut out.contacts {
+        for id in &mut c.nodes {
+            *id = map(*id)?;
+        }
+    }
+    Some(out)
+}
