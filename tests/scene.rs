@@ -198,5 +198,31 @@ fn one_body_scenes_re_mesh() {
         builtin("pin_on_cantilever").unwrap().unwrap().model
     );
     assert!(with_elements("example_3_2", 10).is_none());
-    assert!(with_elements("lee_frame", 10).is_none());
+}
+
+/// Re-meshing works on the parsed scene, following every reference to a node of the body:
+/// Lee's frame (one body of two 10-element members, pinned at nodes 1 and 21, loaded at node
+/// 13, two elements into the beam) on 20 elements per member is the scene written out with
+/// 20 elements, the supports at nodes 1 and 41 and the load at node 25; on 7 per member the
+/// load has no node at its place (2/10 of the beam) and the re-mesh is refused.
+#[test]
+fn re_meshing_moves_every_node_reference_to_its_place() {
+    use tsm_contact::scene::builtin::{text, with_elements};
+    let remeshed = with_elements("lee_frame", 20)
+        .expect("one body")
+        .expect("valid");
+    let written = text("lee_frame")
+        .unwrap()
+        .replace("elements: 10", "elements: 20")
+        .replace("(node: 21,", "(node: 41,")
+        .replace("(node: 13,", "(node: 25,");
+    let written = parse(&written, "lee_frame on 20").expect("valid");
+    assert_eq!(remeshed.model, written.model);
+    assert_eq!(remeshed.model.beams.len(), 40);
+    let load = remeshed.model.position(remeshed.model.loads[0].node);
+    assert!(
+        (load[0] - 24.0).abs() < 1e-12 && (load[1] - 120.0).abs() < 1e-12,
+        "{load:?}"
+    );
+    assert!(with_elements("lee_frame", 7).is_none());
 }
