@@ -174,22 +174,21 @@ impl Structure {
         mx.max(my)
     }
 
-    /// The free dofs that have no stiffness at displacements `d` without contacts (empty if the
-    /// structure is stable). Small models get every dof of the null space; large ones the
-    /// first failing pivot.
-    pub fn mechanism_dofs(&self, d: &[f64]) -> Vec<String> {
-        let ord = Ordering::new(&self.model, &self.dofs, &[]);
+    /// The free dofs that have no stiffness at displacements `d` under equation ordering `ord`
+    /// (empty if the structure is stable). Small models get every dof of the null space; large
+    /// ones the first failing pivot.
+    pub fn mechanism_dofs(&self, ord: &Ordering, d: &[f64]) -> Vec<String> {
         if ord.n_eq == 0 {
             return Vec::new();
         }
-        let asm = assemble(&self.context(&ord), d, true, None);
+        let asm = assemble(&self.context(ord), d, true, None);
         let k = asm.tangent.expect("tangent");
         let scale = k.max_diagonal().max(f64::MIN_POSITIVE);
         // The band LU decides (O(n)); only a singular structure pays for the dense
         // eigen-decomposition that names every dof of the null space.
         let first = match k.clone().factor(1e-14 * scale) {
             Ok(()) => return Vec::new(),
-            Err(sp) => self.equation_label(&ord, sp.equation),
+            Err(sp) => self.equation_label(ord, sp.equation),
         };
         if ord.n_eq > DENSE_MECHANISM_CHECK {
             return vec![first];
@@ -200,7 +199,7 @@ impl Structure {
         for (m, lam) in eig.eigenvalues.iter().enumerate() {
             if lam.abs() < 1e-13 * scale {
                 for (e, c) in eig.eigenvectors.column(m).iter().enumerate() {
-                    let label = self.equation_label(&ord, e);
+                    let label = self.equation_label(ord, e);
                     if c.abs() > 1e-3 && !out.contains(&label) {
                         out.push(label);
                     }

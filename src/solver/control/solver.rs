@@ -45,14 +45,17 @@ impl Solver {
             prescribed: vec![0.0; structure.model.prescribed.len()],
             ..State::default()
         };
-        let free = structure.mechanism_dofs(&state.d);
+        // The ordering without contacts, kept in the workspace for the first attempt.
+        let work = Workspace::default();
+        let ord = work.ordering_for(&structure, &state.contacts);
+        let free = structure.mechanism_dofs(&ord, &state.d);
         if !free.is_empty() {
             return Err(SolveError::Mechanism { dofs: free });
         }
         let mut solver = Solver {
             structure,
             state,
-            work: Workspace::default(),
+            work,
             crossing: CrossingCheck::default(),
         };
         let mut contacts = std::mem::take(&mut solver.state.contacts);
