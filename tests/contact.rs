@@ -427,8 +427,8 @@ fn comb_brushes_fifty_teeth_and_broad_phase_changes_nothing() {
 }
 
 /// Stacked beams: nearly every node touches at the first increment and nearly all must let go
-/// again (the active set used to cycle there, and node-on-node pairs made the tangent
-/// singular). Small-deflection theory: by point symmetry the beams touch at x = L/2 only, where
+/// again (an active set that can cycle there, and node-on-node pairs that would make the
+/// tangent singular). Small-deflection theory: by point symmetry the beams touch at x = L/2 only, where
 /// A has a node, and each acts as a cantilever loaded there: force (d - gap) / (2 c) with
 /// c = a^3/(3 EI) + a/(G Ae), a = L/2. Tolerance 1e-4 (the geometric nonlinearity at d/L =
 /// 2.5e-4 is far below it).

@@ -463,8 +463,8 @@ fn slider_and_handle_drive_the_prescribed_dof() {
 }
 
 /// In a narrow window (1100 x 800 points) the convergence plot's keys wrap within their column:
-/// each lies left of the reaction plot's title and clear of it, and inside the window (they
-/// used to run on in one row, under the title, and the plot grew as wide as the row).
+/// each lies left of the reaction plot's title and clear of it, and inside the window (not in
+/// one row under the title, with the plot as wide as the row).
 #[test]
 fn plot_keys_stay_in_their_column_in_a_narrow_window() {
     let mut h = harness_sized(SCENE, true, [1100.0, 800.0]);

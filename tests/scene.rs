@@ -116,7 +116,7 @@ fn fuzzer_findings_are_typed_errors() {
 }
 
 /// Stiffnesses out of floating-point range, and elements too short to have distinct ends, are
-/// named as such (they used to reach the solver and come back as "a mechanism").
+/// named as such (not passed on to the solver, which would call them "a mechanism").
 #[test]
 fn out_of_range_stiffness_and_vanishing_elements_name_the_field() {
     let base = r#"(name:"",sections:[(name:"s",E:EVAL,A:AVAL,I:1)],bodies:[(name:"b",section:"s",path:[(0,0),(LEN,0)],elements:4,first_node:1)],supports:[(node:1,u:true,v:true,phi:true)])"#;

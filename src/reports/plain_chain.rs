@@ -2,8 +2,8 @@
 //! elements, with nothing of the general solver (no dof map, no ordering, no contact, no
 //! bookkeeping). One iteration evaluates every element (the same `BeamElement::evaluate` the
 //! solver uses), sums the internal forces, adds the tangents into a symmetric band, factors it
-//! L D L^T and solves for the unbalanced force. The target for the general solver is
-//! to lose little to this loop.
+//! L D L^T and solves for the unbalanced force. The general solver aims to lose little to this
+//! loop.
 
 use crate::solver::element::beam::BeamElement;
 use crate::solver::linear::{BandMatrix, NOT_FREE};

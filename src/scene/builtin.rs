@@ -79,9 +79,9 @@ pub fn builtin(name: &str) -> Option<Result<Scene, SceneError>> {
 /// elements: numerically a mechanism); the spans keep every size equally well conditioned, so
 /// the timing measures the solver, not round-off trouble. Every span is loaded so that every
 /// element does the same work: with the tip load alone, the response decays by a constant factor
-/// per span and, beyond about 500 spans, falls below 1e-308, where subnormal arithmetic made
-/// each operation many times slower (1.6 us per element per iteration at 10^5 elements against
-/// 0.46 us with subnormals flushed to zero, session 4).
+/// per span and, beyond about 500 spans, falls below 1e-308, where subnormal arithmetic makes
+/// each operation many times slower (about 1.6 us per element per iteration at 10^5 elements
+/// against 0.46 us with subnormals flushed to zero).
 pub fn long_beam(n: usize) -> Scene {
     let span = n.min(100);
     let mut file = builtin("mattiasson")
