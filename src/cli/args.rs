@@ -63,13 +63,16 @@ pub(super) struct SolveArgs {
 #[derive(Subcommand)]
 pub(super) enum Command {
     /// Solve a scene headless: one line per increment, contact events as they happen.
+    #[command(after_help = "Example: tsm-contact solve example_3_2 --steps 12 --json history.json")]
     Solve(SolveArgs),
     /// List the built-in scenes.
+    #[command(after_help = "Example: tsm-contact scenes")]
     Scenes,
     /// Work-precision report: error against wall time for reference problems, formulations,
     /// meshes and tolerances; writes work-precision.csv and .svg into --out and prints a table,
     /// then the slider-update timings of the paper scenes (see `interactive`).
     #[cfg(feature = "reports")]
+    #[command(after_help = "Example: tsm-contact bench --quick --out /tmp/report")]
     Bench {
         /// Fewer meshes, one tolerance, one repeat.
         #[arg(long)]
@@ -81,6 +84,7 @@ pub(super) enum Command {
     /// Scaling report: one Newton increment of a cantilever of 10 to 10^5 elements (time per
     /// element per iteration, peak memory).
     #[cfg(feature = "reports")]
+    #[command(after_help = "Example: tsm-contact scale --max 10000")]
     Scale {
         /// Largest size (default 100000).
         #[arg(long, default_value_t = 100_000)]
@@ -93,6 +97,7 @@ pub(super) enum Command {
     /// Stability suite: hard cases for both formulations; prints a Markdown table and writes
     /// stress.md into --out.
     #[cfg(feature = "reports")]
+    #[command(after_help = "Example: tsm-contact stress --out /tmp/report")]
     Stress {
         /// Add the long variants (finer load paths, more turns).
         #[arg(long)]
@@ -103,6 +108,7 @@ pub(super) enum Command {
     },
     /// Open the visualiser on a scene (default: the built-in default scene).
     #[cfg(feature = "gui")]
+    #[command(after_help = "Example: tsm-contact view example_3_2 --steps 56 --screenshot shot.png")]
     View {
         /// Scene file or built-in name.
         scene: Option<String>,

@@ -1,0 +1,145 @@
+//! The documentation against the program: every RON block in README.md and docs/ is a valid
+//! scene, every `solve` and `scenes` command the README shows runs, the README's sample output
+//! is what `solve` prints (but for the times), and docs/cli.md is what `--help` prints.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use tsm_contact::scene::parse;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// The fenced blocks of `text` whose info string is `lang`.
+fn blocks(text: &str, lang: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut current: Option<String> = None;
+    for line in text.lines() {
+        match &mut current {
+            None if line.trim_start() == format!("```{lang}") => current = Some(String::new()),
+            Some(_) if line.trim_start().starts_with("```") => out.extend(current.take()),
+            Some(b) => {
+                b.push_str(line);
+                b.push('\n');
+            }
+            None => {}
+        }
+    }
+    out
+}
+
+/// README.md and every Markdown file in docs/.
+fn pages() -> Vec<(PathBuf, String)> {
+    let mut paths = vec![root().join("README.md")];
+    for e in std::fs::read_dir(root().join("docs")).unwrap() {
+        let p = e.unwrap().path();
+        if p.extension().is_some_and(|x| x == "md") {
+            paths.push(p);
+        }
+    }
+    paths
+        .into_iter()
+        .map(|p| {
+            let text = std::fs::read_to_string(&p).unwrap();
+            (p, text)
+        })
+        .collect()
+}
+
+fn run(dir: &Path, args: &[&str]) -> (i32, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_tsm-contact"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("runs");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+    )
+}
+
+#[test]
+fn every_ron_block_in_the_docs_is_a_valid_scene() {
+    let mut count = 0;
+    for (path, text) in pages() {
+        for (k, b) in blocks(&text, "ron").into_iter().enumerate() {
+            if let Err(e) = parse(&b, &format!("{} block {k}", path.display())) {
+                panic!("{e}");
+            }
+            count += 1;
+        }
+    }
+    assert!(count >= 2, "{count} blocks");
+}
+
+/// The README's `solve` and `scenes` commands, in a folder holding its tutorial scene
+/// (`first.ron`, the README's RON block): each exits with status 0. `view`, `bench` and `stress`
+/// are left to the GUI and report tests.
+#[test]
+fn the_readme_commands_run() {
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let dir = std::env::temp_dir().join(format!("tsm-readme-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = blocks(&readme, "ron").into_iter().next().expect("tutorial scene");
+    std::fs::write(dir.join("first.ron"), scene).unwrap();
+    let mut ran = 0;
+    for b in blocks(&readme, "sh") {
+        for line in b.lines() {
+            let line = line.split('#').next().unwrap_or("").trim();
+            let Some(args) = line.strip_prefix("cargo run --release -- ") else {
+                continue;
+            };
+            let args: Vec<&str> = args.split_whitespace().collect();
+            if !matches!(args.first(), Some(&"solve" | &"scenes")) {
+                continue;
+            }
+            let (code, _) = run(&dir, &args);
+            assert_eq!(code, 0, "`{line}`");
+            ran += 1;
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(ran >= 4, "{ran} commands");
+}
+
+/// The sample output in the README is `solve example_3_2 --steps 12`'s, line for line, but for
+/// the times (the last column of an increment line, and the total).
+#[test]
+fn the_readme_sample_output_is_the_programs() {
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let sample = blocks(&readme, "text").into_iter().next().expect("sample output");
+    let (code, out) = run(&root(), &["solve", "example_3_2", "--steps", "12"]);
+    assert_eq!(code, 0);
+    let without_time = |l: &str| -> String {
+        let l = l.trim_end();
+        if l.starts_with("# ") && l.contains(" ms") {
+            return l.split(',').take(2).collect::<Vec<_>>().join(",");
+        }
+        match l.split_whitespace().next().map(|w| w.parse::<usize>()) {
+            Some(Ok(_)) => l.rsplit_once(' ').map_or(l, |(a, _)| a).trim_end().into(),
+            _ => l.into(),
+        }
+    };
+    let lines: Vec<String> = out.lines().map(without_time).collect();
+    for s in sample.lines().filter(|l| *l != "...") {
+        let s = without_time(s);
+        assert!(lines.contains(&s), "README line not printed: {s}\n{out}");
+    }
+}
+
+/// docs/cli.md holds each subcommand's `--help` as printed.
+#[test]
+fn the_cli_reference_is_the_help() {
+    let page = std::fs::read_to_string(root().join("docs/cli.md")).unwrap();
+    let printed = blocks(&page, "text");
+    let commands = ["solve", "scenes", "view", "bench", "stress", "scale"];
+    assert_eq!(printed.len(), commands.len());
+    for (c, shown) in commands.iter().zip(&printed) {
+        let (code, help) = run(&root(), &[c, "--help"]);
+        assert_eq!(code, 0);
+        let trimmed: String = help.lines().map(|l| format!("{}\n", l.trim_end())).collect();
+        assert_eq!(&trimmed, shown, "`tsm-contact {c} --help` differs from docs/cli.md");
+        assert!(help.contains("Example: tsm-contact"), "{c}: no example line");
+    }
+}
