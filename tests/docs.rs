@@ -81,7 +81,10 @@ fn the_readme_commands_run() {
     let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
     let dir = std::env::temp_dir().join(format!("tsm-readme-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let scene = blocks(&readme, "ron").into_iter().next().expect("tutorial scene");
+    let scene = blocks(&readme, "ron")
+        .into_iter()
+        .next()
+        .expect("tutorial scene");
     std::fs::write(dir.join("first.ron"), scene).unwrap();
     let mut ran = 0;
     for b in blocks(&readme, "sh") {
@@ -108,7 +111,10 @@ fn the_readme_commands_run() {
 #[test]
 fn the_readme_sample_output_is_the_programs() {
     let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
-    let sample = blocks(&readme, "text").into_iter().next().expect("sample output");
+    let sample = blocks(&readme, "text")
+        .into_iter()
+        .next()
+        .expect("sample output");
     let (code, out) = run(&root(), &["solve", "example_3_2", "--steps", "12"]);
     assert_eq!(code, 0);
     let without_time = |l: &str| -> String {
@@ -138,8 +144,17 @@ fn the_cli_reference_is_the_help() {
     for (c, shown) in commands.iter().zip(&printed) {
         let (code, help) = run(&root(), &[c, "--help"]);
         assert_eq!(code, 0);
-        let trimmed: String = help.lines().map(|l| format!("{}\n", l.trim_end())).collect();
-        assert_eq!(&trimmed, shown, "`tsm-contact {c} --help` differs from docs/cli.md");
-        assert!(help.contains("Example: tsm-contact"), "{c}: no example line");
+        let trimmed: String = help
+            .lines()
+            .map(|l| format!("{}\n", l.trim_end()))
+            .collect();
+        assert_eq!(
+            &trimmed, shown,
+            "`tsm-contact {c} --help` differs from docs/cli.md"
+        );
+        assert!(
+            help.contains("Example: tsm-contact"),
+            "{c}: no example line"
+        );
     }
 }

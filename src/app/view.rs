@@ -1,5 +1,5 @@
 //! The viewport's 2-D camera: world metres to screen points and back, pan, zoom about a point
-//! and fit-to-bounds. Persisted between sessions.
+//! and fit-to-bounds. Persisted between runs of the app.
 
 use egui::{Pos2, Rect, Vec2};
 use serde::{Deserialize, Serialize};

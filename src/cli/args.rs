@@ -63,7 +63,9 @@ pub(super) struct SolveArgs {
 #[derive(Subcommand)]
 pub(super) enum Command {
     /// Solve a scene headless: one line per increment, contact events as they happen.
-    #[command(after_help = "Example: tsm-contact solve example_3_2 --steps 12 --json history.json")]
+    #[command(
+        after_help = "Example: tsm-contact solve example_3_2 --steps 12 --json history.json"
+    )]
     Solve(SolveArgs),
     /// List the built-in scenes.
     #[command(after_help = "Example: tsm-contact scenes")]
@@ -108,7 +110,9 @@ pub(super) enum Command {
     },
     /// Open the visualiser on a scene (default: the built-in default scene).
     #[cfg(feature = "gui")]
-    #[command(after_help = "Example: tsm-contact view example_3_2 --steps 56 --screenshot shot.png")]
+    #[command(
+        after_help = "Example: tsm-contact view example_3_2 --steps 56 --screenshot shot.png"
+    )]
     View {
         /// Scene file or built-in name.
         scene: Option<String>,

@@ -1,4 +1,4 @@
-//! Forward-mode dual numbers (value + one derivative), used to differentiate the contact
+//! Forward-mode dual numbers (value + one derivative): they differentiate the contact
 //! element's stiffness with respect to the contact position exactly, without hand-written quotients.
 
 use std::ops::{Add, Div, Mul, Neg, Sub};
