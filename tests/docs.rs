@@ -158,3 +158,49 @@ fn the_cli_reference_is_the_help() {
         );
     }
 }
+
+/// The README's validation errors are the program's, to the two figures shown: each `bench`
+/// row is worked out again (release build: about a second in all).
+#[test]
+fn the_readme_validation_errors_are_the_programs() {
+    use tsm_contact::reports::work_precision as wp;
+    use tsm_contact::solver::Formulation::{BernoulliEuler, Timoshenko};
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let shown = |problem: &str| -> f64 {
+        let row = (readme.lines())
+            .find(|l| l.starts_with(&format!("| {problem} |")))
+            .unwrap_or_else(|| panic!("no README row for {problem}"));
+        let error = row.split('|').nth(3).expect("error column").trim();
+        error
+            .split_whitespace()
+            .next()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or_else(|| panic!("{problem}: error `{error}`"))
+    };
+    let rows = [
+        (
+            "Mattiasson's cantilever, k = 10, 1024 elements",
+            wp::mattiasson(2, 1024, BernoulliEuler, 1e-8, 1),
+        ),
+        (
+            "End moment 2 pi EI / L, 1024 elements",
+            wp::end_moment(1024, BernoulliEuler, 1e-8, 1),
+        ),
+        (
+            "Pin on a cantilever, 1024 Timoshenko elements",
+            wp::pin_contact(1024, Timoshenko, 1e-8, 1),
+        ),
+        (
+            "Pin on a cantilever, 1024 Bernoulli-Euler elements",
+            wp::pin_contact(1024, BernoulliEuler, 1e-8, 1),
+        ),
+    ];
+    for (problem, point) in rows {
+        let error = point.expect("converges").error;
+        let readme_error = shown(problem);
+        assert!(
+            (error - readme_error).abs() <= 0.05 * readme_error,
+            "{problem}: the program gives {error:.2e}, the README {readme_error:.1e}"
+        );
+    }
+}
