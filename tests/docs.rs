@@ -204,3 +204,59 @@ fn the_readme_validation_errors_are_the_programs() {
         );
     }
 }
+
+/// docs/validation.md's tables are docs/work-precision.csv's errors at tolerance 1e-8, to the
+/// two figures shown.
+#[test]
+fn the_validation_tables_are_the_work_precision_points() {
+    let page = std::fs::read_to_string(root().join("docs/validation.md")).unwrap();
+    let points = std::fs::read_to_string(root().join("docs/work-precision.csv")).unwrap();
+    let mut rows = points.lines();
+    let header: Vec<&str> = rows.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let (p, f, n, t, e) = (
+        col("problem"),
+        col("formulation"),
+        col("elements"),
+        col("tolerance"),
+        col("error"),
+    );
+    let mut checked = 0;
+    let mut problem = String::new();
+    let mut meshes: Vec<String> = Vec::new();
+    for line in page.lines() {
+        if let Some(name) = line.strip_prefix("### ") {
+            problem = name.to_string();
+        } else if let Some(rest) = line.strip_prefix("| elements |") {
+            meshes = rest.split('|').map(|s| s.trim().to_string()).collect();
+        } else if line.starts_with("| Bernoulli-Euler |") || line.starts_with("| Timoshenko |") {
+            let cells: Vec<&str> = line.split('|').map(str::trim).collect();
+            let formulation = cells[1].replace('-', "");
+            for (mesh, shown) in meshes.iter().zip(&cells[2..]) {
+                let Ok(shown) = shown.parse::<f64>() else {
+                    continue;
+                };
+                let point = points.lines().skip(1).find(|l| {
+                    let c: Vec<&str> = l.split(',').collect();
+                    c[p] == problem
+                        && c[f] == formulation
+                        && c[n] == mesh
+                        && c[t].parse::<f64>() == Ok(1e-8)
+                });
+                let error: f64 = point
+                    .expect("a point")
+                    .split(',')
+                    .nth(e)
+                    .unwrap()
+                    .parse()
+                    .unwrap();
+                assert!(
+                    (error - shown).abs() <= 0.051 * shown,
+                    "{problem}, {formulation}, {mesh}: {shown} shown, {error} in the CSV"
+                );
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked >= 80, "{checked} values checked");
+}
