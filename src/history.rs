@@ -1,6 +1,8 @@
 //! The run history: every increment record and event of a run, as written by `solve --json`
 //! and the GUI's export. The schema is documented in `docs/history-format.md`.
 
+use std::path::Path;
+
 use serde::{Deserialize, Serialize};
 
 use crate::solver::report::Flow;
@@ -40,17 +42,55 @@ impl Observer for History {
 
 impl History {
     /// Write as pretty JSON, atomically (temporary file, then rename).
-    pub fn write_json(&self, path: &std::path::Path) -> std::io::Result<()> {
+    pub fn write_json(&self, path: &Path) -> std::io::Result<()> {
         let text = serde_json::to_string_pretty(self).map_err(std::io::Error::other)?;
         write_atomic(path, text.as_bytes())
     }
 }
 
-/// Write a file atomically: a temporary file beside it, then a rename.
-pub fn write_atomic(path: &std::path::Path, bytes: &[u8]) -> std::io::Result<()> {
+/// Why `path` may not be written as an output, if it may not: it is (or links to) one of
+/// `inputs`, is a symbolic link (refused rather than followed or replaced), is not a regular
+/// file (a folder, a FIFO, a device), or its folder does not exist. Checked before a run, so that
+/// a long solve does not end in "cannot write".
+pub fn output_problem(path: &Path, inputs: &[&Path]) -> Option<String> {
+    if let Ok(meta) = std::fs::symlink_metadata(path) {
+        if meta.file_type().is_symlink() {
+            return Some("it is a symbolic link: name the file itself".into());
+        }
+        if !meta.is_file() {
+            return Some("it is not a regular file (a folder, a FIFO or a device)".into());
+        }
+        let same = |input: &Path| match (std::fs::canonicalize(path), std::fs::canonicalize(input))
+        {
+            (Ok(a), Ok(b)) => a == b,
+            _ => false,
+        };
+        if inputs.iter().any(|i| same(i)) {
+            return Some("it is the input scene, which writing there would overwrite".into());
+        }
+    }
+    let folder = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    if !folder.is_dir() {
+        return Some(format!("its folder {} does not exist", folder.display()));
+    }
+    None
+}
+
+/// Write a file atomically: a temporary file beside it, then a rename. Refuses what
+/// `output_problem` refuses; on any failure the temporary file is removed.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    if let Some(why) = output_problem(path, &[]) {
+        return Err(std::io::Error::other(why));
+    }
     let mut tmp = path.as_os_str().to_owned();
     tmp.push(".tmp");
     let tmp = std::path::PathBuf::from(tmp);
-    std::fs::write(&tmp, bytes)?;
-    std::fs::rename(&tmp, path)
+    let written = std::fs::write(&tmp, bytes).and_then(|()| std::fs::rename(&tmp, path));
+    if written.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    written
 }

@@ -2,6 +2,7 @@
 //! the full history written as JSON on request, and a closing line on how the increments met
 //! the equilibrium test.
 
+use std::path::Path;
 use std::time::Instant;
 
 use super::args::{FormulationArg, SolveArgs, StretchArg};
@@ -80,6 +81,16 @@ pub(super) fn solve(args: SolveArgs) -> i32 {
         stretch_correction,
     } = args;
     let name = name.as_str();
+    // The output is checked before the run: a long solve must not end in "cannot write".
+    if let Some(path) = &json {
+        if let Some(why) = tsm_contact::history::output_problem(path, &[Path::new(name)]) {
+            eprintln!(
+                "error: cannot write the history to {}: {why}",
+                path.display()
+            );
+            return 2;
+        }
+    }
     let mut scene = match scene::builtin::open(name) {
         Ok(s) => s,
         Err(e) => {

@@ -2,9 +2,13 @@
 //! arc-length control only for a load-driven scene whose prescribed displacements are held.
 
 use super::conditions::Conditions;
-use super::errors::{positive, Ctx, SceneError};
+use super::errors::{positive, within, Ctx, SceneError};
 use crate::scene::format::SceneFile;
 use crate::solver::SolverParams;
+
+/// The range of a bound on the relative residual (the tolerance, the round-off bound): above
+/// 1e-2 an increment a hundredth out of equilibrium would count as converged.
+const RELATIVE_RESIDUAL: (f64, f64) = (0.0, 1e-2);
 
 /// The run settings of a scene.
 pub(super) struct Control {
@@ -18,16 +22,11 @@ pub(super) fn control(ctx: &Ctx, sf: &SceneFile, c_: &Conditions) -> Result<Cont
     let c = &sf.control;
     let mut params = SolverParams::default();
     if let Some(t) = c.tolerance {
-        positive(ctx, "control.tolerance".into(), Some("tolerance".into()), t)?;
+        within(ctx, "control.tolerance", t, RELATIVE_RESIDUAL)?;
         params.tolerance = t;
     }
     if let Some(b) = c.roundoff_bound {
-        positive(
-            ctx,
-            "control.roundoff_bound".into(),
-            Some("roundoff_bound".into()),
-            b,
-        )?;
+        within(ctx, "control.roundoff_bound", b, RELATIVE_RESIDUAL)?;
         params.roundoff_bound = b;
     }
     if let Some(s) = c.max_step {

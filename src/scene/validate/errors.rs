@@ -77,3 +77,22 @@ pub(super) fn positive(
         ))
     }
 }
+
+/// `v` must lie in (`lo`, `hi`]: what a relative residual bound can sensibly be.
+pub(super) fn within(
+    ctx: &Ctx,
+    field: &str,
+    v: f64,
+    (lo, hi): (f64, f64),
+) -> Result<(), SceneError> {
+    if v > lo && v <= hi {
+        Ok(())
+    } else {
+        let key = field.rsplit('.').next().unwrap_or(field).to_string();
+        Err(ctx.err(
+            field,
+            Some(key),
+            format!("must lie in ({lo:e}, {hi:e}], got {v:e}"),
+        ))
+    }
+}

@@ -15,4 +15,4 @@ mod sections;
 
 pub use errors::SceneError;
 pub use geometry::MAX_ELEMENTS;
-pub use parse::{from_scene_file, load_file, parse, Scene};
+pub use parse::{from_scene_file, load_file, parse, Scene, MAX_SCENE_BYTES};

@@ -33,20 +33,54 @@ impl Scene {
     }
 }
 
-/// Read and validate a scene file.
+/// The largest scene file read (bytes): a scene of `MAX_ELEMENTS` elements written out takes
+/// far less; a larger file is refused before it is read.
+pub const MAX_SCENE_BYTES: u64 = 64 << 20;
+
+/// Read and validate a scene file: a regular file of at most `MAX_SCENE_BYTES`, in UTF-8.
 pub fn load_file(path: &Path) -> Result<Scene, SceneError> {
+    use std::io::Read;
     let name = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| SceneError {
+    let error = |message: String| SceneError {
         file: name.clone(),
         line: None,
         field: "(file)".into(),
-        message: format!("cannot read: {e}"),
+        message,
+    };
+    let meta = std::fs::metadata(path).map_err(|e| error(format!("cannot read: {e}")))?;
+    if !meta.is_file() {
+        return Err(error(
+            "not a regular file (a folder, a FIFO or a device): a scene is a RON file".into(),
+        ));
+    }
+    if meta.len() > MAX_SCENE_BYTES {
+        return Err(error(format!(
+            "{} bytes, more than the {MAX_SCENE_BYTES} a scene may have",
+            meta.len()
+        )));
+    }
+    let mut bytes = Vec::new();
+    std::fs::File::open(path)
+        .and_then(|f| f.take(MAX_SCENE_BYTES + 1).read_to_end(&mut bytes))
+        .map_err(|e| error(format!("cannot read: {e}")))?;
+    if bytes.len() as u64 > MAX_SCENE_BYTES {
+        return Err(error(format!(
+            "more than the {MAX_SCENE_BYTES} bytes a scene may have"
+        )));
+    }
+    let text = String::from_utf8(bytes).map_err(|e| {
+        error(format!(
+            "not UTF-8 text (invalid byte at offset {})",
+            e.utf8_error().valid_up_to()
+        ))
     })?;
     parse(&text, &name)
 }
 
 /// Parse and validate scene text; `file` is used in messages.
 pub fn parse(text: &str, file: &str) -> Result<Scene, SceneError> {
+    // A byte-order mark some editors write is not part of the text.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let options =
         ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
     let sf: SceneFile = options.from_str(text).map_err(|e| SceneError {

@@ -1,0 +1,150 @@
+//! Input and output files: the history never overwrites the input scene, a symbolic link, a
+//! FIFO or a folder, and a bad output path is refused before the run; a scene that is not a
+//! regular file is refused before it is read; a byte-order mark is accepted; a tolerance out of
+//! range is refused with the range.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use tsm_contact::scene::parse;
+
+fn tsm(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_tsm-contact"))
+        .args(args)
+        .output()
+        .expect("runs")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("tsm-files-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn text(o: &Output) -> (String, String) {
+    (
+        String::from_utf8_lossy(&o.stdout).into_owned(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
+}
+
+/// An increment line of `solve` (it starts with the increment number).
+fn increments(stdout: &str) -> usize {
+    (stdout.lines())
+        .filter(|l| {
+            l.split_whitespace()
+                .next()
+                .is_some_and(|w| w.parse::<usize>().is_ok())
+        })
+        .count()
+}
+
+#[test]
+fn the_history_never_overwrites_the_input_scene() {
+    let dir = scratch("input");
+    let scene = dir.join("m.ron");
+    let original = tsm_contact::scene::builtin::text("mattiasson").unwrap();
+    std::fs::write(&scene, original).unwrap();
+    let s = scene.to_str().unwrap();
+    let o = tsm(&["solve", s, "--json", s]);
+    let (out, err) = text(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("input scene"), "{err}");
+    assert_eq!(increments(&out), 0, "refused before the run");
+    assert_eq!(std::fs::read_to_string(&scene).unwrap(), original);
+}
+
+#[cfg(unix)]
+#[test]
+fn links_fifos_folders_and_missing_folders_are_refused_before_the_run() {
+    let dir = scratch("outputs");
+    let target = dir.join("target.json");
+    std::fs::write(&target, "keep").unwrap();
+    let link = dir.join("link.json");
+    std::os::unix::fs::symlink(&target, &link).unwrap();
+    let fifo = dir.join("fifo");
+    assert!(Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap()
+        .success());
+    let cases: [(&Path, &str); 4] = [
+        (&link, "symbolic link"),
+        (&fifo, "not a regular file"),
+        (&dir, "not a regular file"),
+        (&dir.join("missing/h.json"), "does not exist"),
+    ];
+    for (path, why) in cases {
+        let o = tsm(&["solve", "mattiasson", "--json", path.to_str().unwrap()]);
+        let (out, err) = text(&o);
+        assert_eq!(o.status.code(), Some(2), "{}: {err}", path.display());
+        assert!(err.contains(why), "{}: {err}", path.display());
+        assert_eq!(
+            increments(&out),
+            0,
+            "{}: refused before the run",
+            path.display()
+        );
+    }
+    assert_eq!(std::fs::read_to_string(&target).unwrap(), "keep");
+    assert!(std::fs::symlink_metadata(&link)
+        .unwrap()
+        .file_type()
+        .is_symlink());
+    let leftovers: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_name().to_string_lossy().ends_with(".tmp"))
+        .collect();
+    assert!(leftovers.is_empty(), "{leftovers:?}");
+}
+
+/// `/dev/zero` would be read without end: a scene that is not a regular file is refused at
+/// once.
+#[cfg(unix)]
+#[test]
+fn a_scene_that_is_not_a_regular_file_is_refused_before_it_is_read() {
+    let started = std::time::Instant::now();
+    let o = tsm(&["solve", "/dev/zero"]);
+    let (_, err) = text(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("not a regular file"), "{err}");
+    assert!(started.elapsed().as_secs() < 10);
+}
+
+#[test]
+fn a_byte_order_mark_is_not_part_of_the_scene() {
+    let text = tsm_contact::scene::builtin::text("mattiasson").unwrap();
+    let plain = parse(text, "plain").expect("valid");
+    let marked = parse(&format!("\u{feff}{text}"), "marked").expect("valid with a BOM");
+    assert_eq!(plain.model, marked.model);
+}
+
+#[test]
+fn a_tolerance_out_of_range_is_refused_with_the_range() {
+    let text = tsm_contact::scene::builtin::text("mattiasson").unwrap();
+    for (field, value) in [
+        ("tolerance", "1e10"),
+        ("roundoff_bound", "0.5"),
+        ("tolerance", "0.0"),
+    ] {
+        let bad = text.replace(
+            "control: (steps: 10,",
+            &format!("control: ({field}: {value}, steps: 10,"),
+        );
+        assert_ne!(bad, text, "the control line is where it was");
+        let e = parse(&bad, "bad.ron")
+            .expect_err("out of range")
+            .to_string();
+        assert!(
+            e.contains(&format!("control.{field}")) && e.contains("must lie in (0e0, 1e-2]"),
+            "{e}"
+        );
+    }
+    let fine = text.replace(
+        "control: (steps: 10,",
+        "control: (tolerance: 1e-6, steps: 10,",
+    );
+    assert!(parse(&fine, "fine.ron").is_ok());
+}
