@@ -75,6 +75,50 @@ fn mechanism_names_the_free_dofs() {
     assert!(e.contains("node 50 u") && e.contains("node 50 v"), "{e}");
 }
 
+/// A long list of free dofs is summed up: how many, the first eight, and whether that is all
+/// of them. Five pins that nothing holds have ten free dofs; 110 of them (220 equations, beyond
+/// the dense null-space search) give the first dof a factorisation finds, and say there may
+/// be more.
+#[test]
+fn a_long_mechanism_is_summed_up() {
+    let pins: String = (0..5)
+        .map(|k| format!("(id: {}, x: 0.{k}, y: 1.0, rotation: false), ", 50 + k))
+        .collect();
+    let text = GOOD.replace("bodies:", &format!("nodes: [{pins}],\n    bodies:"));
+    let e = err(&text);
+    assert!(
+        e.contains("10 free dofs have no stiffness, among them"),
+        "{e}"
+    );
+    assert_eq!(e.matches("node 5").count(), 8, "the first eight: {e}");
+    let many: String = (0..110)
+        .map(|k| format!("(id: {}, x: {k}.5, y: 1.0, rotation: false), ", 100 + k))
+        .collect();
+    let e = err(&GOOD.replace("bodies:", &format!("nodes: [{many}],\n    bodies:")));
+    assert!(e.contains("(the first found; there may be more)"), "{e}");
+}
+
+/// Two contact nodes at one point, and a path through infinity, are refused with what is
+/// wrong with them (not a NaN residual, not a "zero-length element").
+#[test]
+fn coinciding_contact_nodes_and_infinite_coordinates_are_named() {
+    let pins = GOOD.replace(
+        "bodies:",
+        "nodes: [(id: 50, x: 0.5, y: 0.1, rotation: false), (id: 51, x: 0.5, y: 0.1, rotation: false)],\n    bodies:",
+    )
+    .replace(
+        "supports: [",
+        "contacts: [(nodes: [50, 51], bodies: [\"b\"])],\n    supports: [(node: 50, u: true, v: true), (node: 51, u: true, v: true), ",
+    );
+    let e = err(&pins);
+    assert!(e.contains("nodes 50 and 51 start at the same point"), "{e}");
+    let e = err(&GOOD.replace("(1.0, 0.0)]", "(inf, 0.0)]"));
+    assert!(
+        e.contains("path[1]") && e.contains("coordinates must be finite"),
+        "{e}"
+    );
+}
+
 #[test]
 fn unknown_fields_and_sections_are_rejected() {
     let e = err(&GOOD.replace("elements: 2,", "elements: 2, colour: 3,"));

@@ -319,10 +319,13 @@ pub enum SolveError {
         body: String,
     },
     /// The tangent is singular: the structure is a mechanism at these dofs.
-    #[error("the structure is a mechanism: free dofs {dofs:?} have no stiffness")]
+    #[error("the structure is a mechanism: {}", mechanism_text(dofs, *complete))]
     Mechanism {
         /// Free dofs as "node N u/v/phi".
         dofs: Vec<String>,
+        /// Whether `dofs` is every dof of the null space (small models), or only the first
+        /// that a factorisation finds without stiffness (large ones).
+        complete: bool,
     },
     /// The observer asked the run to stop.
     #[error("stopped by the caller")]
@@ -333,4 +336,18 @@ pub enum SolveError {
         /// What is wrong.
         reason: String,
     },
+}
+
+/// The dofs of a mechanism in words: how many, the first few, and whether that is all of them.
+pub fn mechanism_text(dofs: &[String], complete: bool) -> String {
+    const SHOWN: usize = 8;
+    let first = dofs[..dofs.len().min(SHOWN)].join(", ");
+    match (complete, dofs.len()) {
+        (false, _) => {
+            format!("the free dof {first} has no stiffness (the first found; there may be more)")
+        }
+        (true, 1) => format!("the free dof {first} has no stiffness"),
+        (true, n) if n <= SHOWN => format!("these {n} free dofs have no stiffness: {first}"),
+        (true, n) => format!("{n} free dofs have no stiffness, among them {first}"),
+    }
 }

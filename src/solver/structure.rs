@@ -175,11 +175,11 @@ impl Structure {
     }
 
     /// The free dofs that have no stiffness at displacements `d` under equation ordering `ord`
-    /// (empty if the structure is stable). Small models get every dof of the null space; large
-    /// ones the first failing pivot.
-    pub fn mechanism_dofs(&self, ord: &Ordering, d: &[f64]) -> Vec<String> {
+    /// (empty if the structure is stable), and whether they are all of them: small models get
+    /// every dof of the null space; large ones the first failing pivot.
+    pub fn mechanism_dofs(&self, ord: &Ordering, d: &[f64]) -> (Vec<String>, bool) {
         if ord.n_eq == 0 {
-            return Vec::new();
+            return (Vec::new(), true);
         }
         let asm = assemble(&self.context(ord), d, true, None);
         let k = asm.tangent.expect("tangent");
@@ -187,11 +187,11 @@ impl Structure {
         // The band LU decides (O(n)); only a singular structure pays for the dense
         // eigen-decomposition that names every dof of the null space.
         let first = match k.clone().factor(1e-14 * scale) {
-            Ok(()) => return Vec::new(),
+            Ok(()) => return (Vec::new(), true),
             Err(sp) => self.equation_label(ord, sp.equation),
         };
         if ord.n_eq > DENSE_MECHANISM_CHECK {
-            return vec![first];
+            return (vec![first], false);
         }
         let dense = nalgebra::DMatrix::from_fn(ord.n_eq, ord.n_eq, |i, j| k.get(i, j));
         let eig = nalgebra::SymmetricEigen::new(&dense + dense.transpose());
@@ -209,6 +209,6 @@ impl Structure {
         if out.is_empty() {
             out.push(first);
         }
-        out
+        (out, true)
     }
 }

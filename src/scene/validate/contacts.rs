@@ -33,6 +33,24 @@ pub(super) fn contacts(
         for (m, name) in c.bodies.iter().enumerate() {
             cb.push(g.body_of(ctx, format!("contacts[{k}].bodies[{m}]"), name)?);
         }
+        // Two candidate nodes at one point would rest on one element at one place: the
+        // contact element has no equilibrium for that.
+        let mut at: std::collections::HashMap<(u64, u64), usize> = Default::default();
+        for &n in &cn {
+            let node = &g.nodes[n];
+            let key = ((node.x + 0.0).to_bits(), (node.y + 0.0).to_bits());
+            if let Some(&other) = at.get(&key) {
+                return Err(ctx.err(
+                    format!("contacts[{k}].nodes"),
+                    Some(format!("id:{}", node.id)),
+                    format!(
+                        "nodes {} and {} start at the same point ({}, {}): two contact nodes cannot share a point",
+                        g.nodes[other].id, node.id, node.x, node.y
+                    ),
+                ));
+            }
+            at.insert(key, n);
+        }
         contacts.push(ContactPair {
             nodes: cn,
             bodies: cb,

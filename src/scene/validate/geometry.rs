@@ -99,6 +99,13 @@ pub(super) fn geometry<'a>(
         if body_index.insert(&body.name, b).is_some() {
             return Err(ctx.err(field("name"), nd, "duplicate body name"));
         }
+        if let Some(k) = (body.path.iter()).position(|p| !(p.0.is_finite() && p.1.is_finite())) {
+            return Err(ctx.err(
+                format!("bodies[{b}].path[{k}] (body \"{}\")", body.name),
+                nd,
+                "coordinates must be finite",
+            ));
+        }
         let mut pts = vec![body.path[0]];
         for (s, w) in body.path.windows(2).enumerate() {
             let (p, q) = (w[0], w[1]);

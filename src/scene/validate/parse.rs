@@ -131,12 +131,10 @@ fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
             return Err(ctx.err("contacts", None, e.to_string()));
         }
         let message = match e {
-            SolveError::Mechanism { dofs } => {
-                format!(
-                    "the structure is a mechanism; these free dofs have no stiffness: {}",
-                    dofs.join(", ")
-                )
-            }
+            SolveError::Mechanism { dofs, complete } => format!(
+                "the structure is a mechanism: {}",
+                crate::solver::report::mechanism_text(&dofs, complete)
+            ),
             other => other.to_string(),
         };
         return Err(ctx.err("supports", None, message));

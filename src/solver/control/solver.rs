@@ -48,9 +48,12 @@ impl Solver {
         // The ordering without contacts, kept in the workspace for the first attempt.
         let work = Workspace::default();
         let ord = work.ordering_for(&structure, &state.contacts);
-        let free = structure.mechanism_dofs(&ord, &state.d);
+        let (free, complete) = structure.mechanism_dofs(&ord, &state.d);
         if !free.is_empty() {
-            return Err(SolveError::Mechanism { dofs: free });
+            return Err(SolveError::Mechanism {
+                dofs: free,
+                complete,
+            });
         }
         let mut solver = Solver {
             structure,
