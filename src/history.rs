@@ -94,3 +94,89 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     }
     written
 }
+
+/// A history written as the run goes, so that a run of any length holds no increment in
+/// memory: the header, then every increment as it is accepted, and the events and the error
+/// when the run ends (`finish`). The file is a temporary one beside the target until then, and
+/// is removed if the writer is dropped unfinished. The JSON is `History`'s.
+pub struct HistoryWriter {
+    out: std::io::BufWriter<std::fs::File>,
+    tmp: std::path::PathBuf,
+    path: std::path::PathBuf,
+    increments: usize,
+    events: Vec<Event>,
+    finished: bool,
+}
+
+impl HistoryWriter {
+    /// Start writing `header` (its increments, events and error are left out) to `path`;
+    /// refuses what `output_problem` refuses.
+    pub fn create(path: &Path, header: &History) -> std::io::Result<HistoryWriter> {
+        use std::io::Write;
+        if let Some(why) = output_problem(path, &[]) {
+            return Err(std::io::Error::other(why));
+        }
+        let mut tmp = path.as_os_str().to_owned();
+        tmp.push(".tmp");
+        let tmp = std::path::PathBuf::from(tmp);
+        let file = std::fs::File::create(&tmp)?;
+        let mut writer = HistoryWriter {
+            out: std::io::BufWriter::new(file),
+            tmp,
+            path: path.to_path_buf(),
+            increments: 0,
+            events: Vec::new(),
+            finished: false,
+        };
+        write!(
+            writer.out,
+            "{{\"scene\":{},\"formulation\":{},\"params\":{},\"node_ids\":{},\"increments\":[",
+            json(&header.scene),
+            json(&header.formulation),
+            json(&header.params),
+            json(&header.node_ids)
+        )?;
+        Ok(writer)
+    }
+
+    /// Write one accepted increment.
+    pub fn increment(&mut self, r: &IncrementRecord) -> std::io::Result<()> {
+        use std::io::Write;
+        if self.increments > 0 {
+            self.out.write_all(b",")?;
+        }
+        serde_json::to_writer(&mut self.out, r).map_err(std::io::Error::other)?;
+        self.increments += 1;
+        Ok(())
+    }
+
+    /// Keep an event for the end of the file.
+    pub fn event(&mut self, e: &Event) {
+        self.events.push(e.clone());
+    }
+
+    /// Write the events and `error`, and move the file into place.
+    pub fn finish(mut self, error: Option<String>) -> std::io::Result<()> {
+        use std::io::Write;
+        let events = serde_json::to_string(&self.events).map_err(std::io::Error::other)?;
+        let error = serde_json::to_string(&error).map_err(std::io::Error::other)?;
+        write!(self.out, "],\"events\":{events},\"error\":{error}}}")?;
+        self.out.flush()?;
+        std::fs::rename(&self.tmp, &self.path)?;
+        self.finished = true;
+        Ok(())
+    }
+}
+
+impl Drop for HistoryWriter {
+    fn drop(&mut self) {
+        if !self.finished {
+            let _ = std::fs::remove_file(&self.tmp);
+        }
+    }
+}
+
+/// The JSON text of a header field (`null` where it cannot be written).
+fn json<T: Serialize>(v: &T) -> String {
+    serde_json::to_string(v).unwrap_or_else(|_| "null".into())
+}

@@ -148,3 +148,42 @@ fn a_tolerance_out_of_range_is_refused_with_the_range() {
     );
     assert!(parse(&fine, "fine.ron").is_ok());
 }
+
+/// The history is streamed: the file written as the run goes is `History`'s JSON (read back
+/// whole, it holds every increment `solve` printed and every event), and a writer dropped
+/// unfinished leaves neither the file nor its temporary beside it.
+#[test]
+fn the_history_is_streamed_and_an_unfinished_one_leaves_nothing() {
+    use tsm_contact::history::{History, HistoryWriter};
+    let dir = scratch("stream");
+    let path = dir.join("h.json");
+    let o = tsm(&[
+        "solve",
+        "example_3_2",
+        "--steps",
+        "15",
+        "--json",
+        path.to_str().unwrap(),
+    ]);
+    let (out, err) = text(&o);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    let h: History = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    assert_eq!(h.increments.len(), increments(&out));
+    assert_eq!(h.increments.len(), 15);
+    assert!(h
+        .increments
+        .windows(2)
+        .all(|w| w[1].increment == w[0].increment + 1));
+    assert_eq!(h.events.len(), out.matches("event:").count());
+    assert!(h.error.is_none());
+    let other = dir.join("unfinished.json");
+    let w = HistoryWriter::create(&other, &History::default()).unwrap();
+    drop(w);
+    let left: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with("unfinished"))
+        .collect();
+    assert!(left.is_empty(), "{left:?}");
+}

@@ -6,18 +6,32 @@ use std::path::Path;
 use std::time::Instant;
 
 use super::args::{FormulationArg, SolveArgs, StretchArg};
-use tsm_contact::history::History;
+use tsm_contact::history::{History, HistoryWriter};
 use tsm_contact::scene;
 use tsm_contact::solver::report::Flow;
 use tsm_contact::solver::{
     Event, Formulation, IncrementRecord, IncrementStatus, Model, Observer, StretchCorrection,
 };
 
+/// Prints the run, tallies it, and streams it into the history file (if one is asked for).
 struct Printer {
     /// The model, for naming elements.
     model: Model,
-    history: History,
+    /// The history file being written, and the first error writing it.
+    history: Option<HistoryWriter>,
+    write_error: Option<std::io::Error>,
+    tally: Tally,
     verbose: bool,
+}
+
+/// What the closing lines say of the increments: how many, their iterations, how many were
+/// accepted at the round-off floor, and the worst relative residual.
+#[derive(Default)]
+struct Tally {
+    increments: usize,
+    iterations: usize,
+    roundoff: usize,
+    worst: f64,
 }
 
 impl Observer for Printer {
@@ -62,11 +76,25 @@ impl Observer for Printer {
             r.contacts.len(),
             r.seconds * 1e3
         );
-        self.history.increment(r)
+        let t = &mut self.tally;
+        t.increments += 1;
+        t.iterations += r.iterations;
+        t.worst = t.worst.max(r.relative_residual);
+        if matches!(r.status, IncrementStatus::RoundOff { .. }) {
+            t.roundoff += 1;
+        }
+        if let Some(w) = &mut self.history {
+            if let Err(e) = w.increment(r) {
+                self.write_error.get_or_insert(e);
+            }
+        }
+        Flow::Continue
     }
     fn event(&mut self, e: &Event) {
         out!("      event: {}", e.describe(&self.model));
-        self.history.event(e);
+        if let Some(w) = &mut self.history {
+            w.event(e);
+        }
     }
 }
 
@@ -130,45 +158,54 @@ pub(super) fn solve(args: SolveArgs) -> i32 {
         scene.params.tolerance
     );
     out!("# incr  prescribed/load  iter  it8  rel.resid   cut  act   ms   (r: accepted at the round-off floor)");
+    let header = History {
+        scene: scene.file.name.clone(),
+        formulation: Some(scene.model.formulation),
+        params: Some(scene.params),
+        node_ids: scene.model.nodes.iter().map(|n| n.id).collect(),
+        ..History::default()
+    };
+    let history = match json.as_deref().map(|p| HistoryWriter::create(p, &header)) {
+        None => None,
+        Some(Ok(w)) => Some(w),
+        Some(Err(e)) => {
+            let path = json.as_deref().unwrap_or(Path::new(""));
+            eprintln!("error: cannot write {}: {e}", path.display());
+            return 2;
+        }
+    };
     let mut printer = Printer {
         model: scene.model.clone(),
-        history: History {
-            scene: scene.file.name.clone(),
-            formulation: Some(scene.model.formulation),
-            params: Some(scene.params),
-            node_ids: scene.model.nodes.iter().map(|n| n.id).collect(),
-            ..History::default()
-        },
+        history,
+        write_error: None,
+        tally: Tally::default(),
         verbose,
     };
     let t0 = Instant::now();
     let mut code = 0;
+    let mut error = None;
     for _ in 0..steps {
         if let Err(e) = solver.step(&mut printer) {
             eprintln!("error: {e}");
-            printer.history.error = Some(e.to_string());
+            error = Some(e.to_string());
             code = 1;
             break;
         }
     }
-    let total: usize = printer
-        .history
-        .increments
-        .iter()
-        .map(|r| r.iterations)
-        .sum();
+    let t = &printer.tally;
     out!(
         "# {} increments, {} iterations, {:.1} ms",
-        printer.history.increments.len(),
-        total,
+        t.increments,
+        t.iterations,
         t0.elapsed().as_secs_f64() * 1e3
     );
-    out!(
-        "# {}",
-        acceptance_summary(&printer.history.increments, code != 0)
-    );
-    if let Some(path) = json {
-        if let Err(e) = printer.history.write_json(&path) {
+    out!("# {}", acceptance_summary(t, code != 0));
+    if let (Some(path), Some(w)) = (&json, printer.history.take()) {
+        let written = match printer.write_error.take() {
+            Some(e) => Err(e),
+            None => w.finish(error),
+        };
+        if let Err(e) = written {
             eprintln!("error: cannot write {}: {e}", path.display());
             return 2;
         }
@@ -179,14 +216,16 @@ pub(super) fn solve(args: SolveArgs) -> i32 {
 /// One line on how the increments met the acceptance rule: how many converged to the tolerance,
 /// how many were accepted at the round-off floor, the worst relative residual, and whether the
 /// run stopped on a failure.
-fn acceptance_summary(increments: &[IncrementRecord], failed: bool) -> String {
-    let roundoff = (increments.iter())
-        .filter(|r| matches!(r.status, IncrementStatus::RoundOff { .. }))
-        .count();
-    let worst = (increments.iter()).fold(0.0f64, |w, r| w.max(r.relative_residual));
+fn acceptance_summary(t: &Tally, failed: bool) -> String {
     format!(
-        "{} increments converged, {roundoff} accepted at round-off, worst relative residual {worst:.2e}{}",
-        increments.len() - roundoff,
-        if failed { "; the run stopped on a failure" } else { "" }
+        "{} increments converged, {} accepted at round-off, worst relative residual {:.2e}{}",
+        t.increments - t.roundoff,
+        t.roundoff,
+        t.worst,
+        if failed {
+            "; the run stopped on a failure"
+        } else {
+            ""
+        }
     )
 }
