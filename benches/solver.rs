@@ -1,8 +1,8 @@
 //! Benchmarks: one Newton increment of an n-element cantilever (Mattiasson load k = 0.1), reported
 //! per element and per iteration, one increment of the scale report's long beam, the paper's
 //! Example 3.2, all 80 steps, and a slider-driven update of the paper scenes (Examples 3.1 and
-//! 3.2).
-//! Run with `cargo bench --no-default-features --bench solver`.
+//! 3.2), and loading, validating and solving a scene of many separate bodies.
+//! Run with `cargo bench --no-default-features --features reports --bench solver`.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use tsm_contact::scene::builtin::{builtin, with_elements};
@@ -102,9 +102,50 @@ fn slider_update(c: &mut Criterion) {
     g.finish();
 }
 
+/// A scene of `n` separate one-element cantilevers, each clamped and loaded at its tip.
+fn many_bodies_text(n: usize) -> String {
+    let bodies: Vec<String> = (0..n)
+        .map(|k| {
+            format!(
+                "(name: \"b{k}\", section: \"s\", path: [({x}.0, 0.0), ({x}.0, 1.0)], elements: 1, first_node: {id})",
+                x = 2 * k,
+                id = 2 * k + 1
+            )
+        })
+        .collect();
+    let supports: Vec<String> = (0..n)
+        .map(|k| format!("(node: {}, u: true, v: true, phi: true)", 2 * k + 1))
+        .collect();
+    let loads: Vec<String> = (0..n)
+        .map(|k| format!("(node: {}, fx: 1.0)", 2 * k + 2))
+        .collect();
+    format!(
+        "(name: \"many\", sections: [(name: \"s\", E: 1.0, A: 1.0, I: 1.0)], bodies: [{}], supports: [{}], loads: [{}], control: (steps: 1))",
+        bodies.join(", "),
+        supports.join(", "),
+        loads.join(", ")
+    )
+}
+
+/// Load, validate, order and solve the first increment of `n` separate bodies: the cost grows
+/// linearly with `n` (ten times the bodies, about ten times the time).
+fn many_bodies(c: &mut Criterion) {
+    let mut g = c.benchmark_group("many_bodies_first_increment");
+    for n in [1_000usize, 10_000, 100_000] {
+        let text = many_bodies_text(n);
+        g.bench_with_input(BenchmarkId::from_parameter(n), &text, |b, text| {
+            b.iter(|| {
+                let sc = tsm_contact::scene::parse(text, "many").unwrap();
+                sc.solver().unwrap().step(&mut Silent).unwrap()
+            })
+        });
+    }
+    g.finish();
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(10);
-    targets = newton, long_beam, example_3_2, slider_update
+    targets = newton, long_beam, example_3_2, slider_update, many_bodies
 }
 criterion_main!(benches);

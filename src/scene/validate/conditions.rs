@@ -1,6 +1,8 @@
 //! The boundary conditions and loading of a scene: `supports`, `loads` and `prescribed`
 //! displacements, each on a node that has the dof, none both supported and prescribed.
 
+use std::collections::HashSet;
+
 use super::errors::{Ctx, SceneError};
 use super::geometry::Geometry;
 use crate::scene::format::SceneFile;
@@ -20,12 +22,16 @@ pub(super) fn conditions(
     g: &Geometry,
 ) -> Result<Conditions, SceneError> {
     let mut supports = Vec::new();
+    // (node, dof offset) of every support and prescribed dof, for the checks below in constant
+    // time (a scene of many bodies has as many supports).
+    let mut held: HashSet<(usize, usize)> = HashSet::new();
+    let mut driven: HashSet<(usize, usize)> = HashSet::new();
     for (k, s) in sf.supports.iter().enumerate() {
         let n = g.node_of(ctx, format!("supports[{k}].node"), s.node)?;
         for (on, dof) in [(s.u, Dof::U), (s.v, Dof::V), (s.phi, Dof::Phi)] {
             if on {
                 g.check_dof(ctx, format!("supports[{k}].phi (node {})", s.node), n, dof)?;
-                if !supports.contains(&Support { node: n, dof }) {
+                if held.insert((n, dof.offset())) {
                     supports.push(Support { node: n, dof });
                 }
             }
@@ -58,10 +64,10 @@ pub(super) fn conditions(
         if !p.per_step.is_finite() {
             return Err(ctx.err(field, nd, "per_step must be finite"));
         }
-        if supports.iter().any(|s| s.node == n && s.dof == p.dof) {
+        if held.contains(&(n, p.dof.offset())) {
             return Err(ctx.err(field, nd, "a dof cannot be both supported and prescribed"));
         }
-        if prescribed.iter().any(|q| q.node == n && q.dof == p.dof) {
+        if !driven.insert((n, p.dof.offset())) {
             return Err(ctx.err(field, nd, "prescribed twice"));
         }
         prescribed.push(Prescribed {

@@ -8,11 +8,14 @@ pub fn reverse_cuthill_mckee(adj: &[Vec<usize>]) -> Vec<usize> {
     let mut visited = vec![false; n];
     let mut order = Vec::with_capacity(n);
     let degree = |v: usize| adj[v].len();
+    // One distance array for every search, reset where a search wrote (a fresh one per search
+    // would make a model of many separate bodies cost quadratic time).
+    let mut dist = vec![usize::MAX; n];
     for start in 0..n {
         if visited[start] {
             continue;
         }
-        let root = pseudo_peripheral(adj, start);
+        let root = pseudo_peripheral(adj, start, &mut dist);
         visited[root] = true;
         let head = order.len();
         order.push(root);
@@ -35,11 +38,13 @@ pub fn reverse_cuthill_mckee(adj: &[Vec<usize>]) -> Vec<usize> {
     order
 }
 
-fn pseudo_peripheral(adj: &[Vec<usize>], start: usize) -> usize {
+/// A node far from every other of `start`'s component: repeated farthest-node searches.
+/// `dist` is all `usize::MAX` on entry and on return.
+fn pseudo_peripheral(adj: &[Vec<usize>], start: usize, dist: &mut [usize]) -> usize {
     let mut root = start;
     let mut depth = 0;
     for _ in 0..4 {
-        let (far, d) = farthest(adj, root);
+        let (far, d) = farthest(adj, root, dist);
         if d <= depth {
             break;
         }
@@ -49,19 +54,26 @@ fn pseudo_peripheral(adj: &[Vec<usize>], start: usize) -> usize {
     root
 }
 
-fn farthest(adj: &[Vec<usize>], root: usize) -> (usize, usize) {
-    let mut dist = vec![usize::MAX; adj.len()];
+/// The last node a breadth-first search from `root` reaches, and its distance. `dist` is all
+/// `usize::MAX` on entry and is left so (the search's queue lists every entry it wrote).
+fn farthest(adj: &[Vec<usize>], root: usize, dist: &mut [usize]) -> (usize, usize) {
     dist[root] = 0;
-    let mut queue = std::collections::VecDeque::from([root]);
-    let mut last = root;
-    while let Some(v) = queue.pop_front() {
-        last = v;
+    let mut queue = vec![root];
+    let mut q = 0;
+    while q < queue.len() {
+        let v = queue[q];
+        q += 1;
         for &u in &adj[v] {
             if dist[u] == usize::MAX {
                 dist[u] = dist[v] + 1;
-                queue.push_back(u);
+                queue.push(u);
             }
         }
     }
-    (last, dist[last])
+    let last = *queue.last().expect("the root");
+    let depth = dist[last];
+    for &v in &queue {
+        dist[v] = usize::MAX;
+    }
+    (last, depth)
 }
