@@ -270,3 +270,15 @@ fn re_meshing_moves_every_node_reference_to_its_place() {
     );
     assert!(with_elements("lee_frame", 7).is_none());
 }
+
+/// A tiny area is named as what it is: an axial stiffness lost to round-off against the
+/// bending stiffness (not "a mechanism"); a small one that the tangent still holds solves.
+#[test]
+fn a_stiffness_lost_to_round_off_is_named() {
+    let e = err(&GOOD.replace("A: 1.0,", "A: 1.0e-20,"));
+    assert!(
+        e.contains("span more than 15 orders") && e.contains("E A / l") && !e.contains("mechanism"),
+        "{e}"
+    );
+    assert!(parse(&GOOD.replace("A: 1.0,", "A: 1.0e-12,"), "small.ron").is_ok());
+}

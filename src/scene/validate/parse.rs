@@ -126,6 +126,7 @@ fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
         params: run.params,
         steps: run.steps,
     };
+    stiffness_span(&ctx, &scene.model)?;
     if let Err(e) = scene.solver() {
         if let SolveError::AmbiguousSide { .. } = e {
             return Err(ctx.err("contacts", None, e.to_string()));
@@ -140,4 +141,52 @@ fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
         return Err(ctx.err("supports", None, message));
     }
     Ok(scene)
+}
+
+/// The widest span of element stiffnesses a double-precision tangent can hold: below this
+/// fraction of the stiffest term, a stiffness is round-off of the others.
+const STIFFNESS_SPAN: f64 = 1e-15;
+
+/// The element stiffnesses (axial EA / l and bending 12 EI / l^3) must lie within
+/// `STIFFNESS_SPAN` of each other: a term far below the others is lost to round-off and the
+/// structure would be reported as a mechanism, which it is not. (A large shear stiffness G Ae
+/// only brings the element to its Bernoulli-Euler limit.)
+fn stiffness_span(ctx: &Ctx, model: &Model) -> Result<(), SceneError> {
+    let terms = |b: &crate::solver::Beam| {
+        let (pi, pj) = (model.position(b.i), model.position(b.j));
+        let l = (pj[0] - pi[0]).hypot(pj[1] - pi[1]);
+        let s = b.section;
+        [
+            ("E A / l", s.ea / l),
+            ("12 E I / l^3", 12.0 * s.ei / (l * l * l)),
+        ]
+    };
+    let mut lo = (f64::INFINITY, "", 0);
+    let mut hi = (0.0f64, "", 0);
+    for (e, b) in model.beams.iter().enumerate() {
+        for (what, v) in terms(b) {
+            if v < lo.0 {
+                lo = (v, what, e);
+            }
+            if v > hi.0 {
+                hi = (v, what, e);
+            }
+        }
+    }
+    if lo.0 < STIFFNESS_SPAN * hi.0 {
+        return Err(ctx.err(
+            "sections",
+            None,
+            format!(
+                "the element stiffnesses span more than 15 orders of magnitude ({} = {:e} on {} against {} = {:e} on {}): the smaller is lost to round-off",
+                lo.1,
+                lo.0,
+                model.element_label(lo.2),
+                hi.1,
+                hi.0,
+                model.element_label(hi.2)
+            ),
+        ));
+    }
+    Ok(())
 }
