@@ -282,3 +282,26 @@ fn a_stiffness_lost_to_round_off_is_named() {
     );
     assert!(parse(&GOOD.replace("A: 1.0,", "A: 1.0e-12,"), "small.ron").is_ok());
 }
+
+/// An error in a section is located in that section: node 34 of Example 3.2 is named in the
+/// supports and in the prescribed displacements, and a rotation prescribed on it (a pin has
+/// none) is reported at the prescribed line, not at the support's.
+#[test]
+fn an_error_is_located_in_its_own_section() {
+    let text = tsm_contact::scene::builtin::text("example_3_2").unwrap();
+    let bad = text.replace("dof: V, per_step", "dof: Phi, per_step");
+    let line = 1 + bad
+        .lines()
+        .position(|l| l.trim_start().starts_with("prescribed:"))
+        .expect("a prescribed line");
+    let support = 1 + bad
+        .lines()
+        .position(|l| l.contains("(node: 34, u: true)"))
+        .expect("the pin's support");
+    assert_ne!(line, support);
+    let e = err(&bad);
+    assert!(
+        e.starts_with(&format!("bad.ron:{line}: prescribed[0]")),
+        "{e}"
+    );
+}

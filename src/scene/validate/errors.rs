@@ -41,22 +41,43 @@ impl Ctx<'_> {
         needle: Option<String>,
         message: impl Into<String>,
     ) -> SceneError {
-        let line = needle.and_then(|n| locate(self.text, &n));
+        let field = field.into();
+        let line = needle.and_then(|n| locate(self.text, &field, &n));
         SceneError {
             file: self.file.into(),
             line,
-            field: field.into(),
+            field,
             message: message.into(),
         }
     }
 }
 
-/// First line containing `needle` (whitespace-insensitive around ':').
-fn locate(text: &str, needle: &str) -> Option<usize> {
+/// The line of `needle` (whitespace-insensitive) in the section of the scene that `field`
+/// names (`prescribed[0] ...` looks from the `prescribed:` line on, so that a node named in
+/// the supports and the prescribed displacements is found where the error is); the first line
+/// holding it anywhere when the section cannot be found.
+fn locate(text: &str, field: &str, needle: &str) -> Option<usize> {
     let squash = |s: &str| s.chars().filter(|c| !c.is_whitespace()).collect::<String>();
     let n = squash(needle);
-    text.lines()
-        .position(|l| squash(l).contains(&n))
+    let lines: Vec<String> = text.lines().map(squash).collect();
+    let section = field.split(['[', '.', ' ']).next().unwrap_or("");
+    let key = format!("{section}:");
+    let from = (!section.is_empty())
+        .then(|| {
+            lines.iter().position(|l| {
+                l.starts_with(&key)
+                    || l.contains(&format!(",{key}"))
+                    || l.contains(&format!("({key}"))
+            })
+        })
+        .flatten()
+        .unwrap_or(0);
+    let after = lines[from..]
+        .iter()
+        .position(|l| l.contains(&n))
+        .map(|i| i + from);
+    after
+        .or_else(|| lines.iter().position(|l| l.contains(&n)))
         .map(|i| i + 1)
 }
 
