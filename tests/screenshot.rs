@@ -226,3 +226,31 @@ fn screenshot_shows_the_solver_state_where_the_sidecar_says() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A screenshot run that does not do its job exits with status 1 and says why: the scene named
+/// does not exist (the picture, showing the error, is still saved).
+#[test]
+fn a_screenshot_run_whose_scene_does_not_load_fails() {
+    if !have_xvfb() {
+        if std::env::var("TSM_ALLOW_NO_XVFB").as_deref() == Ok("1") {
+            eprintln!("\n!!!!!! SKIPPED: xvfb-run is not on PATH (TSM_ALLOW_NO_XVFB=1) !!!!!!\n");
+            return;
+        }
+        panic!("xvfb-run is not on PATH: install xvfb (apt-get install xvfb xauth; .ci/run does)");
+    }
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("screenshot-missing-scene");
+    std::fs::create_dir_all(&dir).unwrap();
+    let png = dir.join("shot.png");
+    let backend = std::env::var("WGPU_BACKEND").unwrap_or_else(|_| "vulkan".into());
+    let out = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1600x1000x24"])
+        .arg(env!("CARGO_BIN_EXE_tsm-contact"))
+        .args(["view", "no_such_scene", "--screenshot"])
+        .arg(&png)
+        .env("WGPU_BACKEND", &backend)
+        .output()
+        .expect("run xvfb-run");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("no such file and no built-in scene"), "{err}");
+}

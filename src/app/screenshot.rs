@@ -125,9 +125,24 @@ pub struct Shot {
     /// Layout and pixels per point of the frame that was captured.
     layout: Option<(Layout, f32)>,
     started: Instant,
+    /// Why the run did not do its job (the scene did not load), if it did not: the picture is
+    /// still taken, and the run exits with status 1.
+    failure: Option<String>,
 }
 
 impl Shot {
+    /// The run did not do its job: `why` is printed and the exit status is 1, after the
+    /// picture (which shows the error) is taken.
+    pub fn fail(&mut self, why: &str) {
+        self.record_failure(why);
+        self.phase = Phase::Settle(3);
+    }
+
+    /// Note that the run did not do its job (the solve stopped on an error), and go on.
+    pub fn record_failure(&mut self, why: &str) {
+        self.failure.get_or_insert_with(|| why.to_string());
+    }
+
     /// A screenshot to `path`; `close` ends the app afterwards (the `--screenshot` run).
     pub fn new(path: PathBuf, exit: Option<Arc<AtomicI32>>, close: bool) -> Shot {
         let phase = if close { Phase::Load } else { Phase::Settle(1) };
@@ -139,6 +154,7 @@ impl Shot {
             slot: Arc::default(),
             layout: None,
             started: Instant::now(),
+            failure: None,
         }
     }
 
@@ -211,7 +227,13 @@ impl Shot {
                                 img.size[0],
                                 img.size[1]
                             );
-                            0
+                            match &self.failure {
+                                Some(why) => {
+                                    eprintln!("error: {why}");
+                                    1
+                                }
+                                None => 0,
+                            }
                         }
                         Err(e) => {
                             eprintln!("error: cannot write {}: {e}", self.path.display());

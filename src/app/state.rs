@@ -10,7 +10,7 @@ use crate::solver::{Event, IncrementRecord, IterationRecord};
 use crate::worker::{Command, Loaded, Message, Worker};
 
 use super::frame_log::FrameLog;
-use super::screenshot::{Layout, Phase, Shot};
+use super::screenshot::{Layout, Shot};
 use super::view::{Drag, View};
 
 /// How the app starts.
@@ -85,10 +85,10 @@ impl TsmApp {
                 self.worker.send(Command::LoadScene(Box::new(scene)));
             }
             Err(e) => {
-                self.error = Some(e);
                 if let Some(shot) = &mut self.shot {
-                    shot.phase = Phase::Settle(3);
+                    shot.fail(&e);
                 }
+                self.error = Some(e);
             }
         }
     }
@@ -183,6 +183,9 @@ impl TsmApp {
                 Message::Iteration(r) => self.live.push(r),
                 Message::Event(e) => self.events.push(e),
                 Message::Error(e) => {
+                    if let Some(shot) = &mut self.shot {
+                        shot.record_failure(&e);
+                    }
                     self.error = Some(e);
                     self.live.clear();
                 }
