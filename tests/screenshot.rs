@@ -27,6 +27,22 @@ fn have_xvfb() -> bool {
         .is_some_and(|paths| std::env::split_paths(&paths).any(|d| d.join("xvfb-run").is_file()))
 }
 
+/// Whether the Xvfb tests can run: false (after saying so) only where `TSM_ALLOW_NO_XVFB=1`
+/// allows skipping them; without xvfb-run otherwise, a failure naming what to install.
+fn xvfb_or_skip() -> bool {
+    if have_xvfb() {
+        return true;
+    }
+    if std::env::var("TSM_ALLOW_NO_XVFB").as_deref() == Ok("1") {
+        eprintln!("\n!!!!!! SKIPPED: xvfb-run is not on PATH (TSM_ALLOW_NO_XVFB=1) !!!!!!\n");
+        return false;
+    }
+    panic!(
+        "xvfb-run is not on PATH: install xvfb (apt-get install xvfb xauth; .ci/run does), \
+         or set TSM_ALLOW_NO_XVFB=1 to skip this test"
+    );
+}
+
 fn dist(a: [u8; 3], b: [u8; 3]) -> f64 {
     (0..3)
         .map(|i| (f64::from(a[i]) - f64::from(b[i])).powi(2))
@@ -122,15 +138,8 @@ fn to_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
 
 #[test]
 fn screenshot_shows_the_solver_state_where_the_sidecar_says() {
-    if !have_xvfb() {
-        if std::env::var("TSM_ALLOW_NO_XVFB").as_deref() == Ok("1") {
-            eprintln!("\n!!!!!! SKIPPED: xvfb-run is not on PATH (TSM_ALLOW_NO_XVFB=1) !!!!!!\n");
-            return;
-        }
-        panic!(
-            "xvfb-run is not on PATH: install xvfb (apt-get install xvfb xauth; .ci/run does), \
-             or set TSM_ALLOW_NO_XVFB=1 to skip this test"
-        );
+    if !xvfb_or_skip() {
+        return;
     }
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
         .join(format!("screenshot-{}", std::process::id()));
@@ -231,12 +240,8 @@ fn screenshot_shows_the_solver_state_where_the_sidecar_says() {
 /// does not exist (the picture, showing the error, is still saved).
 #[test]
 fn a_screenshot_run_whose_scene_does_not_load_fails() {
-    if !have_xvfb() {
-        if std::env::var("TSM_ALLOW_NO_XVFB").as_deref() == Ok("1") {
-            eprintln!("\n!!!!!! SKIPPED: xvfb-run is not on PATH (TSM_ALLOW_NO_XVFB=1) !!!!!!\n");
-            return;
-        }
-        panic!("xvfb-run is not on PATH: install xvfb (apt-get install xvfb xauth; .ci/run does)");
+    if !xvfb_or_skip() {
+        return;
     }
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("screenshot-missing-scene");
     std::fs::create_dir_all(&dir).unwrap();
