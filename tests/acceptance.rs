@@ -429,6 +429,7 @@ proptest! {
 /// halving of the elements divides the force error by 3 to 5, and 160 elements are within
 /// 1e-4. Driven on (40 steps of 0.03 m), the pin slides off the free end on every mesh, and
 /// every accepted increment passes `check_record`.
+#[cfg(feature = "reports")]
 #[test]
 fn the_pin_over_a_node_converges_as_h_squared_and_slides_off_every_mesh() {
     use tsm_contact::reports::work_precision::pin_errors;

@@ -432,6 +432,7 @@ fn comb_brushes_fifty_teeth_and_broad_phase_changes_nothing() {
 /// A has a node, and each acts as a cantilever loaded there: force (d - gap) / (2 c) with
 /// c = a^3/(3 EI) + a/(G Ae), a = L/2. Tolerance 1e-4 (the geometric nonlinearity at d/L =
 /// 2.5e-4 is far below it).
+#[cfg(feature = "reports")]
 #[test]
 fn stacked_beams_touch_at_one_point_with_the_closed_form_force() {
     let (d, gap, a) = (1e-3, 1e-4, 2.0);
@@ -463,6 +464,7 @@ fn stacked_beams_touch_at_one_point_with_the_closed_form_force() {
 /// Pins pressing and sliding on one long bed (`tsm-contact scale --contact`): the element grid
 /// hands each probe only the elements near the pin, and must find exactly what probing every
 /// element of the bed finds. Reference: the same run with the broad phase off, to 1e-12 m.
+#[cfg(feature = "reports")]
 #[test]
 fn element_grid_finds_what_probing_every_element_finds() {
     let mut runs = [true, false].map(|bp| {

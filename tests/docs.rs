@@ -161,6 +161,7 @@ fn the_cli_reference_is_the_help() {
 
 /// The README's validation errors are the program's, to the two figures shown: each `bench`
 /// row is worked out again (release build: about a second in all).
+#[cfg(feature = "reports")]
 #[test]
 fn the_readme_validation_errors_are_the_programs() {
     use tsm_contact::reports::work_precision as wp;

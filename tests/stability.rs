@@ -5,6 +5,7 @@
 //! and released (path independence, stress-free when unloaded), slender and stubby members
 //! against the elastica and the exact linear Timoshenko cantilever, short elements next to long
 //! ones, and a cantilever rolled up more than twice (exact circle).
+#![cfg(feature = "reports")]
 
 use tsm_contact::reports::stress;
 use tsm_contact::scene::{builtin::BUILTIN, parse};

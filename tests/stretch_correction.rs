@@ -120,6 +120,7 @@ fn roll_up_converges_in_a_third_of_the_iterations() {
 /// round-off floor to 1e-3 and beyond), so every increment is accepted within the round-off
 /// bound, and the run ends with the pin on the beam, against Reissner's beam (`pin_elastica`,
 /// no shear): the contact point to 1e-7 L and the force to 5e-6 of its size.
+#[cfg(feature = "reports")]
 #[test]
 fn bernoulli_euler_pin_on_1024_elements_stays_on_the_beam() {
     use tsm_contact::reports::work_precision::pin_errors;

@@ -1,5 +1,6 @@
 //! The work-precision report cannot silently go wrong: on small meshes its errors against the
 //! references fall as O(h^2), and its CSV holds every measured point.
+#![cfg(feature = "reports")]
 
 use tsm_contact::reports::work_precision::{
     csv, end_moment, mattiasson, pin_contact, pin_contact_errors,
