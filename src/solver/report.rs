@@ -122,13 +122,22 @@ impl Event {
             Event::StretchCorrectionOn { increment } => format!(
                 "stretch correction on from increment {increment} (the run's first cut-back)"
             ),
-            Event::Contact(c) => format!(
+            // Only a release carries a force: the tensile one that let go.
+            Event::Contact(c) if c.change == ContactChange::Released => format!(
                 "node {} {} {} (li/l = {:.4}, Yc = {:+.4e}) at iteration {}",
                 c.node,
                 c.change.verb(),
                 model.element_label(c.element),
                 c.xi,
                 c.force,
+                c.iteration
+            ),
+            Event::Contact(c) => format!(
+                "node {} {} {} (li/l = {:.4}) at iteration {}",
+                c.node,
+                c.change.verb(),
+                model.element_label(c.element),
+                c.xi,
                 c.iteration
             ),
         }
@@ -152,7 +161,7 @@ pub struct ContactEvent {
     pub body: String,
     /// li/l at the change.
     pub xi: f64,
-    /// Contact force Yc at the change (N).
+    /// Contact force Yc at a release (N): the force that let go; 0 for the other changes.
     pub force: f64,
 }
 
