@@ -316,6 +316,31 @@ pub enum SolveError {
         /// How far beyond, in element lengths.
         depth: f64,
     },
+    /// Every attempt converges to a state where an element has turned against its chord, or
+    /// changed its strain, by more than one increment may take (`acceptance::MAX_TURN_STEP`,
+    /// `acceptance::MAX_STRAIN_STEP`), even after the allowed cut-backs: the equilibrium Newton
+    /// finds lies far from the path.
+    #[error(
+        "increment {increment}: {body} element {element} turns by {turn:.2} rad against its chord and changes its strain by {strain:.1e} within the increment after {cutbacks} cut-backs (limits {max_turn} rad and {max_strain}): the equilibrium found lies far from the path"
+    )]
+    OutOfRange {
+        /// Increment number.
+        increment: usize,
+        /// Cut-backs tried.
+        cutbacks: usize,
+        /// Name of the body.
+        body: String,
+        /// The place in its body (from 1) of the element.
+        element: usize,
+        /// The larger change of its end rotations against its chord (rad).
+        turn: f64,
+        /// The change of its axial strain.
+        strain: f64,
+        /// The limit of the rotation change (rad).
+        max_turn: f64,
+        /// The limit of the strain change.
+        max_strain: f64,
+    },
     /// A contact candidate node starts on a body's line with the neighbouring nodes of its own
     /// beam not all clear on one side of it: which side it is on cannot be told.
     #[error(

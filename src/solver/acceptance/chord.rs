@@ -44,6 +44,12 @@ impl Chord {
         DEFLECTION_PER_RADIAN * self.l * (rel(self.ends[0]).abs() + rel(self.ends[1]).abs())
     }
 
+    /// The end rotations against the chord (rad, not wrapped).
+    pub(super) fn turns(&self) -> [f64; 2] {
+        let angle = self.u[1].atan2(self.u[0]);
+        [self.ends[0] - angle, self.ends[1] - angle]
+    }
+
     /// (li/l, signed distance along the normal) of point `c`.
     pub(super) fn locate(&self, c: [f64; 2]) -> (f64, f64) {
         let v = [c[0] - self.p[0], c[1] - self.p[1]];

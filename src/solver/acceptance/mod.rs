@@ -12,5 +12,7 @@
 mod chord;
 mod crossing;
 mod grid;
+mod range;
 
 pub use crossing::{Crossing, CrossingCheck};
+pub use range::{out_of_range, OutOfRange, MAX_STRAIN_STEP, MAX_TURN_STEP};

@@ -3,13 +3,15 @@
 //! becomes a cut-back reason or, once the cut-backs are spent, a typed `SolveError`.
 
 use super::solver::Solver;
+use crate::solver::acceptance::{out_of_range, MAX_STRAIN_STEP, MAX_TURN_STEP};
 use crate::solver::newton::{AttemptError, Converged};
 use crate::solver::report::{IncrementStatus, NodeState, SolveError};
 
 impl Solver {
     /// The acceptance check (`acceptance`) of a converged attempt, before it is committed: its
     /// equilibrium status from the residual of its final assembly, and no node through a body
-    /// it is not in contact with. Returns the status and the node states.
+    /// it is not in contact with, and no element turned or strained beyond the step range. Returns
+    /// the status and the node states.
     pub(crate) fn acceptance(
         &self,
         c: &Converged,
@@ -23,6 +25,10 @@ impl Solver {
             },
         )?;
         let states = self.node_states(&c.d);
+        let before = self.node_states(&self.state.d);
+        if let Some(x) = out_of_range(&self.model, &self.elements, &before, &states) {
+            return Err(AttemptError::OutOfRange(x));
+        }
         match self
             .crossing
             .find(&self.model, &states, &c.contacts.pairs())
@@ -59,6 +65,21 @@ impl Solver {
                     .map_or(x.element, |k| k + 1),
                 depth: x.depth,
             },
+            AttemptError::OutOfRange(x) => {
+                let body = self.model.beams[x.element].body;
+                SolveError::OutOfRange {
+                    increment,
+                    cutbacks,
+                    body: self.model.bodies[body].name.clone(),
+                    element: (self.model.bodies[body].elements.iter())
+                        .position(|&e| e == x.element)
+                        .map_or(x.element, |k| k + 1),
+                    turn: x.turn,
+                    strain: x.strain,
+                    max_turn: MAX_TURN_STEP,
+                    max_strain: MAX_STRAIN_STEP,
+                }
+            }
             other => SolveError::NoConvergence {
                 increment,
                 cutbacks,

@@ -1,7 +1,7 @@
 //! Why a Newton attempt failed, as a type: each failure the increment control can answer
 //! (a smaller increment, a slide-off, a located error) is told apart by its variant.
 
-use crate::solver::acceptance::Crossing;
+use crate::solver::acceptance::{Crossing, OutOfRange, MAX_STRAIN_STEP, MAX_TURN_STEP};
 use crate::solver::contact::ContactSet;
 use crate::solver::model::Model;
 
@@ -65,6 +65,8 @@ pub enum AttemptError {
     },
     /// The acceptance check found a node through a body it is not in contact with.
     Crossed(Crossing),
+    /// The acceptance check found an element outside the range of its theory.
+    OutOfRange(OutOfRange),
     /// The observer asked to stop.
     Stopped,
 }
@@ -111,6 +113,12 @@ impl AttemptError {
                 model.node_label(x.node),
                 model.element_label(x.element),
                 x.depth
+            ),
+            AttemptError::OutOfRange(x) => format!(
+                "{} turns by {:.2} rad against its chord and changes its strain by {:.1e} in one increment (limits {MAX_TURN_STEP} rad, {MAX_STRAIN_STEP}): a state far from the path",
+                model.element_label(x.element),
+                x.turn,
+                x.strain
             ),
             AttemptError::Stopped => "stopped by the caller".into(),
         }
