@@ -8,6 +8,7 @@ pub mod canvas;
 pub mod export;
 pub mod frame_log;
 pub mod panels;
+pub mod retention;
 pub mod screenshot;
 pub mod state;
 pub mod units;

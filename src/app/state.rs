@@ -10,6 +10,7 @@ use crate::solver::{Event, IncrementRecord, IterationRecord};
 use crate::worker::{Command, Loaded, Message, Worker};
 
 use super::frame_log::FrameLog;
+use super::retention::{KeptHistory, HISTORY_BUDGET};
 use super::screenshot::{Layout, Shot};
 use super::view::{Drag, View};
 
@@ -45,7 +46,7 @@ pub struct TsmApp {
     pub(crate) scene_name: String,
     pub(crate) loaded: Option<Box<Loaded>>,
     /// Converged states; `history[0]` is the undeformed state.
-    pub(crate) history: Vec<IncrementRecord>,
+    pub(crate) history: KeptHistory,
     pub(crate) events: Vec<Event>,
     /// Iterations of the increment being solved.
     pub(crate) live: Vec<IterationRecord>,
@@ -150,7 +151,7 @@ impl TsmApp {
         while let Some(m) = self.worker.try_recv() {
             match m {
                 Message::Loaded(l) => {
-                    self.history = vec![l.initial.clone()];
+                    self.history.reset(l.initial.clone());
                     self.targets = l.initial.prescribed.clone();
                     self.status = format!(
                         "{} elements ({:?})",
@@ -174,7 +175,17 @@ impl TsmApp {
                     if !self.targeting {
                         self.targets = r.prescribed.clone();
                     }
-                    self.history.push(*r);
+                    let shown = self.history.get(self.selected).map(|h| h.increment);
+                    if self.history.push(*r) {
+                        self.status = format!(
+                            "{} earlier increments dropped from memory to stay within {} MiB",
+                            self.history.dropped(),
+                            HISTORY_BUDGET >> 20
+                        );
+                        if let Some(inc) = shown {
+                            self.selected = self.history.at_or_before(inc);
+                        }
+                    }
                     self.live.clear();
                     if follow {
                         self.selected = self.last();

@@ -5,6 +5,7 @@
 use super::canvas::{beams_gpu, viewport};
 use super::frame_log::FrameLog;
 use super::panels::{controls, details, plots, timeline};
+use super::retention::KeptHistory;
 use super::screenshot::{Layout, Shot};
 use super::state::{Startup, TsmApp};
 use super::view::View;
@@ -51,7 +52,7 @@ impl TsmApp {
             worker,
             scene_name: name.clone(),
             loaded: None,
-            history: Vec::new(),
+            history: KeptHistory::default(),
             events: Vec::new(),
             live: Vec::new(),
             selected: 0,

@@ -20,6 +20,7 @@ pub mod model;
 pub mod newton;
 pub mod params;
 pub mod report;
+pub mod rigid_modes;
 pub mod state;
 pub mod structure;
 

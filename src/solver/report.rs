@@ -353,13 +353,32 @@ pub enum SolveError {
         body: String,
     },
     /// The tangent is singular: the structure is a mechanism at these dofs.
-    #[error("the structure is a mechanism: {}", mechanism_text(dofs, *complete))]
+    #[error("the structure is a mechanism: {}", mechanism_text(dofs, *complete, bodies))]
     Mechanism {
         /// Free dofs as "node N u/v/phi".
         dofs: Vec<String>,
-        /// Whether `dofs` is every dof of the null space (small models), or only the first
-        /// that a factorisation finds without stiffness (large ones).
+        /// Whether `dofs` is every dof of the null space (small models, and rigid motions the
+        /// supports leave free), or only the first that a factorisation finds without
+        /// stiffness (inner mechanisms of large ones).
         complete: bool,
+        /// The bodies (`body "NAME"`) and lone nodes (`node N`) those dofs belong to.
+        bodies: Vec<String>,
+    },
+    /// A part of the structure (bodies joined by beams, or a lone node) can move rigidly: its
+    /// supports and prescribed displacements do not stop all its rigid motions.
+    #[error(
+        "the structure is a mechanism: {} can move rigidly ({motions} rigid motion{} not stopped; {}): support it further",
+        listed(parts, "parts"),
+        if *motions == 1 { "" } else { "s" },
+        held_text(held)
+    )]
+    RigidMotion {
+        /// The bodies (`body "NAME"`) and lone nodes (`node N`) that can move.
+        parts: Vec<String>,
+        /// How many rigid motions their held dofs leave free, over all of them.
+        motions: usize,
+        /// Their held dofs, as "node N u/v/phi".
+        held: Vec<String>,
     },
     /// The observer asked the run to stop.
     #[error("stopped by the caller")]
@@ -372,16 +391,43 @@ pub enum SolveError {
     },
 }
 
-/// The dofs of a mechanism in words: how many, the first few, and whether that is all of them.
-pub fn mechanism_text(dofs: &[String], complete: bool) -> String {
+/// Items in words: all of them up to eight, else how many `what` and the first eight.
+fn listed(items: &[String], what: &str) -> String {
+    match items.len() {
+        n if n <= 8 => items.join(", "),
+        n => format!("{n} {what}, among them {},", items[..8].join(", ")),
+    }
+}
+
+/// The held dofs of the parts that can move, in words.
+fn held_text(held: &[String]) -> String {
+    match held.len() {
+        0 => "nothing holds them".into(),
+        _ => format!("held only at {}", listed(held, "dofs")),
+    }
+}
+
+/// The dofs of a mechanism in words: how many, the bodies they belong to, the first few, and
+/// whether that is all of them.
+pub fn mechanism_text(dofs: &[String], complete: bool, bodies: &[String]) -> String {
     const SHOWN: usize = 8;
     let first = dofs[..dofs.len().min(SHOWN)].join(", ");
+    let owners = match bodies.len() {
+        0 => String::new(),
+        n if n <= SHOWN => format!(" (in {})", bodies.join(", ")),
+        n => format!(
+            " (in {n} bodies and nodes, among them {})",
+            bodies[..SHOWN].join(", ")
+        ),
+    };
     match (complete, dofs.len()) {
-        (false, _) => {
-            format!("the free dof {first} has no stiffness (the first found; there may be more)")
+        (false, _) => format!(
+            "the free dof {first}{owners} has no stiffness (the first found; there may be more)"
+        ),
+        (true, 1) => format!("the free dof {first}{owners} has no stiffness"),
+        (true, n) if n <= SHOWN => {
+            format!("these {n} free dofs{owners} have no stiffness: {first}")
         }
-        (true, 1) => format!("the free dof {first} has no stiffness"),
-        (true, n) if n <= SHOWN => format!("these {n} free dofs have no stiffness: {first}"),
-        (true, n) => format!("{n} free dofs have no stiffness, among them {first}"),
+        (true, n) => format!("{n} free dofs{owners} have no stiffness, among them {first}"),
     }
 }

@@ -5,12 +5,13 @@
 //! and the dofs of a mechanism.
 
 use super::assembly::{
-    assemble, current, AssemblyContext, DofMap, ExternalForce, Ordering, PackedBeam,
+    assemble, current, AssemblyContext, DofKind, DofMap, ExternalForce, Ordering, PackedBeam,
 };
 use super::element::beam::BeamElement;
 use super::model::Model;
 use super::params::SolverParams;
-use super::report::NodeState;
+use super::report::{NodeState, SolveError};
+use super::rigid_modes::FreePart;
 
 /// Up to this many equations a singular structure gets every dof of its null space named (dense
 /// symmetric eigen-decomposition); above, the first vanishing pivot of the band LU.
@@ -174,21 +175,22 @@ impl Structure {
         mx.max(my)
     }
 
-    /// The free dofs that have no stiffness at displacements `d` under equation ordering `ord`
-    /// (empty if the structure is stable), and whether they are all of them: small models get
-    /// every dof of the null space; large ones the first failing pivot.
-    pub fn mechanism_dofs(&self, ord: &Ordering, d: &[f64]) -> (Vec<String>, bool) {
+    /// The free dofs (global numbers) that have no stiffness at displacements `d` under
+    /// equation ordering `ord` (empty if the structure is stable), and whether they are all of
+    /// them: small models get every dof of the null space; large ones the first failing pivot.
+    pub fn mechanism_dofs(&self, ord: &Ordering, d: &[f64]) -> (Vec<usize>, bool) {
         if ord.n_eq == 0 {
             return (Vec::new(), true);
         }
         let asm = assemble(&self.context(ord), d, true, None);
         let k = asm.tangent.expect("tangent");
         let scale = k.max_diagonal().max(f64::MIN_POSITIVE);
+        let global = |eq: usize| ord.dof_of[eq] as usize;
         // The band LU decides (O(n)); only a singular structure pays for the dense
         // eigen-decomposition that names every dof of the null space.
         let first = match k.clone().factor(1e-14 * scale) {
             Ok(()) => return (Vec::new(), true),
-            Err(sp) => self.equation_label(ord, sp.equation),
+            Err(sp) => global(sp.equation),
         };
         if ord.n_eq > DENSE_MECHANISM_CHECK {
             return (vec![first], false);
@@ -199,9 +201,8 @@ impl Structure {
         for (m, lam) in eig.eigenvalues.iter().enumerate() {
             if lam.abs() < 1e-13 * scale {
                 for (e, c) in eig.eigenvectors.column(m).iter().enumerate() {
-                    let label = self.equation_label(ord, e);
-                    if c.abs() > 1e-3 && !out.contains(&label) {
-                        out.push(label);
+                    if c.abs() > 1e-3 && !out.contains(&global(e)) {
+                        out.push(global(e));
                     }
                 }
             }
@@ -210,5 +211,53 @@ impl Structure {
             out.push(first);
         }
         (out, true)
+    }
+
+    /// The mechanism error for the free global dofs `free`: their labels, and the bodies (or
+    /// lone nodes) they belong to.
+    pub(crate) fn mechanism(&self, free: &[usize], complete: bool) -> SolveError {
+        let nodes = free.iter().map(|&g| self.dofs.owner(g).0);
+        SolveError::Mechanism {
+            dofs: free.iter().map(|&g| self.dof_label(g)).collect(),
+            complete,
+            bodies: self.owners(nodes),
+        }
+    }
+
+    /// The error for the parts of the structure that can move rigidly: their bodies, their free
+    /// rigid motions and their held dofs.
+    pub(crate) fn rigid_motion(&self, parts: &[FreePart]) -> SolveError {
+        let nodes = || parts.iter().flat_map(|p| p.nodes.iter().copied());
+        let held = nodes()
+            .flat_map(|n| {
+                let first = self.dofs.first[n];
+                first..first + self.model.node_dofs(n)
+            })
+            .filter(|&g| self.dofs.kind[g] != DofKind::Free)
+            .map(|g| self.dof_label(g))
+            .collect();
+        SolveError::RigidMotion {
+            parts: self.owners(nodes()),
+            motions: parts.iter().map(|p| p.modes).sum(),
+            held,
+        }
+    }
+
+    /// The bodies (`body "NAME"`) and lone nodes (`node N`) of `nodes`, each once, in order.
+    fn owners(&self, nodes: impl Iterator<Item = usize>) -> Vec<String> {
+        let mut out: Vec<String> = Vec::new();
+        for n in nodes {
+            let name = match self.node_beams[n].first() {
+                Some(&e) => {
+                    let body = &self.model.bodies[self.model.beams[e].body];
+                    format!("body \"{}\"", body.name)
+                }
+                None => self.model.node_label(n),
+            };
+            if !out.contains(&name) {
+                out.push(name);
+            }
+        }
+        out
     }
 }

@@ -131,14 +131,7 @@ fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
         if let SolveError::AmbiguousSide { .. } = e {
             return Err(ctx.err("contacts", None, e.to_string()));
         }
-        let message = match e {
-            SolveError::Mechanism { dofs, complete } => format!(
-                "the structure is a mechanism: {}",
-                crate::solver::report::mechanism_text(&dofs, complete)
-            ),
-            other => other.to_string(),
-        };
-        return Err(ctx.err("supports", None, message));
+        return Err(ctx.err("supports", None, e.to_string()));
     }
     Ok(scene)
 }

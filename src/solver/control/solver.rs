@@ -10,6 +10,7 @@ use crate::solver::model::Model;
 use crate::solver::newton::{Newton, Workspace};
 use crate::solver::params::SolverParams;
 use crate::solver::report::SolveError;
+use crate::solver::rigid_modes::free_parts;
 use crate::solver::state::State;
 use crate::solver::structure::Structure;
 
@@ -48,12 +49,15 @@ impl Solver {
         // The ordering without contacts, kept in the workspace for the first attempt.
         let work = Workspace::default();
         let ord = work.ordering_for(&structure, &state.contacts);
+        // Rigid motions left free by the supports, from geometry; then what the tangent has no
+        // stiffness for (inner mechanisms, and lone nodes).
+        let free = free_parts(&structure.model);
+        if !free.is_empty() {
+            return Err(structure.rigid_motion(&free));
+        }
         let (free, complete) = structure.mechanism_dofs(&ord, &state.d);
         if !free.is_empty() {
-            return Err(SolveError::Mechanism {
-                dofs: free,
-                complete,
-            });
+            return Err(structure.mechanism(&free, complete));
         }
         let mut solver = Solver {
             structure,
