@@ -5,6 +5,7 @@
 //! serve them.
 
 pub mod canvas;
+pub mod display;
 pub mod export;
 pub mod frame_log;
 pub mod panels;
@@ -15,24 +16,20 @@ pub mod units;
 pub mod view;
 pub mod window;
 
-use std::path::PathBuf;
 use std::sync::atomic::{AtomicI32, Ordering};
 use std::sync::Arc;
 
 pub use state::{Startup, TsmApp};
 
-/// Open the visualiser on `scene` (a path or built-in name; default: the last one used, else
-/// the first built-in), solve `steps` steps first, and with `screenshot` save a PNG after the
-/// steps and exit. Returns the process exit code.
-pub fn run(scene: Option<String>, steps: Option<usize>, screenshot: Option<PathBuf>) -> i32 {
+/// Open the visualiser as `startup` asks: on its scene (a path or built-in name; default: the
+/// last one used, else the first built-in), solving its steps first, with its diagram, and with
+/// a screenshot, saving the PNG after the steps and exiting. Returns the process exit code.
+pub fn run(startup: Startup) -> i32 {
     let exit = Arc::new(AtomicI32::new(0));
-    let shot = screenshot.is_some();
+    let shot = startup.screenshot.is_some();
     let startup = Startup {
-        scene,
-        steps,
-        screenshot,
         exit: Some(exit.clone()),
-        no_gpu: false,
+        ..startup
     };
     let options = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()

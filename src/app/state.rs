@@ -9,6 +9,7 @@ use std::sync::Arc;
 use crate::solver::{Event, IncrementRecord, IterationRecord};
 use crate::worker::{Command, Loaded, Message, Worker};
 
+use super::display::{Angles, Diagram, Picked};
 use super::frame_log::FrameLog;
 use super::retention::{KeptHistory, HISTORY_BUDGET};
 use super::screenshot::{Layout, Shot};
@@ -27,6 +28,8 @@ pub struct Startup {
     pub exit: Option<Arc<AtomicI32>>,
     /// Draw the beams with the egui painter even when wgpu is available (also `TSM_NO_GPU`).
     pub no_gpu: bool,
+    /// The force diagram to draw along the beams.
+    pub diagram: Option<Diagram>,
 }
 
 impl Startup {
@@ -73,6 +76,12 @@ pub struct TsmApp {
     pub(crate) hover_handle: Option<usize>,
     pub(crate) frame_log: Option<FrameLog>,
     pub(crate) persist: bool,
+    /// The force diagram drawn along the beams, if any.
+    pub(crate) diagram: Option<Diagram>,
+    /// How rotations are shown.
+    pub(crate) angles: Angles,
+    /// The node or element clicked in the viewport, shown in the details panel.
+    pub(crate) pinned: Option<Picked>,
 }
 
 impl TsmApp {
@@ -125,6 +134,16 @@ impl TsmApp {
         self.send(c);
     }
 
+    /// The viewport drawn in the last frame, and where node `id` of the viewed increment lies
+    /// in it (screen points), if a scene is loaded and has that node.
+    pub fn node_on_screen(&self, id: u32) -> Option<(egui::Rect, egui::Pos2)> {
+        let rect = self.layout.viewport?;
+        let model = &self.loaded.as_ref()?.scene.model;
+        let n = model.nodes.iter().position(|x| x.id == id)?;
+        let p = self.record()?.nodes.get(n)?;
+        Some((rect, self.view.to_screen(rect, [p[0], p[1]])))
+    }
+
     /// Whether the beams go through the wgpu callback (else the egui-painter fallback).
     pub fn uses_gpu(&self) -> bool {
         self.gpu
@@ -159,6 +178,9 @@ impl TsmApp {
                         l.scene.model.formulation
                     );
                     self.loaded = Some(l);
+                    // A scene opened in the app is fitted to the viewport.
+                    self.fit_pending = true;
+                    self.pinned = None;
                     self.events.clear();
                     self.live.clear();
                     self.selected = 0;

@@ -3,6 +3,7 @@
 //! timeline and plots, sliders and details, viewport), and saves what persists.
 
 use super::canvas::{beams_gpu, viewport};
+use super::display::Angles;
 use super::frame_log::FrameLog;
 use super::panels::{controls, details, plots, timeline};
 use super::retention::KeptHistory;
@@ -78,6 +79,9 @@ impl TsmApp {
             hover_handle: None,
             frame_log: FrameLog::from_env(),
             persist,
+            diagram: startup.diagram,
+            angles: Angles::default(),
+            pinned: None,
         };
         app.open(&name);
         if !keep_view {

@@ -122,5 +122,17 @@ pub(super) enum Command {
         /// Render to this PNG file after the steps and exit.
         #[arg(long)]
         screenshot: Option<PathBuf>,
+        /// Draw this force diagram along the beams: n (axial), v (shear) or m (moment).
+        #[arg(long, value_enum)]
+        diagram: Option<DiagramArg>,
     },
+}
+
+/// A force diagram drawn along the beams: axial force N, shear V or bending moment M.
+#[cfg(feature = "gui")]
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+pub enum DiagramArg {
+    N,
+    V,
+    M,
 }

@@ -48,11 +48,26 @@ pub fn run() -> i32 {
             scene,
             steps,
             screenshot,
-        }) => tsm_contact::app::run(scene, steps, screenshot),
+            diagram,
+        }) => {
+            use tsm_contact::app::canvas::diagrams::Diagram;
+            let diagram = diagram.map(|d| match d {
+                args::DiagramArg::N => Diagram::Axial,
+                args::DiagramArg::V => Diagram::Shear,
+                args::DiagramArg::M => Diagram::Moment,
+            });
+            tsm_contact::app::run(tsm_contact::app::Startup {
+                scene,
+                steps,
+                screenshot,
+                diagram,
+                ..Default::default()
+            })
+        }
         None => {
             #[cfg(feature = "gui")]
             {
-                tsm_contact::app::run(None, None, None)
+                tsm_contact::app::run(tsm_contact::app::Startup::default())
             }
             #[cfg(not(feature = "gui"))]
             {

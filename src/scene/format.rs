@@ -3,6 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::units::Units;
 use crate::solver::{Dof, Formulation, StretchCorrection};
 
 /// A whole scene file.
@@ -14,6 +15,10 @@ pub struct SceneFile {
     /// Free text shown in the GUI and `solve` output.
     #[serde(default)]
     pub description: String,
+    /// The units the scene's numbers are in (default `N_m`); the solver works in any
+    /// consistent set, and every number shown or written is labelled with these.
+    #[serde(default)]
+    pub units: Units,
     /// Element formulation for every beam (default Timoshenko).
     #[serde(default)]
     pub formulation: Formulation,

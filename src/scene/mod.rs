@@ -4,6 +4,7 @@
 pub mod builtin;
 pub mod format;
 pub mod remesh;
+pub mod units;
 pub mod validate;
 
 pub use builtin::open;

@@ -4,6 +4,7 @@
 
 use egui::{Align2, Color32, FontId, Pos2, Rect, Shape, Stroke, Vec2};
 
+use crate::scene::units::Units;
 use crate::solver::{Dof, IncrementRecord, Model};
 
 use super::shapes::moment_color;
@@ -246,7 +247,7 @@ pub(crate) fn prescribed(
 }
 
 /// Colour legend of the bending moment.
-pub(crate) fn legend(p: &egui::Painter, rect: Rect, mmax: f64) {
+pub(crate) fn legend(p: &egui::Painter, rect: Rect, mmax: f64, units: Units) {
     let o = rect.left_top() + Vec2::new(14.0, 14.0);
     let (w, h) = (180.0, 12.0);
     let bg = Rect::from_min_size(o - Vec2::new(8.0, 6.0), Vec2::new(w + 16.0, 62.0));
@@ -254,7 +255,7 @@ pub(crate) fn legend(p: &egui::Painter, rect: Rect, mmax: f64) {
     p.text(
         o,
         Align2::LEFT_TOP,
-        "bending moment M (N m)",
+        format!("bending moment M ({})", units.moment()),
         FontId::proportional(12.0),
         INK,
     );
@@ -299,7 +300,7 @@ pub(crate) fn legend(p: &egui::Painter, rect: Rect, mmax: f64) {
 }
 
 /// A scale bar of a round length near 100 points.
-pub(crate) fn scale_bar(p: &egui::Painter, rect: Rect, scale: f64) {
+pub(crate) fn scale_bar(p: &egui::Painter, rect: Rect, scale: f64, units: Units) {
     let raw = 100.0 / scale;
     let pow = 10f64.powf(raw.log10().floor());
     let len = [1.0, 2.0, 5.0, 10.0]
@@ -316,8 +317,59 @@ pub(crate) fn scale_bar(p: &egui::Painter, rect: Rect, scale: f64) {
     p.text(
         o + Vec2::new(px / 2.0, -6.0),
         Align2::CENTER_BOTTOM,
-        format!("{len} m"),
+        format!("{len} {}", units.length()),
         FontId::proportional(11.0),
         INK,
     );
+}
+
+/// The applied loads at the viewed increment as arrows (forces) and arcs (moments), 40 points
+/// for the largest force, with their values.
+pub(crate) fn loads(
+    p: &egui::Painter,
+    model: &Model,
+    r: &IncrementRecord,
+    units: Units,
+    s: &dyn Fn([f64; 2]) -> Pos2,
+) {
+    let fmax = (model.loads.iter())
+        .map(|l| (l.force[0] * r.load_factor).hypot(l.force[1] * r.load_factor))
+        .fold(0.0f64, f64::max);
+    const LOAD: Color32 = Color32::from_rgb(120, 60, 170);
+    for load in &model.loads {
+        let at = s([r.nodes[load.node][0], r.nodes[load.node][1]]);
+        let f = load.force.map(|v| v * r.load_factor);
+        let size = f[0].hypot(f[1]);
+        if size > 0.0 && fmax > 0.0 {
+            // Screen y points down: the arrow ends at the node, its tail up-force.
+            let dir = Vec2::new(f[0] as f32, -f[1] as f32) / size as f32;
+            let len = 12.0 + 28.0 * (size / fmax) as f32;
+            let tail = at - dir * len;
+            p.arrow(tail, dir * (len - 2.0), Stroke::new(2.0, LOAD));
+            p.text(
+                tail - dir * 4.0,
+                Align2::CENTER_CENTER,
+                format!("{} {}", num(size), units.force()),
+                FontId::proportional(11.0),
+                LOAD,
+            );
+        }
+        if f[2] != 0.0 {
+            let turn = if f[2] > 0.0 { -1.0f32 } else { 1.0 };
+            let pts: Vec<Pos2> = (0..=12)
+                .map(|k| {
+                    let a = turn * (0.3 + 0.35 * k as f32);
+                    at + 14.0 * Vec2::angled(a)
+                })
+                .collect();
+            p.add(Shape::line(pts, Stroke::new(2.0, LOAD)));
+            p.text(
+                at + Vec2::new(16.0, -16.0),
+                Align2::LEFT_BOTTOM,
+                format!("{} {}", num(f[2]), units.moment()),
+                FontId::proportional(11.0),
+                LOAD,
+            );
+        }
+    }
 }

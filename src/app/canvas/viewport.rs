@@ -1,5 +1,6 @@
 //! The central viewport: pan (drag on empty space), zoom at the cursor (scroll), fit
-//! (double-click or the "Fit" button), dragging the handle of a prescribed dof, and the beams
+//! (double-click, the "Fit" button or F), dragging the handle of a prescribed dof, the values of
+//! what the pointer is on (hover) and its selection (click), and the beams
 //! (deformed strips coloured by bending moment over the grey undeformed shape, see
 //! `beams_gpu`) under the overlays of `overlays`.
 
@@ -9,7 +10,9 @@ use crate::solver::Dof;
 use crate::worker::Command;
 
 use super::beams_gpu::{self, Strip};
+use super::diagrams::{self, Diagram};
 use super::overlays::{self, INK};
+use super::query::{describe, pick};
 use super::shapes::{deformed_bodies, max_moment, moment_color, undeformed_bodies};
 use super::strips::Polyline;
 use crate::app::state::TsmApp;
@@ -77,8 +80,36 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui, gpu: Option<&egui_wgpu::RenderS
     overlays::contacts(&painter, model, r, &to_screen);
     overlays::body_names(&painter, model, &curves, &to_screen);
     overlays::prescribed(&painter, app, model, r, &to_screen);
-    overlays::legend(&painter, rect, mmax);
-    overlays::scale_bar(&painter, rect, view.scale);
+    let units = l.scene.file.units;
+    if let Some(d) = app.diagram {
+        let unit = match d {
+            Diagram::Moment => units.moment(),
+            _ => units.force().to_string(),
+        };
+        diagrams::paint(&painter, model, r, d, &unit, &to_screen);
+    }
+    overlays::loads(&painter, model, r, units, &to_screen);
+    overlays::legend(&painter, rect, mmax, units);
+    overlays::scale_bar(&painter, rect, view.scale, units);
+    // What the pointer is on: its values on hover, pinned in the details panel on a click.
+    let at = bg.hover_pos();
+    let hovered = at.and_then(|at| pick(model, r, at, &to_screen));
+    if let (Some(h), Some(at)) = (hovered, at) {
+        // Shown at once (not after a tooltip's delay), beside the pointer.
+        let lines = describe(model, r, h, units, app.angles);
+        egui::Area::new(ui.scope_id().with("query"))
+            .order(egui::Order::Tooltip)
+            .fixed_pos(at + Vec2::new(14.0, 14.0))
+            .interactable(false)
+            .show(ui.ctx(), |ui| {
+                egui::Frame::popup(ui.style()).show(ui, |ui| {
+                    for line in lines {
+                        ui.label(line);
+                    }
+                });
+            });
+    }
+    let clicked = bg.clicked().then_some(hovered);
     let text = format!(
         "increment {}{}",
         r.increment,
@@ -91,6 +122,9 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui, gpu: Option<&egui_wgpu::RenderS
         FontId::proportional(14.0),
         INK,
     );
+    if let Some(p) = clicked {
+        app.pinned = p;
+    }
 }
 
 /// Interact with the prescribed-dof handles: dragging one sets its target.
@@ -158,12 +192,17 @@ fn handles(app: &mut TsmApp, ui: &mut egui::Ui, rect: Rect) {
     }
 }
 
-/// Pan by dragging empty space, zoom at the cursor by scrolling, fit on double-click.
+/// Pan by dragging empty space, zoom at the cursor by scrolling, fit on double-click, on F and
+/// when the viewport changes size.
 fn navigate(app: &mut TsmApp, ui: &egui::Ui, bg: &egui::Response, rect: Rect) {
     if bg.dragged() && app.drag.is_none() {
         app.view.pan(bg.drag_delta());
     }
-    if bg.double_clicked() {
+    let fit_key =
+        ui.input(|i| i.key_pressed(egui::Key::F)) && !ui.ctx().egui_wants_keyboard_input();
+    // A resized viewport (window or panels) is fitted again.
+    let resized = app.layout.viewport.is_some_and(|r| r.size() != rect.size());
+    if bg.double_clicked() || fit_key || resized {
         app.fit_pending = true;
     }
     if let Some(at) = bg.hover_pos() {

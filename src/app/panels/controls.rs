@@ -1,9 +1,11 @@
-//! The toolbar (scene picker, "Open..." path, formulation toggle, fit, exports, screenshot,
-//! status) and the sliders that drive each prescribed dof through `Command::SetTarget`.
+//! The toolbar (scene picker, "Open..." path, formulation toggle, fit, force diagram, angle
+//! unit, exports, screenshot, status) and the sliders that drive each prescribed dof through `Command::SetTarget`.
 
 use crate::solver::{Formulation, StretchCorrection};
 use crate::worker::Command;
 
+use crate::app::canvas::diagrams::Diagram;
+use crate::app::canvas::query::Angles;
 use crate::app::export;
 use crate::app::screenshot::Shot;
 use crate::app::state::TsmApp;
@@ -35,6 +37,33 @@ fn stretch_correction(app: &mut TsmApp, mode: StretchCorrection, ui: &mut egui::
              and cut-backs on fine meshes of stiff beams in large rotation; one more solve \
              an iteration",
         );
+}
+
+/// The force diagram drawn along the beams (none, N, V or M), and the unit rotations are shown
+/// in.
+fn diagram_and_angles(app: &mut TsmApp, ui: &mut egui::Ui) {
+    let name = |d: Option<Diagram>| d.map_or("none", |d| d.letter());
+    egui::ComboBox::from_label("Diagram")
+        .selected_text(name(app.diagram))
+        .show_ui(ui, |ui| {
+            for d in std::iter::once(None).chain(Diagram::ALL.map(Some)) {
+                ui.selectable_value(&mut app.diagram, d, name(d));
+            }
+        })
+        .response
+        .on_hover_text("axial force N, shear V or bending moment M along the deformed beams");
+    let deg = app.angles == Angles::Degrees;
+    if ui
+        .selectable_label(deg, "deg")
+        .on_hover_text("show rotations in degrees")
+        .clicked()
+    {
+        app.angles = if deg {
+            Angles::Radians
+        } else {
+            Angles::Degrees
+        };
+    }
 }
 
 /// The top bar.
@@ -78,9 +107,14 @@ pub fn toolbar(app: &mut TsmApp, ui: &mut egui::Ui) {
             stretch_correction(app, mode, ui);
         }
         ui.separator();
-        if ui.button("Fit").clicked() {
+        if ui
+            .button("Fit")
+            .on_hover_text("fit the structure to the view (F)")
+            .clicked()
+        {
             app.fit_pending = true;
         }
+        diagram_and_angles(app, ui);
         ui.separator();
         let name = ui.label("Export as");
         ui.add(
@@ -169,6 +203,7 @@ pub fn sliders(app: &mut TsmApp, ui: &mut egui::Ui) {
     }
     let mut sends = Vec::new();
     let first_step = model.prescribed[0].per_step;
+    let step_unit = l.scene.file.units.of_dof(model.prescribed[0].dof);
     for (k, p) in model.prescribed.iter().enumerate() {
         let total = p.per_step * l.scene.steps as f64;
         let span = if total != 0.0 { total * 1.25 } else { 1.0 };
@@ -204,7 +239,10 @@ pub fn sliders(app: &mut TsmApp, ui: &mut egui::Ui) {
                 app.send(Command::Cancel);
             }
         } else {
-            ui.label(format!("increments of at most {:.4} m", first_step.abs()));
+            ui.label(format!(
+                "increments of at most {:.4} {step_unit}",
+                first_step.abs()
+            ));
         }
     });
 }

@@ -1,13 +1,16 @@
-//! The details panel for the selected increment: "Increment k / n", prescribed values,
+//! The details panel for the selected increment: the scene's units, the node or element picked
+//! in the viewport and the diagram's extreme, "Increment k / n", prescribed values,
 //! iterations, "residual 3.2e-11 (converged)" or its acceptance at the round-off floor, the
 //! active contacts (li/l, Yc), the events and the reactions.
 
 use egui::RichText;
 
 use super::plots::ROUNDOFF;
+use crate::app::canvas::diagrams::extreme;
+use crate::app::canvas::query::describe;
 use crate::app::state::TsmApp;
 use crate::app::units::num;
-use crate::solver::IncrementStatus;
+use crate::solver::{Dof, IncrementStatus};
 
 /// Show the details of the selected increment.
 pub fn show(app: &TsmApp, ui: &mut egui::Ui) {
@@ -17,14 +20,17 @@ pub fn show(app: &TsmApp, ui: &mut egui::Ui) {
     };
     let Some(r) = app.record() else { return };
     let model = &l.scene.model;
+    let units = l.scene.file.units;
     ui.heading(RichText::new(&l.scene.file.name).strong());
     if !l.scene.file.description.is_empty() {
         ui.label(RichText::new(&l.scene.file.description).small());
     }
+    ui.label(RichText::new(format!("units: {}, {}", units.force(), units.length())).small());
+    selected(app, ui);
     ui.separator();
     ui.label(RichText::new(format!("Increment {} / {}", r.increment, app.last())).strong());
-    for (label, v) in l.prescribed_labels.iter().zip(&r.prescribed) {
-        ui.label(format!("{label} = {v:+.5}"));
+    for ((label, v), p) in (l.prescribed_labels.iter().zip(&r.prescribed)).zip(&model.prescribed) {
+        ui.label(format!("{label} = {v:+.5} {}", units.of_dof(p.dof)));
     }
     if l.scene.model.load_per_step != 0.0 {
         ui.label(format!("load factor {:.4}", r.load_factor));
@@ -57,7 +63,8 @@ pub fn show(app: &TsmApp, ui: &mut egui::Ui) {
         .num_columns(4)
         .show(ui, |ui| {
             if !r.contacts.is_empty() {
-                for h in ["node", "on", "li/l", "Yc (N)"] {
+                let yc = format!("Yc ({})", units.force());
+                for h in ["node", "on", "li/l", yc.as_str()] {
                     ui.label(RichText::new(h).small());
                 }
                 ui.end_row();
@@ -93,10 +100,42 @@ pub fn show(app: &TsmApp, ui: &mut egui::Ui) {
             .num_columns(2)
             .show(ui, |ui| {
                 for x in &r.reactions {
+                    let dof = Dof::ALL.iter().find(|d| d.name() == x.dof).copied();
+                    let unit = dof.map_or(String::new(), |d| units.of_reaction(d));
                     ui.label(format!("node {} {}", x.node, x.dof));
-                    ui.label(num(if x.value.abs() <= floor { 0.0 } else { x.value }));
+                    let v = if x.value.abs() <= floor { 0.0 } else { x.value };
+                    ui.label(format!("{} {unit}", num(v)));
                     ui.end_row();
                 }
             });
+    }
+}
+
+/// The node or element picked in the viewport, and the extreme of the diagram drawn.
+fn selected(app: &TsmApp, ui: &mut egui::Ui) {
+    let (Some(l), Some(r)) = (&app.loaded, app.record()) else {
+        return;
+    };
+    let (model, units) = (&l.scene.model, l.scene.file.units);
+    if let Some(d) = app.diagram {
+        if let Some((v, e, x)) = extreme(model, r, d) {
+            let unit = match d.letter() {
+                "M" => units.moment(),
+                _ => units.force().to_string(),
+            };
+            ui.label(format!(
+                "{} extreme {} {unit} on {} at {x:.2} of its length",
+                d.letter(),
+                num(v),
+                model.element_label(e)
+            ));
+        }
+    }
+    if let Some(p) = app.pinned {
+        ui.separator();
+        ui.label(RichText::new("Selected").strong());
+        for line in describe(model, r, p, units, app.angles) {
+            ui.label(line);
+        }
     }
 }

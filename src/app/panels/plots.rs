@@ -346,7 +346,8 @@ fn convergence(app: &mut TsmApp, ui: &mut egui::Ui) {
 fn reaction(app: &TsmApp, ui: &mut egui::Ui) {
     let Some(l) = &app.loaded else { return };
     let model = &l.scene.model;
-    let (x_label, y_label, pts): (String, String, Vec<[f64; 2]>) =
+    let units = l.scene.file.units;
+    let (title, x_label, y_label, pts): (&str, String, String, Vec<[f64; 2]>) =
         if let Some(p) = model.prescribed.first() {
             let id = model.nodes[p.node].id;
             let dof = p.dof.name();
@@ -362,10 +363,14 @@ fn reaction(app: &TsmApp, ui: &mut egui::Ui) {
                     [r.prescribed[0], y]
                 })
                 .collect();
-            let unit = if p.dof == Dof::Phi { "N m" } else { "N" };
             (
-                format!("{} (prescribed)", l.prescribed_labels[0]),
-                format!("reaction ({unit})"),
+                "Reaction against displacement of the driven dof:",
+                format!(
+                    "{} (prescribed, {})",
+                    l.prescribed_labels[0],
+                    units.of_dof(p.dof)
+                ),
+                format!("reaction ({})", units.of_reaction(p.dof)),
                 pts,
             )
         } else if let Some(load) = model.loads.first() {
@@ -379,11 +384,17 @@ fn reaction(app: &TsmApp, ui: &mut egui::Ui) {
                 .iter()
                 .map(|r| [r.nodes[n][o] - x0, r.load_factor])
                 .collect();
-            (model.dof_label(n, o), "load factor".into(), pts)
+            let unit = units.of_dof(Dof::ALL[o]);
+            (
+                "Load factor against displacement of the loaded dof:",
+                format!("{} ({unit})", model.dof_label(n, o)),
+                "load factor".into(),
+                pts,
+            )
         } else {
             return;
         };
-    ui.label("Reaction against displacement of the driven dof:");
+    ui.label(title);
     let sel = pts.get(app.selected).copied();
     let pts = thin(pts, MAX_POINTS);
     Plot::new("reaction")

@@ -1,0 +1,120 @@
+//! Force diagrams along the deformed beams: the axial force N, the shear V or the bending
+//! moment M of each element, drawn off its chord (positive to the chord's left), scaled so that
+//! the largest value spans `REACH` points, with that extreme labelled.
+
+use egui::{Color32, FontId, Pos2, Shape, Stroke, Vec2};
+
+use super::shapes::moment_at;
+pub use crate::app::display::Diagram;
+use crate::solver::{IncrementRecord, Model};
+
+/// Screen points the largest value of a diagram spans.
+const REACH: f32 = 45.0;
+
+/// Samples per element (the moment and shear jump at contact points inside an element).
+const SAMPLES: usize = 16;
+
+/// The value of `diagram` at fraction `x` along element `e`.
+pub fn value_at(model: &Model, r: &IncrementRecord, diagram: Diagram, e: usize, x: f64) -> f64 {
+    let f = r.element_forces.get(e).copied().unwrap_or([0.0; 3]);
+    match diagram {
+        Diagram::Axial => f[0],
+        Diagram::Moment => moment_at(model, r, e, x),
+        Diagram::Shear => {
+            // dM/ds of `moment_at`: the end moments' share, and each contact force's jump.
+            let l = model.beam_length(e);
+            let mut v = -(f[1] + f[2]) / l;
+            for c in r.contacts.iter().filter(|c| c.element == e) {
+                let a = c.xi.clamp(0.0, 1.0);
+                v += c.force * if x < a { 1.0 - a } else { -a };
+            }
+            v
+        }
+    }
+}
+
+/// The extreme of `diagram` over the structure: (value, element, fraction along it).
+pub fn extreme(model: &Model, r: &IncrementRecord, diagram: Diagram) -> Option<(f64, usize, f64)> {
+    let mut best: Option<(f64, usize, f64)> = None;
+    for e in 0..model.beams.len() {
+        for k in 0..=SAMPLES {
+            let x = k as f64 / SAMPLES as f64;
+            let v = value_at(model, r, diagram, e, x);
+            if best.is_none_or(|b| v.abs() > b.0.abs()) {
+                best = Some((v, e, x));
+            }
+        }
+    }
+    best
+}
+
+/// Draw `diagram` for record `r`; `s` maps world to screen. Returns nothing to draw when every
+/// value is zero.
+pub fn paint(
+    p: &egui::Painter,
+    model: &Model,
+    r: &IncrementRecord,
+    diagram: Diagram,
+    unit: &str,
+    s: &dyn Fn([f64; 2]) -> Pos2,
+) {
+    let Some((peak, pe, px)) = extreme(model, r, diagram) else {
+        return;
+    };
+    if peak == 0.0 || !peak.is_finite() {
+        return;
+    }
+    let scale = REACH / peak.abs() as f32;
+    let (pos_fill, neg_fill) = (
+        Color32::from_rgba_unmultiplied(214, 39, 40, 60),
+        Color32::from_rgba_unmultiplied(31, 119, 220, 60),
+    );
+    let mut label_at = None;
+    for (e, beam) in model.beams.iter().enumerate() {
+        let (a, b) = (r.nodes[beam.i], r.nodes[beam.j]);
+        let (sa, sb) = (s([a[0], a[1]]), s([b[0], b[1]]));
+        let along = sb - sa;
+        if along.length() < 1e-6 {
+            continue;
+        }
+        // The chord's left on screen (y down): the world normal turned with the chord.
+        let normal = Vec2::new(along.y, -along.x).normalized();
+        let point = |x: f64| sa + along * x as f32;
+        let off = |x: f64| normal * (value_at(model, r, diagram, e, x) as f32 * scale);
+        let mut outline = Vec::with_capacity(SAMPLES + 1);
+        for k in 0..SAMPLES {
+            let (x0, x1) = (k as f64 / SAMPLES as f64, (k + 1) as f64 / SAMPLES as f64);
+            let mid = value_at(model, r, diagram, e, 0.5 * (x0 + x1));
+            let fill = if mid >= 0.0 { pos_fill } else { neg_fill };
+            let quad = vec![
+                point(x0),
+                point(x1),
+                point(x1) + off(x1),
+                point(x0) + off(x0),
+            ];
+            p.add(Shape::convex_polygon(quad, fill, Stroke::NONE));
+            outline.push(point(x0) + off(x0));
+        }
+        outline.push(point(1.0) + off(1.0));
+        p.add(Shape::line(
+            outline,
+            Stroke::new(1.2, Color32::from_gray(60)),
+        ));
+        if e == pe {
+            label_at = Some(point(px) + off(px));
+        }
+    }
+    if let Some(at) = label_at {
+        p.text(
+            at + Vec2::new(6.0, -6.0),
+            egui::Align2::LEFT_BOTTOM,
+            format!(
+                "{} = {} {unit}",
+                diagram.letter(),
+                crate::app::units::num(peak)
+            ),
+            FontId::proportional(13.0),
+            Color32::from_gray(20),
+        );
+    }
+}
