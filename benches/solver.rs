@@ -128,10 +128,11 @@ fn many_bodies_text(n: usize) -> String {
 }
 
 /// Load, validate, order and solve the first increment of `n` separate bodies: the cost grows
-/// linearly with `n` (ten times the bodies, about ten times the time).
+/// linearly with `n` (ten times the bodies, about ten times the time), up to a million bodies
+/// (two million nodes).
 fn many_bodies(c: &mut Criterion) {
     let mut g = c.benchmark_group("many_bodies_first_increment");
-    for n in [1_000usize, 10_000, 100_000] {
+    for n in [1_000usize, 10_000, 100_000, 1_000_000] {
         let text = many_bodies_text(n);
         g.bench_with_input(BenchmarkId::from_parameter(n), &text, |b, text| {
             b.iter(|| {
