@@ -102,7 +102,9 @@ fn slider_update(c: &mut Criterion) {
     g.finish();
 }
 
-/// A scene of `n` separate one-element cantilevers, each clamped and loaded at its tip.
+/// A scene of `n` separate one-element cantilevers, each clamped and loaded at its tip by a force
+/// small enough for one increment without a cut-back: what is measured is loading, validation,
+/// ordering and one small Newton solve.
 fn many_bodies_text(n: usize) -> String {
     let bodies: Vec<String> = (0..n)
         .map(|k| {
@@ -117,7 +119,7 @@ fn many_bodies_text(n: usize) -> String {
         .map(|k| format!("(node: {}, u: true, v: true, phi: true)", 2 * k + 1))
         .collect();
     let loads: Vec<String> = (0..n)
-        .map(|k| format!("(node: {}, fx: 1.0)", 2 * k + 2))
+        .map(|k| format!("(node: {}, fx: 1.0e-3)", 2 * k + 2))
         .collect();
     format!(
         "(name: \"many\", sections: [(name: \"s\", E: 1.0, A: 1.0, I: 1.0)], bodies: [{}], supports: [{}], loads: [{}], control: (steps: 1))",

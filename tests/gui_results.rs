@@ -146,3 +146,93 @@ fn a_scene_opens_fitted_to_the_view() {
         assert!(rect.contains(at), "node {id} at {at:?} outside {rect:?}");
     }
 }
+
+/// The path of `stem` with `ext`, as a string.
+fn with_ext(stem: &std::path::Path, ext: &str) -> std::path::PathBuf {
+    stem.with_extension(ext)
+}
+
+/// Exports from the buttons: with node 11 selected, the CSV's headers carry the scene's units
+/// and its u, v of node 11 and its reactions are those of the JSON export, row by row; the SVG
+/// of Example 3.2 holds one path per body (three) with numbers for coordinates, and each save
+/// confirms with its full path.
+#[test]
+fn exports_write_what_the_run_holds_in_its_units() {
+    let path = cantilever_file("export");
+    let mut h = solved(&path, None);
+    let dir = std::env::temp_dir().join(format!("tsm-gui-export-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let stem = dir.join("run");
+    h.get_by_role_and_label(egui::accesskit::Role::TextInput, "Export as")
+        .set_text_value_accesskit(&stem.display().to_string());
+    h.step();
+    let (_, at) = h.state().node_on_screen(11).expect("node 11 is drawn");
+    h.hover_at(at);
+    h.step();
+    h.drag_at(at);
+    h.step();
+    h.drop_at(at);
+    h.step();
+    for button in ["Export CSV", "Export JSON"] {
+        h.get_by_label(button).click();
+        h.step();
+    }
+    let wrote = label(&h, "wrote ").expect("a confirmation");
+    assert!(
+        wrote.ends_with("run.json") && wrote.contains('/'),
+        "{wrote}"
+    );
+    let csv = std::fs::read_to_string(with_ext(&stem, "csv")).expect("CSV written");
+    let rows: Vec<Vec<&str>> = csv.lines().map(|l| l.split(',').collect()).collect();
+    let column = |name: &str| rows[0].iter().position(|c| *c == name).expect(name);
+    let (u, v, ry) = (
+        column("u_node_11 [m]"),
+        column("v_node_11 [m]"),
+        column("R_node_1_v [kN]"),
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(with_ext(&stem, "json")).unwrap()).unwrap();
+    let ids: Vec<u64> = serde_json::from_value(json["node_ids"].clone()).unwrap();
+    let slot = ids.iter().position(|&id| id == 11).unwrap();
+    let incs = json["increments"].as_array().unwrap();
+    assert_eq!(rows.len(), 1 + incs.len());
+    for (row, inc) in rows[1..].iter().zip(incs) {
+        let node = &inc["nodes"][slot];
+        let num = |k: usize| row[k].parse::<f64>().unwrap();
+        assert!((num(u) - (node[0].as_f64().unwrap() - 2.0)).abs() < 1e-15);
+        assert!((num(v) - node[1].as_f64().unwrap()).abs() < 1e-15);
+        let r_v = (inc["reactions"].as_array().unwrap().iter())
+            .find(|x| x["node"] == 1 && x["dof"] == "v")
+            .unwrap()["value"]
+            .as_f64()
+            .unwrap();
+        assert!((num(ry) - r_v).abs() <= 1e-12 * r_v.abs());
+    }
+    std::fs::remove_file(path).ok();
+
+    let mut h = Harness::builder()
+        .with_size([1400.0, 900.0])
+        .wgpu()
+        .build_eframe(|cc| TsmApp::new(cc, Startup::scene("example_3_2")));
+    loaded(&mut h);
+    h.get_by_role_and_label(egui::accesskit::Role::TextInput, "Export as")
+        .set_text_value_accesskit(&stem.display().to_string());
+    h.step();
+    h.get_by_label("Export SVG").click();
+    h.step();
+    let svg = std::fs::read_to_string(with_ext(&stem, "svg")).expect("SVG written");
+    assert!(svg.starts_with("<svg ") && svg.trim_end().ends_with("</svg>"));
+    let paths: Vec<&str> = svg.lines().filter(|l| l.starts_with("<path ")).collect();
+    assert_eq!(paths.len(), 3, "{svg}");
+    for p in paths {
+        let d = p.split(" d=\"").nth(1).unwrap().split('"').next().unwrap();
+        for pair in d.split(['M', 'L']).filter(|s| !s.trim().is_empty()) {
+            let xy: Vec<f64> = pair
+                .split_whitespace()
+                .map(|v| v.parse().unwrap())
+                .collect();
+            assert_eq!(xy.len(), 2, "{pair}");
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -1,11 +1,13 @@
 //! Exports: the run history as JSON (the `solve --json` schema) and CSV (one row per
-//! increment), and PNG screenshots. Files are written atomically.
+//! increment, units in the headers), the viewed state as SVG, and PNG screenshots. Files are
+//! written atomically.
 
 use std::fmt::Write as _;
 use std::path::Path;
 
 use egui::ColorImage;
 
+use super::canvas::shapes::deformed_bodies;
 use crate::history::{write_atomic, History};
 use crate::solver::{Event, IncrementRecord, IncrementStatus};
 use crate::worker::Loaded;
@@ -33,11 +35,15 @@ pub fn history(
 }
 
 /// One CSV row per increment: number, prescribed values, load factor, iterations, residual,
-/// status (converged or roundoff), cut-backs, active contacts, then every reaction.
-pub fn csv(loaded: &Loaded, records: &[IncrementRecord]) -> String {
+/// status (converged or roundoff), cut-backs, active contacts, every reaction, the contact force
+/// on every contact candidate node (0 when it touches nothing), and the displacements of the
+/// nodes in `nodes` (indices). Each header names its unit in brackets, in the scene's units.
+pub fn csv(loaded: &Loaded, records: &[IncrementRecord], nodes: &[usize]) -> String {
+    let model = &loaded.scene.model;
+    let units = loaded.scene.file.units;
     let mut out = String::from("increment");
-    for l in &loaded.prescribed_labels {
-        let _ = write!(out, ",{}", l.replace(' ', "_"));
+    for (l, p) in loaded.prescribed_labels.iter().zip(&model.prescribed) {
+        let _ = write!(out, ",{} [{}]", l.replace(' ', "_"), units.of_dof(p.dof));
     }
     out.push_str(",load_factor,iterations,relative_residual,status,cutbacks,active_contacts");
     let reactions: Vec<(u32, String)> = records
@@ -52,7 +58,28 @@ pub fn csv(loaded: &Loaded, records: &[IncrementRecord]) -> String {
         })
         .unwrap_or_default();
     for (n, d) in &reactions {
-        let _ = write!(out, ",R_node_{n}_{d}");
+        let unit = if d == "phi" {
+            units.moment()
+        } else {
+            units.force().to_string()
+        };
+        let _ = write!(out, ",R_node_{n}_{d} [{unit}]");
+    }
+    let mut candidates: Vec<u32> = (model.contacts.iter())
+        .flat_map(|c| c.nodes.iter().map(|&n| model.nodes[n].id))
+        .collect();
+    candidates.sort_unstable();
+    candidates.dedup();
+    for id in &candidates {
+        let _ = write!(out, ",Yc_node_{id} [{}]", units.force());
+    }
+    for &n in nodes {
+        let id = model.nodes[n].id;
+        let len = units.length();
+        let _ = write!(out, ",u_node_{id} [{len}],v_node_{id} [{len}]");
+        if model.nodes[n].rotation {
+            let _ = write!(out, ",phi_node_{id} [rad]");
+        }
     }
     out.push('\n');
     for r in records.iter().filter(|r| r.increment > 0) {
@@ -81,14 +108,110 @@ pub fn csv(loaded: &Loaded, records: &[IncrementRecord]) -> String {
                 .map_or(f64::NAN, |x| x.value);
             let _ = write!(out, ",{v:.12e}");
         }
+        for id in &candidates {
+            let yc: f64 = (r.contacts.iter())
+                .filter(|c| c.node == *id)
+                .map(|c| c.force)
+                .sum();
+            let _ = write!(out, ",{yc:.12e}");
+        }
+        for &n in nodes {
+            let (p, node) = (r.nodes[n], &model.nodes[n]);
+            let _ = write!(out, ",{:.12e},{:.12e}", p[0] - node.x, p[1] - node.y);
+            if node.rotation {
+                let _ = write!(out, ",{:.12e}", p[2]);
+            }
+        }
         out.push('\n');
     }
     out
 }
 
-/// Write the CSV export.
-pub fn write_csv(path: &Path, loaded: &Loaded, records: &[IncrementRecord]) -> std::io::Result<()> {
-    write_atomic(path, csv(loaded, records).as_bytes())
+/// The viewed state `r` as SVG, for papers: one path per body through its deformed curve (the
+/// same curve the viewport draws), pins as circles, in the scene's units with y up, fitted to
+/// `width` pixels.
+pub fn svg(loaded: &Loaded, r: &IncrementRecord, width: f64) -> String {
+    let model = &loaded.scene.model;
+    let curves = deformed_bodies(model, &loaded.elements, r);
+    let points = curves.iter().flat_map(|c| c.points.iter());
+    let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
+    for p in points
+        .clone()
+        .chain(r.nodes.iter().map(|n| &n[..2]).map(|n| {
+            // Pins are drawn too: their positions count.
+            let a: &[f64; 2] = n.try_into().expect("two coordinates");
+            a
+        }))
+    {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    let span = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(1e-300);
+    let margin = 0.05 * span;
+    let scale = width / (hi[0] - lo[0] + 2.0 * margin).max(1e-300);
+    let height = (hi[1] - lo[1] + 2.0 * margin) * scale;
+    let x = |v: f64| (v - lo[0] + margin) * scale;
+    let y = |v: f64| (hi[1] + margin - v) * scale;
+    let mut out = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{width:.0}\" height=\"{height:.0}\" viewBox=\"0 0 {width:.3} {height:.3}\">\n<!-- {}, increment {}, lengths in {} -->\n",
+        loaded.scene.file.name.replace("--", "-"),
+        r.increment,
+        loaded.scene.file.units.length()
+    );
+    for c in &curves {
+        let d: Vec<String> = (c.points.iter().enumerate())
+            .map(|(k, p)| {
+                format!(
+                    "{}{:.3} {:.3}",
+                    if k == 0 { "M" } else { "L" },
+                    x(p[0]),
+                    y(p[1])
+                )
+            })
+            .collect();
+        let _ = writeln!(
+            out,
+            "<path id=\"{}\" d=\"{}\" fill=\"none\" stroke=\"black\" stroke-width=\"2\"/>",
+            xml_escape(&model.bodies[c.body].name),
+            d.join(" ")
+        );
+    }
+    for (n, node) in model.nodes.iter().enumerate().filter(|(_, n)| !n.rotation) {
+        let _ = writeln!(
+            out,
+            "<circle id=\"node {}\" cx=\"{:.3}\" cy=\"{:.3}\" r=\"4\" fill=\"white\" stroke=\"black\"/>",
+            node.id,
+            x(r.nodes[n][0]),
+            y(r.nodes[n][1])
+        );
+    }
+    out.push_str("</svg>\n");
+    out
+}
+
+/// `text` with the XML special characters escaped.
+fn xml_escape(text: &str) -> String {
+    text.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+/// Write the CSV export, with the displacements of the nodes `nodes` (indices).
+pub fn write_csv(
+    path: &Path,
+    loaded: &Loaded,
+    records: &[IncrementRecord],
+    nodes: &[usize],
+) -> std::io::Result<()> {
+    write_atomic(path, csv(loaded, records, nodes).as_bytes())
+}
+
+/// Write the SVG export of record `r`.
+pub fn write_svg(path: &Path, loaded: &Loaded, r: &IncrementRecord) -> std::io::Result<()> {
+    write_atomic(path, svg(loaded, r, 1200.0).as_bytes())
 }
 
 /// Save a screenshot as PNG.

@@ -82,6 +82,8 @@ pub struct TsmApp {
     pub(crate) angles: Angles,
     /// The node or element clicked in the viewport, shown in the details panel.
     pub(crate) pinned: Option<Picked>,
+    /// Counts the scenes loaded: what the viewport's cached geometry belongs to.
+    pub(crate) generation: u64,
 }
 
 impl TsmApp {
@@ -181,6 +183,7 @@ impl TsmApp {
                     // A scene opened in the app is fitted to the viewport.
                     self.fit_pending = true;
                     self.pinned = None;
+                    self.generation += 1;
                     self.events.clear();
                     self.live.clear();
                     self.selected = 0;

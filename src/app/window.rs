@@ -82,6 +82,7 @@ impl TsmApp {
             diagram: startup.diagram,
             angles: Angles::default(),
             pinned: None,
+            generation: 0,
         };
         app.open(&name);
         if !keep_view {

@@ -4,6 +4,8 @@
 //! (deformed strips coloured by bending moment over the grey undeformed shape, see
 //! `beams_gpu`) under the overlays of `overlays`.
 
+use std::sync::Arc;
+
 use egui::{Align2, Color32, FontId, Pos2, Rect, Sense, Vec2};
 
 use crate::solver::Dof;
@@ -13,12 +15,16 @@ use super::beams_gpu::{self, Strip};
 use super::diagrams::{self, Diagram};
 use super::overlays::{self, INK};
 use super::query::{describe, pick};
-use super::shapes::{deformed_bodies, max_moment, moment_color, undeformed_bodies};
+use super::shapes::{deformed_bodies, max_moment, moment_color, undeformed_bodies, BodyCurve};
 use super::strips::Polyline;
 use crate::app::state::TsmApp;
 use crate::app::view::{bounds, handle_world, Drag};
 
 const GHOST: Color32 = Color32::from_rgb(175, 178, 186);
+
+/// What the cached curves were built for: the scene load, and the increment (its number and
+/// wall time, which tell records apart).
+type CurveKey = (u64, usize, u64);
 
 /// Show the viewport.
 pub fn show(app: &mut TsmApp, ui: &mut egui::Ui, gpu: Option<&egui_wgpu::RenderState>) {
@@ -54,8 +60,19 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui, gpu: Option<&egui_wgpu::RenderS
     let to_screen = |p: [f64; 2]| view.to_screen(rect, p);
     let ppp = ui.ctx().pixels_per_point();
 
-    // Beams: ghost first, then the deformed strips.
-    let curves = deformed_bodies(model, &l.elements, r);
+    // Beams: ghost first, then the deformed strips. The curves of the viewed increment are
+    // built once and kept while it stays in view.
+    let key = (app.generation, r.increment, r.seconds.to_bits());
+    let id = ui.scope_id().with("deformed curves");
+    let cached: Option<(CurveKey, Arc<Vec<BodyCurve>>)> = ui.data(|d| d.get_temp(id));
+    let curves = match cached {
+        Some((k, c)) if k == key => c,
+        _ => {
+            let c = Arc::new(deformed_bodies(model, &l.elements, r));
+            ui.data_mut(|d| d.insert_temp(id, (key, Arc::clone(&c))));
+            c
+        }
+    };
     let mmax = max_moment(&curves);
     let mut strips: Vec<Strip> = undeformed_bodies(model)
         .into_iter()
@@ -64,7 +81,7 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui, gpu: Option<&egui_wgpu::RenderS
             half_px: 0.9 * ppp,
         })
         .collect();
-    for c in &curves {
+    for c in curves.iter() {
         let line = Polyline {
             points: c.points.iter().map(|p| to_screen(*p)).collect(),
             colors: c.moments.iter().map(|m| moment_color(*m, mmax)).collect(),

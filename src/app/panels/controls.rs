@@ -4,8 +4,8 @@
 use crate::solver::{Formulation, StretchCorrection};
 use crate::worker::Command;
 
-use crate::app::canvas::diagrams::Diagram;
-use crate::app::canvas::query::Angles;
+use crate::app::display::Diagram;
+use crate::app::display::{Angles, Picked};
 use crate::app::export;
 use crate::app::screenshot::Shot;
 use crate::app::state::TsmApp;
@@ -163,16 +163,37 @@ fn exports(app: &mut TsmApp, ui: &mut egui::Ui) {
         let h = export::history(loaded, &app.history, &app.events, app.error.as_deref());
         note = Some(h.write_json(&path).map(|_| path));
     }
-    if ui.button("Export CSV").clicked() {
+    let picked: Vec<usize> = match app.pinned {
+        Some(Picked::Node(n)) => vec![n],
+        _ => Vec::new(),
+    };
+    if ui
+        .button("Export CSV")
+        .on_hover_text("every increment; with a node selected, its displacements too")
+        .clicked()
+    {
         let path = std::path::PathBuf::from(format!("{stem}.csv"));
-        note = Some(export::write_csv(&path, loaded, &app.history).map(|_| path));
+        note = Some(export::write_csv(&path, loaded, &app.history, &picked).map(|_| path));
+    }
+    if ui
+        .button("Export SVG")
+        .on_hover_text("the viewed increment's beams, for papers")
+        .clicked()
+    {
+        if let Some(r) = app.record() {
+            let path = std::path::PathBuf::from(format!("{stem}.svg"));
+            note = Some(export::write_svg(&path, loaded, r).map(|_| path));
+        }
     }
     if ui.button("Save PNG").clicked() && app.shot.is_none() {
         app.shot = Some(Shot::new(format!("{stem}.png").into(), None, false));
         app.status = format!("saving {stem}.png");
     }
     match note {
-        Some(Ok(p)) => app.status = format!("wrote {}", p.display()),
+        Some(Ok(p)) => {
+            let full = std::fs::canonicalize(&p).unwrap_or(p);
+            app.status = format!("wrote {}", full.display());
+        }
         Some(Err(e)) => app.error = Some(format!("export failed: {e}")),
         None => {}
     }
