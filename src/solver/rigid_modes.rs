@@ -84,6 +84,10 @@ fn free_modes(model: &Model, nodes: &[usize], held: &[[bool; 3]]) -> usize {
     let size = (nodes.iter())
         .map(|&k| (pos(k)[0] - centre[0]).hypot(pos(k)[1] - centre[1]))
         .fold(0.0f64, f64::max);
+    // A node held in all three dofs stops every rigid motion of its part (the common clamp).
+    if nodes.iter().any(|&k| held[k] == [true; 3]) {
+        return 0;
+    }
     let spins = nodes.len() > 1 || model.nodes[nodes[0]].rotation;
     if size == 0.0 || !spins {
         // A lone node: its translations (and rotation, if it has one) are held or not.
