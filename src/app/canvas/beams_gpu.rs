@@ -28,6 +28,9 @@ struct BeamResources {
     vertices: wgpu::Buffer,
     capacity: u64,
     count: u32,
+    /// The vertices last written to `vertices` (held, so that their address is not reused),
+    /// not written again.
+    uploaded: Option<Arc<Vec<StripVertex>>>,
 }
 
 #[repr(C)]
@@ -124,6 +127,7 @@ pub fn init(rs: &RenderState) -> bool {
             vertices,
             capacity,
             count: 0,
+            uploaded: None,
         });
     true
 }
@@ -159,9 +163,12 @@ impl CallbackTrait for BeamsCallback {
         if bytes.len() as u64 > res.capacity {
             res.capacity = (bytes.len() as u64).next_power_of_two();
             res.vertices = vertex_buffer(device, res.capacity);
+            res.uploaded = None;
         }
-        if !bytes.is_empty() {
+        let same = (res.uploaded.as_ref()).is_some_and(|u| Arc::ptr_eq(u, &self.vertices));
+        if !bytes.is_empty() && !same {
             queue.write_buffer(&res.vertices, 0, bytes);
+            res.uploaded = Some(Arc::clone(&self.vertices));
         }
         res.count = self.vertices.len() as u32;
         let u = Uniforms {
@@ -197,31 +204,49 @@ impl CallbackTrait for BeamsCallback {
     }
 }
 
-/// Draw the strips clipped to `rect`: through the wgpu callback when `gpu` holds a render state
-/// with the pipeline registered, else as feathered egui meshes.
-pub fn paint(painter: &Painter, rect: Rect, strips: &[Strip], gpu: Option<&RenderState>) {
-    let ppp = painter.pixels_per_point();
-    match gpu {
-        Some(rs) => {
-            let mut v = Vec::new();
-            for s in strips {
-                push_gpu_strip(&s.line, s.half_px, ppp, &mut v);
-            }
-            let srgb = rs.target_format.is_srgb();
+/// The beams' geometry built for one view: vertices for the wgpu callback, or an egui mesh.
+/// Kept while the view and the viewed increment stay the same, so a still frame builds nothing.
+#[derive(Clone)]
+pub enum Built {
+    /// Vertices of the wgpu strips.
+    Gpu(Arc<Vec<StripVertex>>),
+    /// The egui-painter mesh.
+    Mesh(Arc<egui::Mesh>),
+}
+
+/// Build the strips for the wgpu callback (`gpu`) or the egui painter, at `ppp` pixels a point.
+pub fn build(strips: &[Strip], ppp: f32, gpu: bool) -> Built {
+    if gpu {
+        let mut v = Vec::new();
+        for s in strips {
+            push_gpu_strip(&s.line, s.half_px, ppp, &mut v);
+        }
+        Built::Gpu(Arc::new(v))
+    } else {
+        let mut mesh = egui::Mesh::default();
+        for s in strips {
+            push_mesh_strip(&s.line, s.half_px, ppp, &mut mesh);
+        }
+        Built::Mesh(Arc::new(mesh))
+    }
+}
+
+/// Draw built strips clipped to `rect`: through the wgpu callback when `gpu` holds a render
+/// state (and they were built for it), else with the egui painter.
+pub fn paint(painter: &Painter, rect: Rect, built: &Built, gpu: Option<&RenderState>) {
+    match (built, gpu) {
+        (Built::Gpu(v), Some(rs)) => {
             painter.add(egui_wgpu::Callback::new_paint_callback(
                 rect,
                 BeamsCallback {
-                    vertices: Arc::new(v),
-                    srgb,
+                    vertices: Arc::clone(v),
+                    srgb: rs.target_format.is_srgb(),
                 },
             ));
         }
-        None => {
-            let mut mesh = egui::Mesh::default();
-            for s in strips {
-                push_mesh_strip(&s.line, s.half_px, ppp, &mut mesh);
-            }
-            painter.add(egui::Shape::mesh(mesh));
+        (Built::Mesh(m), _) => {
+            painter.add(egui::Shape::mesh(Arc::clone(m)));
         }
+        (Built::Gpu(_), None) => {}
     }
 }

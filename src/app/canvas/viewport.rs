@@ -11,7 +11,7 @@ use egui::{Align2, Color32, FontId, Pos2, Rect, Sense, Vec2};
 use crate::solver::Dof;
 use crate::worker::Command;
 
-use super::beams_gpu::{self, Strip};
+use super::beams_gpu::{self, Built, Strip};
 use super::diagrams::{self, Diagram};
 use super::overlays::{self, INK};
 use super::query::{describe, pick};
@@ -25,6 +25,10 @@ const GHOST: Color32 = Color32::from_rgb(175, 178, 186);
 /// What the cached curves were built for: the scene load, and the increment (its number and
 /// wall time, which tell records apart).
 type CurveKey = (u64, usize, u64);
+
+/// What the cached strips were built for: the curves, the view (centre, scale), the viewport
+/// and pixels per point, and the renderer.
+type ScreenKey = (CurveKey, [u64; 2], u64, [u32; 5], bool);
 
 /// Show the viewport.
 pub fn show(app: &mut TsmApp, ui: &mut egui::Ui, gpu: Option<&egui_wgpu::RenderState>) {
@@ -74,24 +78,43 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui, gpu: Option<&egui_wgpu::RenderS
         }
     };
     let mmax = max_moment(&curves);
-    let mut strips: Vec<Strip> = undeformed_bodies(model)
-        .into_iter()
-        .map(|line| Strip {
-            line: Polyline::uniform(line.into_iter().map(to_screen).collect(), GHOST),
-            half_px: 0.9 * ppp,
-        })
-        .collect();
-    for c in curves.iter() {
-        let line = Polyline {
-            points: c.points.iter().map(|p| to_screen(*p)).collect(),
-            colors: c.moments.iter().map(|m| moment_color(*m, mmax)).collect(),
-        };
-        strips.push(Strip {
-            line,
-            half_px: 3.0 * ppp,
-        });
-    }
-    beams_gpu::paint(&painter, rect, &strips, gpu);
+    // The strips on screen, built once for this increment, view and window.
+    let f = |v: f32| v.to_bits();
+    let screen_key = (
+        key,
+        view.center.map(f64::to_bits),
+        view.scale.to_bits(),
+        [f(rect.min.x), f(rect.min.y), f(rect.max.x), f(rect.max.y), f(ppp)],
+        gpu.is_some(),
+    );
+    let id = ui.scope_id().with("beam strips");
+    let cached: Option<(ScreenKey, Built)> = ui.data(|d| d.get_temp(id));
+    let built = match cached {
+        Some((k, b)) if k == screen_key => b,
+        _ => {
+            let mut strips: Vec<Strip> = undeformed_bodies(model)
+                .into_iter()
+                .map(|line| Strip {
+                    line: Polyline::uniform(line.into_iter().map(to_screen).collect(), GHOST),
+                    half_px: 0.9 * ppp,
+                })
+                .collect();
+            for c in curves.iter() {
+                let line = Polyline {
+                    points: c.points.iter().map(|p| to_screen(*p)).collect(),
+                    colors: c.moments.iter().map(|m| moment_color(*m, mmax)).collect(),
+                };
+                strips.push(Strip {
+                    line,
+                    half_px: 3.0 * ppp,
+                });
+            }
+            let b = beams_gpu::build(&strips, ppp, gpu.is_some());
+            ui.data_mut(|d| d.insert_temp(id, (screen_key, b.clone())));
+            b
+        }
+    };
+    beams_gpu::paint(&painter, rect, &built, gpu);
 
     overlays::supports(&painter, model, r, &to_screen);
     overlays::contacts(&painter, model, r, &to_screen);
