@@ -84,6 +84,8 @@ pub struct TsmApp {
     pub(crate) pinned: Option<Picked>,
     /// Counts the scenes loaded: what the viewport's cached geometry belongs to.
     pub(crate) generation: u64,
+    /// Whether the shortcuts window is open.
+    pub(crate) show_shortcuts: bool,
 }
 
 impl TsmApp {

@@ -5,7 +5,7 @@
 use super::canvas::{beams_gpu, viewport};
 use super::display::Angles;
 use super::frame_log::FrameLog;
-use super::panels::{controls, details, plots, timeline};
+use super::panels::{controls, details, plots, shortcuts, timeline};
 use super::retention::KeptHistory;
 use super::screenshot::{Layout, Shot};
 use super::state::{Startup, TsmApp};
@@ -83,6 +83,7 @@ impl TsmApp {
             angles: Angles::default(),
             pinned: None,
             generation: 0,
+            show_shortcuts: false,
         };
         app.open(&name);
         if !keep_view {
@@ -98,6 +99,7 @@ impl eframe::App for TsmApp {
         self.drain();
         let ctx = ui.ctx().clone();
         self.play(&ctx);
+        shortcuts::handle(self, &ctx);
         egui::Panel::top("toolbar").show(ui, |ui| controls::toolbar(self, ui));
         egui::Panel::bottom("timeline")
             .resizable(true)
@@ -124,6 +126,7 @@ impl eframe::App for TsmApp {
             None
         };
         egui::CentralPanel::no_frame().show(ui, |ui| viewport::show(self, ui, gpu.as_ref()));
+        shortcuts::window(self, &ctx);
         if let Some(shot) = &mut self.shot {
             shot.frame(&ctx, &self.layout);
             if shot.finished() {

@@ -84,7 +84,13 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui, gpu: Option<&egui_wgpu::RenderS
         key,
         view.center.map(f64::to_bits),
         view.scale.to_bits(),
-        [f(rect.min.x), f(rect.min.y), f(rect.max.x), f(rect.max.y), f(ppp)],
+        [
+            f(rect.min.x),
+            f(rect.min.y),
+            f(rect.max.x),
+            f(rect.max.y),
+            f(ppp),
+        ],
         gpu.is_some(),
     );
     let id = ui.scope_id().with("beam strips");

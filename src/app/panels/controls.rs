@@ -4,6 +4,7 @@
 use crate::solver::{Formulation, StretchCorrection};
 use crate::worker::Command;
 
+use crate::app::canvas::svg;
 use crate::app::display::Diagram;
 use crate::app::display::{Angles, Picked};
 use crate::app::export;
@@ -182,7 +183,7 @@ fn exports(app: &mut TsmApp, ui: &mut egui::Ui) {
     {
         if let Some(r) = app.record() {
             let path = std::path::PathBuf::from(format!("{stem}.svg"));
-            note = Some(export::write_svg(&path, loaded, r).map(|_| path));
+            note = Some(svg::write_svg(&path, loaded, r).map(|_| path));
         }
     }
     if ui.button("Save PNG").clicked() && app.shot.is_none() {
@@ -256,9 +257,7 @@ pub fn sliders(app: &mut TsmApp, ui: &mut egui::Ui) {
     ui.horizontal(|ui| {
         ui.set_min_height(ui.spacing().interact_size.y);
         if app.busy {
-            if ui.button("Stop").clicked() {
-                app.send(Command::Cancel);
-            }
+            ui.label("solving: Stop under the view, or Esc, ends it");
         } else {
             ui.label(format!(
                 "increments of at most {:.4} {step_unit}",

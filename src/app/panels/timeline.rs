@@ -1,6 +1,6 @@
 //! The timeline: a slider over the converged increments ("Increment") and the buttons
 //! "Step back", "Step" (next stored increment, or one more solved step at the end), "Play" /
-//! "Pause" (replay), "Run" (solve the scene's remaining steps) and "Reset". Increments accepted
+//! "Pause" (replay), "Run" (solve the scene's remaining steps), "Stop" (any run) and "Reset". Increments accepted
 //! at the round-off floor are ticked under the slider.
 
 use crate::worker::Command;
@@ -53,6 +53,14 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui) {
         {
             app.selected = last;
             app.send(Command::Run);
+        }
+        // One Stop for every kind of run: displacement, load and arc-length control.
+        if ui
+            .add_enabled(app.busy, egui::Button::new("Stop"))
+            .on_hover_text("stop the solver; the accepted increments stay (Esc)")
+            .clicked()
+        {
+            app.send(Command::Cancel);
         }
         if ui.add_enabled(loaded, egui::Button::new("Reset")).clicked() {
             app.playing = false;

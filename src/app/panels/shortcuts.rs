@@ -1,0 +1,85 @@
+//! The keyboard: Space runs or stops, Left and Right step through the increments (Right at the
+//! last one solves one more step), Home and End go to the first and last, Esc stops the
+//! solver, F fits the view (in `canvas::viewport`), and ? lists them all in a window. Keys act
+//! only while no text field has the keyboard.
+
+use egui::Key;
+
+use crate::app::state::TsmApp;
+use crate::worker::Command;
+
+/// Every shortcut and what it does, as the help window lists them.
+pub const SHORTCUTS: [(&str, &str); 7] = [
+    ("Space", "run the remaining steps, or stop the solver"),
+    (
+        "Left / Right",
+        "previous / next increment (at the last one: solve one more step)",
+    ),
+    ("Home / End", "first / last increment"),
+    ("Esc", "stop the solver (the accepted increments stay)"),
+    ("F", "fit the view"),
+    ("double-click", "fit the view"),
+    ("?", "show or hide this list"),
+];
+
+/// Act on the keys pressed this frame.
+pub fn handle(app: &mut TsmApp, ctx: &egui::Context) {
+    if ctx.egui_wants_keyboard_input() || app.loaded.is_none() {
+        return;
+    }
+    let pressed = |k: Key| ctx.input(|i| i.key_pressed(k));
+    let last = app.last();
+    if pressed(Key::Space) {
+        if app.busy {
+            app.send(Command::Cancel);
+        } else {
+            app.selected = last;
+            app.send(Command::Run);
+        }
+    }
+    if pressed(Key::Escape) && app.busy {
+        app.send(Command::Cancel);
+    }
+    if pressed(Key::ArrowLeft) {
+        app.selected = app.selected.min(last).saturating_sub(1);
+        app.playing = false;
+    }
+    if pressed(Key::ArrowRight) {
+        app.playing = false;
+        if app.selected < last {
+            app.selected += 1;
+        } else if !app.busy {
+            app.send(Command::Step);
+        }
+    }
+    if pressed(Key::Home) {
+        app.selected = 0;
+        app.playing = false;
+    }
+    if pressed(Key::End) {
+        app.selected = last;
+        app.playing = false;
+    }
+    if pressed(Key::Questionmark) || pressed(Key::Slash) && ctx.input(|i| i.modifiers.shift) {
+        app.show_shortcuts = !app.show_shortcuts;
+    }
+}
+
+/// The window that lists the shortcuts, while it is open.
+pub fn window(app: &mut TsmApp, ctx: &egui::Context) {
+    let mut open = app.show_shortcuts;
+    egui::Window::new("Shortcuts")
+        .open(&mut open)
+        .collapsible(false)
+        .resizable(false)
+        .show(ctx, |ui| {
+            egui::Grid::new("shortcuts").striped(true).show(ui, |ui| {
+                for (key, what) in SHORTCUTS {
+                    ui.label(egui::RichText::new(key).strong());
+                    ui.label(what);
+                    ui.end_row();
+                }
+            });
+        });
+    app.show_shortcuts = open;
+}

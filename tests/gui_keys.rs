@@ -1,0 +1,82 @@
+//! The keyboard and Stop (egui_kittest on the real `TsmApp`): Right at the last increment
+//! solves one more step, Left, Home and End move through the stored increments, ? opens the
+//! list of shortcuts, and Esc stops an arc-length run of Lee's frame within 50 ms, keeping its
+//! accepted increments.
+#![cfg(feature = "gui")]
+
+use std::time::{Duration, Instant};
+
+use egui::Key;
+use egui_kittest::kittest::Queryable;
+use egui_kittest::Harness;
+use tsm_contact::app::{Startup, TsmApp};
+
+mod gui_support;
+use gui_support::{label, loaded, shown_increment, solving, wait};
+
+fn harness_on(scene: &str) -> Harness<'static, TsmApp> {
+    let mut h = Harness::builder()
+        .with_size([1400.0, 900.0])
+        .wgpu()
+        .build_eframe(move |cc| TsmApp::new(cc, Startup::scene(scene)));
+    loaded(&mut h);
+    h
+}
+
+/// Press `key` and let the app see it.
+fn press(h: &mut Harness<'static, TsmApp>, key: Key) {
+    h.key_press(key);
+    h.step();
+}
+
+#[test]
+fn arrows_home_and_end_walk_the_increments_and_question_mark_lists_the_keys() {
+    let mut h = harness_on("example_3_2");
+    for k in 1..=3 {
+        press(&mut h, Key::ArrowRight);
+        wait(&mut h, "one more step", Duration::from_secs(60), |h| {
+            shown_increment(h) == Some((k, k)) && !solving(h)
+        });
+    }
+    press(&mut h, Key::ArrowLeft);
+    assert_eq!(shown_increment(&h), Some((2, 3)));
+    press(&mut h, Key::Home);
+    assert_eq!(shown_increment(&h), Some((0, 3)));
+    press(&mut h, Key::End);
+    assert_eq!(shown_increment(&h), Some((3, 3)));
+    assert!(h.query_by_label("Shortcuts").is_none());
+    press(&mut h, Key::Questionmark);
+    h.step();
+    assert!(h.query_by_label("Shortcuts").is_some(), "the window opens");
+    assert!(label(&h, "stop the solver").is_some());
+}
+
+/// Lee's frame is traced by arc length (load control): Space starts the run, and Esc ends it
+/// within 50 ms of the key, with every increment accepted before it kept.
+#[test]
+fn esc_stops_an_arc_length_run_within_50_ms() {
+    let mut h = harness_on("lee_frame");
+    press(&mut h, Key::Space);
+    wait(&mut h, "the run to start", Duration::from_secs(60), |h| {
+        solving(h) && h.state().increments() >= 3
+    });
+    let t0 = Instant::now();
+    h.key_press(Key::Escape);
+    h.step();
+    while solving(&h) {
+        assert!(
+            t0.elapsed() < Duration::from_secs(5),
+            "the run did not stop"
+        );
+        h.step();
+    }
+    let took = t0.elapsed();
+    let kept = h.state().increments();
+    assert!(took < Duration::from_millis(50), "stopped after {took:?}");
+    assert!(kept >= 3);
+    // Nothing goes on after the stop.
+    for _ in 0..20 {
+        h.step();
+    }
+    assert_eq!(h.state().increments(), kept);
+}
