@@ -1,4 +1,4 @@
-//! The viewport's egui overlays (egui's own feathering): clamps and supports, contact nodes
+//! The viewport's egui overlays (egui's own feathering): clamps, pins and rollers, contact nodes
 //! with force arrows scaled by Yc, body names, the handle of each prescribed dof, the bending
 //! moment legend and a scale bar.
 
@@ -67,13 +67,41 @@ pub(crate) fn supports(
                 p.line_segment([o, o - into * 7.0 - across * 6.0], Stroke::new(1.2, INK));
             }
         } else {
-            // Roller or pin: a small triangle below the node, plus the guide of a free direction.
-            let tri = vec![at, at + Vec2::new(-7.0, 12.0), at + Vec2::new(7.0, 12.0)];
-            p.add(Shape::convex_polygon(
-                tri,
-                Color32::from_gray(235),
-                Stroke::new(1.2, INK),
-            ));
+            pin_or_roller(p, at, &held);
+        }
+    }
+}
+
+/// A pin (u and v held) as a triangle under the node; a roller (one translation held) as a
+/// triangle on two wheels, on the side the held direction pushes from (under the node for v,
+/// left of it for u); a held rotation alone as a small square.
+fn pin_or_roller(p: &egui::Painter, at: Pos2, held: &[Dof]) {
+    let (u, v) = (held.contains(&Dof::U), held.contains(&Dof::V));
+    if !u && !v {
+        let r = Rect::from_center_size(at, Vec2::splat(9.0));
+        p.rect_stroke(r, 0.0, Stroke::new(1.5, INK), egui::StrokeKind::Middle);
+        return;
+    }
+    // Into the support, on screen: down for a v support, left for a u-only one.
+    let down = if v {
+        Vec2::new(0.0, 1.0)
+    } else {
+        Vec2::new(-1.0, 0.0)
+    };
+    let across = Vec2::new(-down.y, down.x);
+    let tri = vec![
+        at,
+        at + down * 12.0 - across * 7.0,
+        at + down * 12.0 + across * 7.0,
+    ];
+    p.add(Shape::convex_polygon(
+        tri,
+        Color32::from_gray(235),
+        Stroke::new(1.2, INK),
+    ));
+    if u != v {
+        for side in [-3.5, 3.5] {
+            p.circle_stroke(at + down * 15.5 + across * side, 2.5, Stroke::new(1.2, INK));
         }
     }
 }
