@@ -295,7 +295,9 @@ fn convergence(app: &mut TsmApp, ui: &mut egui::Ui) {
             | HoverPosition::Elsewhere { position: p }) = h;
             Some(format!("iteration {:.0}\n{:.2e}", p.x, 10f64.powf(p.y)))
         })
+        .allow_scroll(false)
         .show(ui, move |p| {
+            scroll_zoom(p);
             p.hline(
                 HLine::new(format!("tolerance {tol:.0e}"), lg(tol))
                     .color(CUT)
@@ -400,7 +402,9 @@ fn reaction(app: &TsmApp, ui: &mut egui::Ui) {
     Plot::new("reaction")
         .x_axis_label(x_label)
         .y_axis_label(y_label)
+        .allow_scroll(false)
         .show(ui, move |p| {
+            scroll_zoom(p);
             p.line(
                 Line::new("equilibrium path", pts)
                     .color(RESIDUAL)
@@ -415,4 +419,16 @@ fn reaction(app: &TsmApp, ui: &mut egui::Ui) {
                 );
             }
         });
+}
+
+/// The scroll wheel over a plot zooms it about the pointer (drag pans, double-click resets).
+fn scroll_zoom(p: &mut egui_plot::PlotUi<'_>) {
+    if !p.response().hovered() {
+        return;
+    }
+    let scroll = p.ctx().input(|i| i.smooth_scroll_delta.y);
+    if scroll != 0.0 {
+        let factor = (scroll * 0.002).exp();
+        p.zoom_bounds_around_hovered(egui::Vec2::splat(factor));
+    }
 }
