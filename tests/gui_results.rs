@@ -236,3 +236,33 @@ fn exports_write_what_the_run_holds_in_its_units() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// With a node selected in the view, the response plot is drawn against that node's
+/// displacement, v first, and its u or phi on a click.
+#[test]
+fn the_response_plot_follows_the_selected_node_and_dof() {
+    let path = cantilever_file("plot");
+    let mut h = solved(&path, None);
+    assert!(label(&h, "Load factor against displacement of the loaded dof").is_some());
+    let (_, at) = h.state().node_on_screen(6).expect("node 6 is drawn");
+    h.hover_at(at);
+    h.step();
+    h.drag_at(at);
+    h.step();
+    h.drop_at(at);
+    h.step();
+    h.step();
+    assert!(
+        label(
+            &h,
+            "Load factor against node 6 v, the node selected in the view"
+        )
+        .is_some(),
+        "the plot follows node 6"
+    );
+    h.get_by_label("phi").click();
+    h.step();
+    h.step();
+    assert!(label(&h, "Load factor against node 6 phi").is_some());
+    std::fs::remove_file(path).ok();
+}

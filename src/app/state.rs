@@ -86,6 +86,8 @@ pub struct TsmApp {
     pub(crate) generation: u64,
     /// Whether the shortcuts window is open.
     pub(crate) show_shortcuts: bool,
+    /// The dof (0 u, 1 v, 2 phi) of the selected node the response plot is drawn against.
+    pub(crate) plot_dof: usize,
 }
 
 impl TsmApp {

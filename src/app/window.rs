@@ -84,6 +84,7 @@ impl TsmApp {
             pinned: None,
             generation: 0,
             show_shortcuts: false,
+            plot_dof: 1,
         };
         app.open(&name);
         if !keep_view {

@@ -8,6 +8,7 @@ use egui_plot::{GridInput, GridMark, HLine, HoverPosition, Line, MarkerShape, Pl
 
 use crate::solver::{Dof, Event, IncrementRecord, IncrementStatus, IterationRecord};
 
+use crate::app::display::Picked;
 use crate::app::state::TsmApp;
 
 const RESIDUAL: Color32 = Color32::from_rgb(40, 90, 170);
@@ -21,7 +22,9 @@ pub(crate) const ROUNDOFF: Color32 = Color32::from_rgb(200, 120, 0);
 pub fn show(app: &mut TsmApp, ui: &mut egui::Ui) {
     ui.columns(2, |cols| {
         convergence(app, &mut cols[0]);
-        reaction(app, &mut cols[1]);
+        if let Some(dof) = reaction(app, &mut cols[1]) {
+            app.plot_dof = dof;
+        }
     });
 }
 
@@ -345,8 +348,10 @@ fn convergence(app: &mut TsmApp, ui: &mut egui::Ui) {
     app.layout.plot = Some(*shown.transform.frame());
 }
 
-fn reaction(app: &TsmApp, ui: &mut egui::Ui) {
-    let Some(l) = &app.loaded else { return };
+/// The response plot; returns the dof of the selected node the user picked for its x axis.
+fn reaction(app: &TsmApp, ui: &mut egui::Ui) -> Option<usize> {
+    let mut plot_dof = None;
+    let Some(l) = &app.loaded else { return None };
     let model = &l.scene.model;
     let units = l.scene.file.units;
     let (title, x_label, y_label, pts): (&str, String, String, Vec<[f64; 2]>) =
@@ -394,9 +399,42 @@ fn reaction(app: &TsmApp, ui: &mut egui::Ui) {
                 pts,
             )
         } else {
-            return;
+            return None;
         };
-    ui.label(title);
+    let (title, x_label, pts) = match app.pinned {
+        // A node picked in the view: the same response against its own displacement.
+        Some(Picked::Node(n)) => {
+            let o = if model.nodes[n].rotation {
+                app.plot_dof.min(2)
+            } else {
+                app.plot_dof.min(1)
+            };
+            let x0 = [model.nodes[n].x, model.nodes[n].y, 0.0][o];
+            let xs = app.history.iter().map(|r| r.nodes[n][o] - x0);
+            let pts: Vec<[f64; 2]> = xs.zip(&pts).map(|(x, p)| [x, p[1]]).collect();
+            let label = model.dof_label(n, o);
+            let what = if model.prescribed.is_empty() {
+                "Load factor"
+            } else {
+                "Reaction"
+            };
+            let title = format!("{what} against {label}, the node selected in the view:");
+            let x_label = format!("{label} ({})", units.of_dof(Dof::ALL[o]));
+            (title, x_label, pts)
+        }
+        _ => (title.to_string(), x_label, pts),
+    };
+    ui.horizontal(|ui| {
+        ui.label(title);
+        if let Some(Picked::Node(n)) = app.pinned {
+            let dofs = if model.nodes[n].rotation { 3 } else { 2 };
+            for (k, name) in ["u", "v", "phi"].iter().enumerate().take(dofs) {
+                if ui.selectable_label(app.plot_dof == k, *name).clicked() {
+                    plot_dof = Some(k);
+                }
+            }
+        }
+    });
     let sel = pts.get(app.selected).copied();
     let pts = thin(pts, MAX_POINTS);
     Plot::new("reaction")
@@ -419,6 +457,7 @@ fn reaction(app: &TsmApp, ui: &mut egui::Ui) {
                 );
             }
         });
+    plot_dof
 }
 
 /// The scroll wheel over a plot zooms it about the pointer (drag pans, double-click resets).
