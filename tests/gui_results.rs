@@ -266,3 +266,40 @@ fn the_response_plot_follows_the_selected_node_and_dof() {
     assert!(label(&h, "Load factor against node 6 phi").is_some());
     std::fs::remove_file(path).ok();
 }
+
+/// The table lists the elements of the viewed increment; sorted by the size of M at end i,
+/// largest first, its first row is element 1 at the clamp with M = P L = 0.02 kN m.
+#[test]
+fn the_table_sorts_the_elements_by_their_moment() {
+    let path = cantilever_file("table");
+    let mut h = solved(&path, None);
+    h.get_by_label("Table").click();
+    h.run_steps(3);
+    h.get_by_label("Elements").click();
+    h.run_steps(3);
+    h.get_by_label("M at i (kN m)").click();
+    h.step();
+    h.step();
+    assert_eq!(first_row(&h), "beam element 1");
+    assert!(label(&h, "0.0200").is_some() || label(&h, "-0.0200").is_some());
+    // Again: smallest first, element 10 at the free end (M at its end i is P L / 10, the
+    // smallest of the ten).
+    h.get_by_label("M at i (kN m) v").click();
+    h.run_steps(2);
+    assert_eq!(first_row(&h), "beam element 10");
+    std::fs::remove_file(path).ok();
+}
+
+/// The element named in the table's top row.
+fn first_row(h: &Harness<'static, TsmApp>) -> String {
+    let mut rows: Vec<(f32, String)> = h
+        .query_all_by_label_contains("beam element ")
+        .filter_map(|n| {
+            let a = n.accesskit_node();
+            let text = a.label().or_else(|| a.value())?;
+            Some((n.rect().min.y, text.to_string()))
+        })
+        .collect();
+    rows.sort_by(|a, b| a.0.total_cmp(&b.0));
+    rows.first().map(|r| r.1.clone()).unwrap_or_default()
+}

@@ -1,5 +1,6 @@
 //! What the user has chosen to see in the results: the force diagram drawn along the beams,
-//! the unit rotations are shown in, and the node or element picked in the viewport.
+//! the unit rotations are shown in, the node or element picked in the viewport, and the rows
+//! and order of the table.
 
 use crate::app::units::num;
 
@@ -55,4 +56,31 @@ pub enum Picked {
     Node(usize),
     /// A beam element (index into `Model::beams`).
     Element(usize),
+}
+
+/// Which rows the table shows.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Rows {
+    /// One row a node.
+    #[default]
+    Nodes,
+    /// One row an element.
+    Elements,
+    /// One row an active contact.
+    Contacts,
+    /// One row a reaction.
+    Reactions,
+}
+
+/// The table's choices: its rows, the column sorted by and the order.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct TableView {
+    /// Whether the window is open.
+    pub open: bool,
+    /// Which rows.
+    pub rows: Rows,
+    /// The column sorted by.
+    pub column: usize,
+    /// Largest first.
+    pub descending: bool,
 }

@@ -9,8 +9,9 @@ use std::sync::Arc;
 use crate::solver::{Event, IncrementRecord, IterationRecord};
 use crate::worker::{Command, Loaded, Message, Worker};
 
-use super::display::{Angles, Diagram, Picked};
+use super::display::{Angles, Diagram, Picked, TableView};
 use super::frame_log::FrameLog;
+
 use super::retention::{KeptHistory, HISTORY_BUDGET};
 use super::screenshot::{Layout, Shot};
 use super::view::{Drag, View};
@@ -88,6 +89,8 @@ pub struct TsmApp {
     pub(crate) show_shortcuts: bool,
     /// The dof (0 u, 1 v, 2 phi) of the selected node the response plot is drawn against.
     pub(crate) plot_dof: usize,
+    /// The table window's choices.
+    pub(crate) table: TableView,
 }
 
 impl TsmApp {

@@ -5,7 +5,7 @@
 use super::canvas::{beams_gpu, viewport};
 use super::display::Angles;
 use super::frame_log::FrameLog;
-use super::panels::{controls, details, plots, shortcuts, timeline};
+use super::panels::{controls, details, plots, shortcuts, table, timeline};
 use super::retention::KeptHistory;
 use super::screenshot::{Layout, Shot};
 use super::state::{Startup, TsmApp};
@@ -85,6 +85,7 @@ impl TsmApp {
             generation: 0,
             show_shortcuts: false,
             plot_dof: 1,
+            table: Default::default(),
         };
         app.open(&name);
         if !keep_view {
@@ -128,6 +129,7 @@ impl eframe::App for TsmApp {
         };
         egui::CentralPanel::no_frame().show(ui, |ui| viewport::show(self, ui, gpu.as_ref()));
         shortcuts::window(self, &ctx);
+        table::window(self, &ctx);
         if let Some(shot) = &mut self.shot {
             shot.frame(&ctx, &self.layout);
             if shot.finished() {

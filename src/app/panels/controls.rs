@@ -116,6 +116,13 @@ pub fn toolbar(app: &mut TsmApp, ui: &mut egui::Ui) {
             app.fit_pending = true;
         }
         diagram_and_angles(app, ui);
+        if ui
+            .selectable_label(app.table.open, "Table")
+            .on_hover_text("nodes, elements, contacts and reactions of the viewed increment")
+            .clicked()
+        {
+            app.table.open = !app.table.open;
+        }
         ui.separator();
         let name = ui.label("Export as");
         ui.add(
