@@ -1,7 +1,8 @@
 //! The command line: output piped into a reader that stops early (`| head`) ends the program
 //! quietly, with exit status 0 and nothing on stderr. The comb prints more than a pipe holds
 //! (64 KiB), so the solver is still writing when the pipe closes. The report commands make their
-//! output folder, and name it where it cannot be made.
+//! output folder, and name it where it cannot be made. The history numbers contact elements as
+//! the scene does.
 
 use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
@@ -86,4 +87,34 @@ fn solve_summarises_how_each_increment_was_accepted() {
     );
     assert!(text.contains(&line), "{text}");
     assert!(incs.iter().all(|r| r["status"] == "converged"), "{incs:?}");
+}
+
+/// The history names each contact's element by the scene's own numbering too: Example 3.2's
+/// bodies A, B and C have 10 elements each, numbered in that order, so the element at global
+/// index g on body k (0, 1, 2) is its body's element g - 10 k + 1.
+#[test]
+fn contacts_in_the_history_carry_their_place_in_their_body() {
+    let json = std::env::temp_dir().join(format!("tsm-place-{}.json", std::process::id()));
+    let out = Command::new(env!("CARGO_BIN_EXE_tsm-contact"))
+        .args(["solve", "example_3_2", "--json"])
+        .arg(&json)
+        .output()
+        .expect("runs");
+    assert!(out.status.success());
+    let history: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).expect("written")).expect("JSON");
+    let mut seen = 0;
+    for inc in history["increments"].as_array().unwrap() {
+        for c in inc["contacts"].as_array().unwrap() {
+            let body = ["A", "B", "C"]
+                .iter()
+                .position(|b| c["body"] == *b)
+                .expect("a body of the scene") as u64;
+            let g = c["element"].as_u64().unwrap();
+            assert_eq!(c["place"].as_u64().unwrap(), g - 10 * body + 1, "{c}");
+            seen += 1;
+        }
+    }
+    assert!(seen > 50, "{seen} contacts");
+    let _ = std::fs::remove_file(json);
 }

@@ -170,8 +170,12 @@ pub struct ContactEvent {
 pub struct ContactState {
     /// User id of the contact node.
     pub node: u32,
-    /// Element index (0-based).
+    /// Element index (0-based, over every beam of the model; for indexing `element_forces`).
     pub element: usize,
+    /// The element's place in its body (from 1): the numbering the scene, the app and the
+    /// messages use ("body element 3").
+    #[serde(default)]
+    pub place: usize,
     /// Body name.
     pub body: String,
     /// li/l.

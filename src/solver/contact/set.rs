@@ -93,6 +93,9 @@ impl ContactSet {
             .map(|(a, &(yc, xi))| ContactState {
                 node: m.nodes[a.node].id,
                 element: a.beam,
+                place: (m.bodies[a.body].elements.iter())
+                    .position(|&e| e == a.beam)
+                    .map_or(0, |k| k + 1),
                 body: m.bodies[a.body].name.clone(),
                 xi,
                 force: yc,
