@@ -45,6 +45,18 @@ fn solved(scene: &str, diagram: Option<Diagram>) -> Harness<'static, TsmApp> {
     h
 }
 
+/// A click at `at`: the pointer there, a press and a release on the spot, and the frames that
+/// show what it did.
+fn click_at(h: &mut Harness<'static, TsmApp>, at: egui::Pos2) {
+    h.hover_at(at);
+    h.step();
+    h.drag_at(at);
+    h.step();
+    h.drop_at(at);
+    h.step();
+    h.step();
+}
+
 /// The cantilever written to a file of its own.
 fn cantilever_file(name: &str) -> String {
     let path = std::env::temp_dir().join(format!("tsm-gui-{name}-{}.ron", std::process::id()));
@@ -101,12 +113,7 @@ fn a_hovered_node_shows_its_values_and_a_click_pins_them() {
         "{shown} against v = {v_exact:e}"
     );
     assert!(h.query_by_label("Selected").is_none());
-    // A press and a release on the spot.
-    h.drag_at(at);
-    h.step();
-    h.drop_at(at);
-    h.step();
-    h.step();
+    click_at(&mut h, at);
     assert!(
         h.query_by_label("Selected").is_some(),
         "the click pins the node"
@@ -167,12 +174,7 @@ fn exports_write_what_the_run_holds_in_its_units() {
         .set_text_value_accesskit(&stem.display().to_string());
     h.step();
     let (_, at) = h.state().node_on_screen(11).expect("node 11 is drawn");
-    h.hover_at(at);
-    h.step();
-    h.drag_at(at);
-    h.step();
-    h.drop_at(at);
-    h.step();
+    click_at(&mut h, at);
     for button in ["Export CSV", "Export JSON"] {
         h.get_by_label(button).click();
         h.step();
@@ -245,13 +247,7 @@ fn the_response_plot_follows_the_selected_node_and_dof() {
     let mut h = solved(&path, None);
     assert!(label(&h, "Load factor against displacement of the loaded dof").is_some());
     let (_, at) = h.state().node_on_screen(6).expect("node 6 is drawn");
-    h.hover_at(at);
-    h.step();
-    h.drag_at(at);
-    h.step();
-    h.drop_at(at);
-    h.step();
-    h.step();
+    click_at(&mut h, at);
     assert!(
         label(
             &h,

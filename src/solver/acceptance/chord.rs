@@ -36,11 +36,8 @@ impl Chord {
     /// length per radian of end rotation relative to the chord.
     pub(super) fn bulge(&self) -> f64 {
         let angle = self.u[1].atan2(self.u[0]);
-        // End rotations relative to the chord (wrapped to (-pi, pi]).
-        let rel = |phi: f64| {
-            (phi - angle + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
-                - std::f64::consts::PI
-        };
+        // End rotations relative to the chord (wrapped to [-pi, pi)).
+        let rel = |phi: f64| wrapped(phi - angle);
         DEFLECTION_PER_RADIAN * self.l * (rel(self.ends[0]).abs() + rel(self.ends[1]).abs())
     }
 
@@ -57,6 +54,11 @@ impl Chord {
         let h = (self.u[0] * v[1] - self.u[1] * v[0]) / self.l;
         (s, h)
     }
+}
+
+/// An angle wrapped to [-pi, pi).
+pub(super) fn wrapped(a: f64) -> f64 {
+    (a + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI
 }
 
 /// Whether point c, moving linearly from `c0` to `c1`, passes through the chord moving linearly

@@ -6,7 +6,7 @@
 //! but is not where the structure goes: it is refused and the increment cut back, so that the
 //! path is followed in steps each element can take.
 
-use super::chord::Chord;
+use super::chord::{wrapped, Chord};
 use crate::solver::element::beam::BeamElement;
 use crate::solver::model::Model;
 use crate::solver::report::NodeState;
@@ -61,9 +61,4 @@ pub fn out_of_range(
         }
     }
     worst.map(|w| w.1)
-}
-
-/// An angle wrapped to [-pi, pi).
-fn wrapped(a: f64) -> f64 {
-    (a + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI
 }
