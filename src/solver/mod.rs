@@ -25,7 +25,7 @@ pub mod state;
 pub mod structure;
 
 pub use acceptance::{Crossing, CrossingCheck};
-pub use control::Solver;
+pub use control::{Checkpoint, Solver};
 pub use model::{
     Beam, Body, ContactPair, Dof, Formulation, Load, Model, Node, Prescribed, Section, Support,
 };

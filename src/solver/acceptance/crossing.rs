@@ -75,6 +75,21 @@ pub struct CrossingCheck {
     cache: RefCell<Option<(Vec<NodeState>, Arc<Sweep>)>>,
 }
 
+/// What the crossing check carries from one accepted state to the next: the remembered sides
+/// and the last accepted state (`CrossingCheck::memory`, `CrossingCheck::restore`).
+#[derive(Clone, Debug, Default)]
+pub struct CrossingMemory {
+    sides: IndexMap<(usize, usize), f64>,
+    last: Vec<NodeState>,
+}
+
+impl CrossingMemory {
+    /// Bytes held (an estimate, for memory budgets).
+    pub fn bytes(&self) -> usize {
+        self.sides.len() * 32 + self.last.len() * std::mem::size_of::<NodeState>()
+    }
+}
+
 /// The chords of the candidate bodies' elements at both ends of an increment, and their grid.
 #[derive(Debug)]
 struct Sweep {
@@ -348,6 +363,21 @@ impl CrossingCheck {
                     depth: depth / chord.l,
                 })
         })
+    }
+
+    /// What this check carries to the next increment.
+    pub fn memory(&self) -> CrossingMemory {
+        CrossingMemory {
+            sides: self.sides.clone(),
+            last: self.last.clone(),
+        }
+    }
+
+    /// Go on from a remembered accepted state.
+    pub fn restore(&mut self, memory: &CrossingMemory) {
+        self.sides = memory.sides.clone();
+        self.last = memory.last.clone();
+        *self.cache.get_mut() = None;
     }
 
     /// Take `after` as the last accepted state (with contacts `active`): remember the side of

@@ -14,5 +14,5 @@ mod crossing;
 mod grid;
 mod range;
 
-pub use crossing::{Crossing, CrossingCheck};
+pub use crossing::{Crossing, CrossingCheck, CrossingMemory};
 pub use range::{out_of_range, OutOfRange, MAX_STRAIN_STEP, MAX_TURN_STEP};

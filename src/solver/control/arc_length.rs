@@ -51,6 +51,7 @@ impl Solver {
                         .collect();
                     self.state.arc.last = Some(dd);
                     self.state.arc.ds = Some(if easy { (2.0 * ds).min(nominal) } else { ds });
+                    self.keep_checkpoint();
                     for e in &rec.events {
                         obs.event(e);
                     }

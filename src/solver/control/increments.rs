@@ -97,6 +97,7 @@ impl Solver {
                     let rec = self.commit(conv, checked, tp, cutbacks, secs);
                     clock = Instant::now();
                     done = next;
+                    self.keep_checkpoint();
                     for e in &rec.events {
                         obs.event(e);
                     }

@@ -26,6 +26,8 @@ pub struct Solver {
     pub(crate) work: Workspace,
     /// The acceptance check's geometric test, at the last accepted state.
     pub(crate) crossing: CrossingCheck,
+    /// Checkpoints of the accepted increments, when asked for (`keep_checkpoints`).
+    pub(crate) kept: Option<Vec<super::Checkpoint>>,
 }
 
 impl Deref for Solver {
@@ -64,6 +66,7 @@ impl Solver {
             state,
             work,
             crossing: CrossingCheck::default(),
+            kept: None,
         };
         let mut contacts = std::mem::take(&mut solver.state.contacts);
         contacts.remember_sides(&solver.view(), &solver.state.d);
