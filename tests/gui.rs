@@ -94,7 +94,7 @@ fn step_clicks_advance_the_increment_counter() {
     let tolerance = builtin(SCENE).unwrap().unwrap().params.tolerance;
     let clicks = 8;
     for k in 1..=clicks {
-        h.get_by_label("Step").click();
+        h.get_by_label("Next").click();
         wait(&mut h, "the next increment", Duration::from_secs(60), |h| {
             shown_increment(h) == Some((k, k))
         });
@@ -149,7 +149,7 @@ fn increment_slider_and_step_back_select_earlier_states() {
         );
         assert_eq!(label(&h, "residual ").unwrap(), residual_label(r));
     }
-    h.get_by_label("Step back").click();
+    h.get_by_label("Previous").click();
     wait(&mut h, "step back", Duration::from_secs(10), |h| {
         shown_increment(h) == Some((11, n))
     });
@@ -211,7 +211,7 @@ fn formulation_toggle_reloads_and_exports_write_the_shown_run() {
     // Mattiasson's cantilever (load control) starts Bernoulli-Euler; switch it to Timoshenko.
     let mut h = harness_on("mattiasson", false);
     loaded(&mut h);
-    h.get_by_label("Step").click();
+    h.get_by_label("Next").click();
     wait(&mut h, "increment 1", Duration::from_secs(60), |h| {
         shown_increment(h) == Some((1, 1))
     });
@@ -232,13 +232,9 @@ fn formulation_toggle_reloads_and_exports_write_the_shown_run() {
     let dir = std::env::temp_dir().join(format!("tsm-gui-test-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let stem = dir.join("run");
-    h.get_by_role_and_label(egui::accesskit::Role::TextInput, "Export as")
-        .set_text_value_accesskit(&stem.display().to_string());
-    h.step();
-    h.get_by_label("Export CSV").click();
-    h.step();
-    h.get_by_label("Export JSON").click();
-    h.step();
+    gui_support::export_as(&mut h, &stem);
+    gui_support::export(&mut h, "Export CSV");
+    gui_support::export(&mut h, "Export JSON");
     let csv = std::fs::read_to_string(stem.with_extension("csv")).expect("CSV written");
     let rows: Vec<&str> = csv.lines().collect();
     assert!(rows[0].starts_with("increment,load_factor,"), "{}", rows[0]);

@@ -38,7 +38,7 @@ fn solved(scene: &str, diagram: Option<Diagram>) -> Harness<'static, TsmApp> {
         .wgpu()
         .build_eframe(move |cc| TsmApp::new(cc, startup));
     loaded(&mut h);
-    h.get_by_label("Step").click();
+    h.get_by_label("Next").click();
     wait(&mut h, "the first step", Duration::from_secs(60), |h| {
         shown_increment(h) == Some((1, 1))
     });
@@ -170,14 +170,11 @@ fn exports_write_what_the_run_holds_in_its_units() {
     let dir = std::env::temp_dir().join(format!("tsm-gui-export-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let stem = dir.join("run");
-    h.get_by_role_and_label(egui::accesskit::Role::TextInput, "Export as")
-        .set_text_value_accesskit(&stem.display().to_string());
-    h.step();
+    gui_support::export_as(&mut h, &stem);
     let (_, at) = h.state().node_on_screen(11).expect("node 11 is drawn");
     click_at(&mut h, at);
     for button in ["Export CSV", "Export JSON"] {
-        h.get_by_label(button).click();
-        h.step();
+        gui_support::export(&mut h, button);
     }
     let wrote = label(&h, "wrote ").expect("a confirmation");
     assert!(
@@ -217,11 +214,8 @@ fn exports_write_what_the_run_holds_in_its_units() {
         .wgpu()
         .build_eframe(|cc| TsmApp::new(cc, Startup::scene("example_3_2")));
     loaded(&mut h);
-    h.get_by_role_and_label(egui::accesskit::Role::TextInput, "Export as")
-        .set_text_value_accesskit(&stem.display().to_string());
-    h.step();
-    h.get_by_label("Export SVG").click();
-    h.step();
+    gui_support::export_as(&mut h, &stem);
+    gui_support::export(&mut h, "Export SVG");
     let svg = std::fs::read_to_string(with_ext(&stem, "svg")).expect("SVG written");
     assert!(svg.starts_with("<svg ") && svg.trim_end().ends_with("</svg>"));
     let paths: Vec<&str> = svg.lines().filter(|l| l.starts_with("<path ")).collect();

@@ -1,16 +1,17 @@
 //! The interactive visualiser (feature `gui`): `run` opens the eframe window on a scene, or
 //! renders a screenshot and exits. The app state lives in `state.rs` (the camera in `view.rs`),
 //! the window that lays out the panels in `window.rs`, the panels in `panels/`, the viewport
-//! and what it draws in `canvas/`; `export.rs`, `screenshot.rs`, `units.rs` and `frame_log.rs`
+//! and what it draws in `canvas/`, files and exports in `files/`; the history it holds in
+//! `retention.rs` and `branches.rs` (set-aside runs and Undo); `units.rs` and `frame_log.rs`
 //! serve them.
 
+pub mod branches;
 pub mod canvas;
 pub mod display;
-pub mod export;
+pub mod files;
 pub mod frame_log;
 pub mod panels;
 pub mod retention;
-pub mod screenshot;
 pub mod state;
 pub mod units;
 pub mod view;

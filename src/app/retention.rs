@@ -4,8 +4,9 @@
 //! history export of the kept records are the places for every increment.
 
 use std::ops::Deref;
+use std::sync::Arc;
 
-use crate::solver::IncrementRecord;
+use crate::solver::{Checkpoint, IncrementRecord};
 
 /// The memory the app gives the increment records of one run.
 pub const HISTORY_BUDGET: usize = 512 << 20;
@@ -16,6 +17,8 @@ pub struct KeptHistory {
     records: Vec<IncrementRecord>,
     /// The place of each kept record in the run (0: the undeformed state).
     places: Vec<usize>,
+    /// The state to go on from after each kept record, once the worker sent it.
+    checkpoints: Vec<Option<Arc<Checkpoint>>>,
     bytes: usize,
     budget: usize,
     /// Records kept: those whose place is a multiple of this, and the latest.
@@ -44,6 +47,7 @@ impl KeptHistory {
         KeptHistory {
             records: Vec::new(),
             places: Vec::new(),
+            checkpoints: Vec::new(),
             bytes: 0,
             budget,
             stride: 1,
@@ -66,10 +70,13 @@ impl KeptHistory {
                 self.places.pop();
                 let dropped = self.records.pop().expect("a record per place");
                 self.bytes -= record_bytes(&dropped);
+                let c = self.checkpoints.pop().expect("a checkpoint slot per place");
+                self.bytes -= c.map_or(0, |c| c.bytes());
             }
         }
         self.bytes += record_bytes(&r);
         self.records.push(r);
+        self.checkpoints.push(None);
         self.places.push(self.seen);
         self.seen += 1;
         if self.bytes <= self.budget || self.records.len() < 3 {
@@ -85,9 +92,76 @@ impl KeptHistory {
             k += 1;
             keep[k - 1]
         });
+        let mut k = 0;
+        self.checkpoints.retain(|_| {
+            k += 1;
+            keep[k - 1]
+        });
         self.places.retain(|&p| p % stride == 0 || p == last);
-        self.bytes = self.records.iter().map(record_bytes).sum();
+        self.count_bytes();
         true
+    }
+
+    fn count_bytes(&mut self) {
+        self.bytes = self.records.iter().map(record_bytes).sum::<usize>()
+            + (self.checkpoints.iter().flatten())
+                .map(|c| c.bytes())
+                .sum::<usize>();
+    }
+
+    /// Keep `c` as the state to go on from after the kept record of its increment (dropped if
+    /// that record is not kept).
+    pub fn attach(&mut self, c: Arc<Checkpoint>) {
+        let at = self
+            .records
+            .iter()
+            .rposition(|r| r.increment == c.increment());
+        if let Some(k) = at {
+            self.bytes += c.bytes();
+            if let Some(old) = self.checkpoints[k].replace(c) {
+                self.bytes -= old.bytes();
+            }
+        }
+    }
+
+    /// The state to go on from after kept record `k`, if the worker sent it.
+    pub fn checkpoint(&self, k: usize) -> Option<Arc<Checkpoint>> {
+        self.checkpoints.get(k).cloned().flatten()
+    }
+
+    /// Set aside the kept records after the first `len` (the run goes on from record
+    /// `len - 1`); `rejoin` puts them back.
+    pub fn split_off(&mut self, len: usize) -> Tail {
+        let len = len.clamp(1, self.records.len().max(1));
+        let tail = Tail {
+            at: len,
+            records: self.records.split_off(len),
+            places: self.places.split_off(len),
+            checkpoints: self.checkpoints.split_off(len),
+            stride: self.stride,
+            seen: self.seen,
+        };
+        self.seen = self.places.last().map_or(0, |p| p + 1);
+        self.count_bytes();
+        tail
+    }
+
+    /// Put a set-aside tail back in place of the records after its split point, and return
+    /// those (the branch it replaces) as a tail in turn.
+    pub fn rejoin(&mut self, tail: Tail) -> Tail {
+        let replaced = self.split_off(tail.at);
+        self.records.extend(tail.records);
+        self.places.extend(tail.places);
+        self.checkpoints.extend(tail.checkpoints);
+        self.stride = tail.stride;
+        self.seen = tail.seen;
+        self.count_bytes();
+        replaced
+    }
+
+    /// The bytes the kept records and their checkpoints take.
+    pub fn bytes(&self) -> usize {
+        self.bytes
     }
 
     /// Records dropped over the run to stay within the budget.
@@ -100,6 +174,44 @@ impl KeptHistory {
         self.records
             .partition_point(|r| r.increment <= increment)
             .saturating_sub(1)
+    }
+}
+
+/// Kept records set aside from a history (`KeptHistory::split_off`), with what the history
+/// needs to take them back.
+#[derive(Clone, Debug)]
+pub struct Tail {
+    /// How many records came before them.
+    pub at: usize,
+    records: Vec<IncrementRecord>,
+    places: Vec<usize>,
+    checkpoints: Vec<Option<Arc<Checkpoint>>>,
+    stride: usize,
+    seen: usize,
+}
+
+impl Tail {
+    /// The records set aside.
+    pub fn records(&self) -> &[IncrementRecord] {
+        &self.records
+    }
+
+    /// The bytes the records and their checkpoints take.
+    pub fn bytes(&self) -> usize {
+        self.records.iter().map(record_bytes).sum::<usize>()
+            + (self.checkpoints.iter().flatten())
+                .map(|c| c.bytes())
+                .sum::<usize>()
+    }
+
+    /// Drop the records at the end that have no checkpoint yet (the worker had not sent it when
+    /// they were set aside): a run brought back goes on from the end of what it shows.
+    pub fn trim_to_checkpoint(&mut self) {
+        while self.checkpoints.last().is_some_and(Option::is_none) {
+            self.checkpoints.pop();
+            self.records.pop();
+            self.places.pop();
+        }
     }
 }
 

@@ -9,11 +9,14 @@ use std::sync::Arc;
 use crate::solver::{Event, IncrementRecord, IterationRecord};
 use crate::worker::{Command, Loaded, Message, Worker};
 
+use super::branches::{end_checkpoint, events_after, SetAside, UNDO_DEPTH};
 use super::display::{Angles, Diagram, Picked, TableView};
 use super::frame_log::FrameLog;
 
+use super::files::dialog::Dialogs;
+use super::files::scenes::{is_file, Recent};
+use super::files::screenshot::{Layout, Shot};
 use super::retention::{KeptHistory, HISTORY_BUDGET};
-use super::screenshot::{Layout, Shot};
 use super::view::{Drag, View};
 
 /// How the app starts.
@@ -91,14 +94,37 @@ pub struct TsmApp {
     pub(crate) plot_dof: usize,
     /// The table window's choices.
     pub(crate) table: TableView,
+    /// Histories set aside (a branch's later increments, a run before a change), newest last.
+    pub(crate) undo: Vec<SetAside>,
+    /// The increments the shown history branched at (marked on the timeline).
+    pub(crate) branch_points: Vec<usize>,
+    /// Messages of work set aside are still coming: skip them until the worker says it is
+    /// loaded or restored (or fails).
+    pub(crate) stale: bool,
+    /// A run brought back by Undo, taken up when its scene is loaded again.
+    pub(crate) restoring: Option<SetAside>,
+    /// The file dialog in progress.
+    pub(crate) dialogs: Dialogs,
+    /// The scene files opened last.
+    pub(crate) recent: Recent,
+    /// The size of the view's PNG export (px).
+    pub(crate) png_size: [u32; 2],
+    /// Whether the error panel is shown (it opens with each new error).
+    pub(crate) show_error: bool,
 }
 
 impl TsmApp {
-    /// Load a scene by path or built-in name and hand it to the worker.
-    pub(crate) fn open(&mut self, name: &str) {
+    /// Load a scene by path or built-in name and hand it to the worker (the run so far set
+    /// aside for Undo). A scene that cannot be loaded leaves the current one in place, and its
+    /// located error is shown.
+    pub fn open(&mut self, name: &str) {
         match crate::scene::builtin::open(name).map_err(|e| e.to_string()) {
             Ok(scene) => {
+                self.set_aside_run();
                 self.scene_name = name.to_string();
+                if is_file(name) {
+                    self.recent.opened(std::path::Path::new(name));
+                }
                 self.error = None;
                 self.status = format!("loading {}", scene.file.name);
                 self.worker.send(Command::LoadScene(Box::new(scene)));
@@ -107,9 +133,25 @@ impl TsmApp {
                 if let Some(shot) = &mut self.shot {
                     shot.fail(&e);
                 }
-                self.error = Some(e);
+                self.set_error(e);
             }
         }
+    }
+
+    /// Show `e` in the error panel.
+    pub(crate) fn set_error(&mut self, e: String) {
+        self.error = Some(e);
+        self.show_error = true;
+    }
+
+    /// The error shown, if any.
+    pub fn error(&self) -> Option<&str> {
+        self.error.as_deref()
+    }
+
+    /// The status line's text.
+    pub fn status(&self) -> &str {
+        &self.status
     }
 
     /// Send a command to the worker (and note that work was requested).
@@ -177,9 +219,25 @@ impl TsmApp {
     /// Apply every waiting worker message. Never blocks.
     pub(crate) fn drain(&mut self) {
         while let Some(m) = self.worker.try_recv() {
+            if self.stale
+                && matches!(
+                    m,
+                    Message::Increment(_)
+                        | Message::Checkpoint(_)
+                        | Message::Iteration(_)
+                        | Message::Event(_)
+                )
+            {
+                continue;
+            }
             match m {
+                Message::Checkpoint(c) => self.history.attach(c),
+                Message::Restored(_) => self.stale = false,
                 Message::Loaded(l) => {
+                    self.stale = false;
                     self.history.reset(l.initial.clone());
+                    self.history.attach(l.checkpoint.clone());
+                    self.branch_points.clear();
                     self.targets = l.initial.prescribed.clone();
                     self.status = format!(
                         "{} elements ({:?})",
@@ -194,9 +252,11 @@ impl TsmApp {
                     self.events.clear();
                     self.live.clear();
                     self.selected = 0;
-                    self.error = None;
                     if let Some(k) = self.run_steps.take() {
                         self.send(Command::RunSteps(k));
+                    }
+                    if let Some(run) = self.restoring.take() {
+                        self.take_back(run);
                     }
                     if let Some(shot) = &mut self.shot {
                         shot.loaded(self.busy);
@@ -226,10 +286,11 @@ impl TsmApp {
                 Message::Iteration(r) => self.live.push(r),
                 Message::Event(e) => self.events.push(e),
                 Message::Error(e) => {
+                    self.stale = false;
                     if let Some(shot) = &mut self.shot {
                         shot.record_failure(&e);
                     }
-                    self.error = Some(e);
+                    self.set_error(e);
                     self.live.clear();
                 }
                 Message::Busy => {
@@ -256,6 +317,142 @@ impl TsmApp {
                     }
                 }
             }
+        }
+    }
+
+    /// Drive prescribed dof `index` to `value` (a slider or the handle). With an earlier
+    /// increment viewed, the run goes on from there and the later increments are set aside.
+    pub(crate) fn drive(&mut self, index: usize, value: f64) {
+        if self.selected < self.last() {
+            self.branch();
+        }
+        if let Some(t) = self.targets.get_mut(index) {
+            *t = value;
+        }
+        self.targeting = true;
+        self.send(Command::SetTarget { index, value });
+    }
+
+    /// Go on from the viewed increment: the later ones are set aside for Undo.
+    pub(crate) fn branch(&mut self) {
+        let k = self.selected.min(self.last());
+        let Some(c) = self.history.checkpoint(k) else {
+            self.status = format!(
+                "increment {} has no state to go on from yet",
+                self.history[k].increment
+            );
+            return;
+        };
+        if self.busy {
+            self.worker.send(Command::Cancel);
+        }
+        let at = self.history[k].increment;
+        let mut tail = self.history.split_off(k + 1);
+        tail.trim_to_checkpoint();
+        let events = events_after(&mut self.events, at);
+        self.set_aside(SetAside::Branch { tail, events });
+        self.branch_points.push(at);
+        self.restore(c);
+        self.status = format!("going on from increment {at}; Ctrl+Z brings back the old path");
+    }
+
+    /// Let the worker go on from `c`, skipping what it still sends of earlier work.
+    fn restore(&mut self, c: std::sync::Arc<crate::solver::Checkpoint>) {
+        self.targets = c.prescribed().to_vec();
+        self.worker.send(Command::Restore(c));
+        self.stale = true;
+        self.live.clear();
+        self.pinned = None;
+    }
+
+    /// Set the run aside before a change of scene or setting (or Reset) replaces it; nothing
+    /// to set aside before its first increment.
+    pub(crate) fn set_aside_run(&mut self) {
+        self.error = None;
+        let Some(l) = &self.loaded else { return };
+        if self.last() == 0 {
+            return;
+        }
+        if self.busy {
+            self.worker.send(Command::Cancel);
+        }
+        let run = SetAside::Run {
+            scene: Box::new(l.scene.clone()),
+            history: std::mem::take(&mut self.history),
+            events: std::mem::take(&mut self.events),
+            selected: self.selected,
+            name: self.scene_name.clone(),
+            branches: std::mem::take(&mut self.branch_points),
+        };
+        self.set_aside(run);
+        self.stale = true;
+    }
+
+    /// Keep `s` for Undo, within `UNDO_DEPTH` entries and one history budget in all.
+    fn set_aside(&mut self, s: SetAside) {
+        self.undo.push(s);
+        while self.undo.len() > UNDO_DEPTH
+            || (self.undo.len() > 1
+                && self.undo.iter().map(SetAside::bytes).sum::<usize>() > HISTORY_BUDGET)
+        {
+            self.undo.remove(0);
+        }
+    }
+
+    /// Bring back what was set aside last (Ctrl+Z): the history as it was, and the worker
+    /// going on from its end.
+    pub(crate) fn undo(&mut self) {
+        let Some(s) = self.undo.pop() else {
+            self.status = "nothing to undo".into();
+            return;
+        };
+        if self.busy {
+            self.worker.send(Command::Cancel);
+        }
+        self.playing = false;
+        self.status = format!("brought back {}", s.describe());
+        match s {
+            SetAside::Branch { .. } => self.take_back(s),
+            SetAside::Run {
+                ref scene,
+                ref name,
+                ..
+            } => {
+                self.scene_name = name.clone();
+                self.worker.send(Command::LoadScene(scene.clone()));
+                self.stale = true;
+                self.restoring = Some(s);
+            }
+        }
+    }
+
+    /// Put a set-aside history back in place (a whole run once its scene is loaded).
+    fn take_back(&mut self, s: SetAside) {
+        match s {
+            SetAside::Branch { tail, events } => {
+                let from = self.history.get(tail.at - 1).map_or(0, |r| r.increment);
+                events_after(&mut self.events, from);
+                self.events.extend(events);
+                self.history.rejoin(tail);
+                self.branch_points.pop();
+                self.selected = self.last();
+            }
+            SetAside::Run {
+                history,
+                events,
+                selected,
+                branches,
+                ..
+            } => {
+                self.history = history;
+                self.events = events;
+                self.selected = selected.min(self.last());
+                self.branch_points = branches;
+            }
+        }
+        if let Some(l) = &self.loaded {
+            let c = end_checkpoint(&self.history, &l.checkpoint);
+            self.restore(c);
         }
     }
 

@@ -4,10 +4,11 @@
 
 use super::canvas::{beams_gpu, viewport};
 use super::display::Angles;
+use super::files::scenes::{startup_scene, Recent};
+use super::files::screenshot::{Layout, Shot};
 use super::frame_log::FrameLog;
-use super::panels::{controls, details, plots, shortcuts, table, timeline};
+use super::panels::{controls, details, errors, menus, plots, shortcuts, table, timeline};
 use super::retention::KeptHistory;
-use super::screenshot::{Layout, Shot};
 use super::state::{Startup, TsmApp};
 use super::view::View;
 use crate::worker::Worker;
@@ -15,6 +16,7 @@ use crate::worker::Worker;
 /// Storage keys.
 const KEY_SCENE: &str = "tsm_scene";
 const KEY_VIEW: &str = "tsm_view";
+const KEY_RECENT: &str = "tsm_recent";
 
 impl TsmApp {
     /// Create the app, start the worker and load the start-up scene.
@@ -39,15 +41,15 @@ impl TsmApp {
         } else {
             None
         };
-        let default = crate::scene::builtin::BUILTIN[0]
-            .0
-            .trim_end_matches(".ron")
-            .to_string();
-        let name = startup
-            .scene
-            .clone()
-            .or(stored_scene.clone())
-            .unwrap_or(default);
+        let recent: Recent = if persist {
+            cc.storage
+                .and_then(|s| eframe::get_value(s, KEY_RECENT))
+                .unwrap_or_default()
+        } else {
+            Recent::default()
+        };
+        let default = crate::scene::builtin::BUILTIN[0].0.trim_end_matches(".ron");
+        let (name, why) = startup_scene(startup.scene.clone(), stored_scene.clone(), default);
         let keep_view = stored_view.is_some() && stored_scene.as_deref() == Some(name.as_str());
         let mut app = TsmApp {
             worker,
@@ -86,8 +88,19 @@ impl TsmApp {
             show_shortcuts: false,
             plot_dof: 1,
             table: Default::default(),
+            undo: Vec::new(),
+            branch_points: Vec::new(),
+            stale: false,
+            restoring: None,
+            dialogs: Default::default(),
+            recent,
+            png_size: [1600, 1000],
+            show_error: false,
         };
         app.open(&name);
+        if let Some(why) = why {
+            app.set_error(why);
+        }
         if !keep_view {
             app.fit_pending = true;
         }
@@ -102,7 +115,9 @@ impl eframe::App for TsmApp {
         let ctx = ui.ctx().clone();
         self.play(&ctx);
         shortcuts::handle(self, &ctx);
+        menus::answers(self, &ctx);
         egui::Panel::top("toolbar").show(ui, |ui| controls::toolbar(self, ui));
+        errors::panel(self, ui);
         egui::Panel::bottom("timeline")
             .resizable(true)
             .default_size(300.0)
@@ -152,6 +167,7 @@ impl eframe::App for TsmApp {
         if self.persist {
             eframe::set_value(storage, KEY_SCENE, &self.scene_name);
             eframe::set_value(storage, KEY_VIEW, &self.view);
+            eframe::set_value(storage, KEY_RECENT, &self.recent);
         }
     }
 }

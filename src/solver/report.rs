@@ -108,6 +108,16 @@ impl ContactChange {
 }
 
 impl Event {
+    /// The number of the increment it happened in.
+    pub fn increment(&self) -> usize {
+        match self {
+            Event::CutBack { increment, .. } | Event::StretchCorrectionOn { increment } => {
+                *increment
+            }
+            Event::Contact(c) => c.increment,
+        }
+    }
+
     /// The event in one line, its element named by `model` (`Model::element_label`): what the
     /// CLI prints and the app lists.
     pub fn describe(&self, model: &Model) -> String {

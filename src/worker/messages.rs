@@ -3,7 +3,11 @@
 
 use crate::scene::Scene;
 use crate::solver::element::beam::BeamElement;
-use crate::solver::{Event, Formulation, IncrementRecord, IterationRecord, StretchCorrection};
+use std::sync::Arc;
+
+use crate::solver::{
+    Checkpoint, Event, Formulation, IncrementRecord, IterationRecord, StretchCorrection,
+};
 
 /// Capacity of the worker's outgoing message channel.
 pub const CHANNEL_CAPACITY: usize = 1024;
@@ -37,6 +41,9 @@ pub enum Command {
     SetStretchCorrection(StretchCorrection),
     /// Back to the undeformed state of the current scene.
     Reset,
+    /// Go on from an accepted state of the current scene (a branch of its history, or the end
+    /// of one set aside); answered by `Message::Restored`.
+    Restore(Arc<Checkpoint>),
     /// Abandon the current work at once (the last converged state is kept).
     Cancel,
     /// End the thread.
@@ -54,6 +61,8 @@ pub struct Loaded {
     pub initial: IncrementRecord,
     /// "node N v"-style label of every prescribed dof.
     pub prescribed_labels: Vec<String>,
+    /// The undeformed state to go on from (`Command::Restore`).
+    pub checkpoint: Arc<Checkpoint>,
 }
 
 /// What the worker reports.
@@ -63,6 +72,12 @@ pub enum Message {
     Iteration(IterationRecord),
     /// A converged increment.
     Increment(Box<IncrementRecord>),
+    /// The state after a converged increment, to go on from later (`Command::Restore`); sent
+    /// after the increment's record.
+    Checkpoint(Arc<Checkpoint>),
+    /// The worker went back to the accepted state of this increment (`Command::Restore`):
+    /// what it sends from now on continues from there.
+    Restored(usize),
     /// A cut-back or contact event.
     Event(Event),
     /// A solver error or a caught panic; the worker stays usable.

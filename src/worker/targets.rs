@@ -1,6 +1,6 @@
 //! What the worker works out from a solver: the next target of a drag (no further than one
-//! scene step per increment), whether the targets are reached, the record of the initial
-//! state, and the text of a caught panic.
+//! scene step per increment), whether the targets are reached, how far along the scene's steps
+//! a state is, the record of the initial state, and the text of a caught panic.
 
 use crate::solver::{IncrementRecord, Solver};
 
@@ -34,6 +34,32 @@ pub(super) fn reached(solver: &Solver, targets: &[f64]) -> bool {
         .zip(solver.prescribed_values())
         .zip(targets)
         .all(|((p, c), t)| (t - c).abs() <= 1e-12 * p.per_step.abs().max(t.abs()).max(1e-300))
+}
+
+/// How many of the scene's `steps` the solver's state lies along: the largest share of its
+/// total reached by any prescribed dof, or by the load factor, in whole steps (for an
+/// arc-length run, its increments). What "Run" counts the remaining steps from after a
+/// restore.
+pub(super) fn steps_along(solver: &Solver, steps: usize) -> usize {
+    if solver.params.arc_length.is_some() {
+        return solver.increment().min(steps);
+    }
+    let mut along = 0.0f64;
+    for (p, v) in solver
+        .model
+        .prescribed
+        .iter()
+        .zip(solver.prescribed_values())
+    {
+        if p.per_step != 0.0 {
+            along = along.max(v / p.per_step);
+        }
+    }
+    if solver.model.load_per_step != 0.0 {
+        along = along.max(solver.load_factor() / solver.model.load_per_step);
+    }
+    // Reached to round-off counts as reached.
+    ((along + 1e-9).floor().max(0.0) as usize).min(steps)
 }
 
 /// The undeformed state of a fresh solver as increment 0.

@@ -5,10 +5,11 @@
 use std::collections::VecDeque;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::mpsc::{Receiver, SyncSender, TryRecvError};
+use std::sync::Arc;
 
 use super::messages::{Command, Loaded, Message, Repaint};
 use super::relay::Relay;
-use super::targets::{initial_record, next_target, panic_text, reached};
+use super::targets::{initial_record, next_target, panic_text, reached, steps_along};
 use crate::scene::Scene;
 use crate::solver::{SolveError, Solver};
 
@@ -124,6 +125,15 @@ impl Thread {
                 self.reload();
             }
             Command::Reset => self.reload(),
+            Command::Restore(checkpoint) => {
+                self.mode = Mode::Idle;
+                if let (Some(solver), Some(scene)) = (&mut self.solver, &self.scene) {
+                    solver.restore(&checkpoint);
+                    self.steps_done = steps_along(solver, scene.steps);
+                    self.send(Message::Restored(checkpoint.increment()));
+                }
+                self.go_idle();
+            }
             Command::Run => {
                 let total = self.scene.as_ref().map_or(0, |s| s.steps);
                 self.start(Mode::Running(total.saturating_sub(self.steps_done)));
@@ -171,8 +181,10 @@ impl Thread {
             return self.go_idle();
         };
         match catch_unwind(AssertUnwindSafe(|| scene.solver())) {
-            Ok(Ok(solver)) => {
+            Ok(Ok(mut solver)) => {
+                solver.keep_checkpoints(true);
                 let loaded = Loaded {
+                    checkpoint: Arc::new(solver.checkpoint()),
                     initial: initial_record(&solver),
                     elements: solver.elements().to_vec(),
                     prescribed_labels: scene
@@ -229,7 +241,11 @@ impl Thread {
             self.alive = false;
         }
         let done = reached(&solver, &goal);
+        let kept = solver.take_checkpoints();
         self.solver = Some(solver);
+        for c in kept {
+            self.send(Message::Checkpoint(Arc::new(c)));
+        }
         match result {
             Ok(Ok(_)) | Ok(Err(SolveError::Stopped)) => {}
             Ok(Err(e)) => {

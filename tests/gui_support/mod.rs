@@ -118,3 +118,27 @@ pub fn loaded(h: &mut Harness<'static, TsmApp>) {
         shown_increment(h) == Some((0, 0))
     });
 }
+
+/// Open the Export menu unless it is open.
+pub fn open_export_menu(h: &mut Harness<'static, TsmApp>) {
+    if h.query_by_label("Export CSV").is_none() {
+        h.get_by_label("Export").click();
+        h.run_steps(2);
+    }
+}
+
+/// Type `stem` into the Export menu's "Export as" field.
+pub fn export_as(h: &mut Harness<'static, TsmApp>, stem: &std::path::Path) {
+    open_export_menu(h);
+    h.get_by_role_and_label(egui::accesskit::Role::TextInput, "Export as")
+        .set_text_value_accesskit(&stem.display().to_string());
+    h.step();
+}
+
+/// Click `button` of the Export menu.
+pub fn export(h: &mut Harness<'static, TsmApp>, button: &str) {
+    open_export_menu(h);
+    h.get_by_label(button).click();
+    h.step();
+    h.step();
+}

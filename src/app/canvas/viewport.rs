@@ -9,7 +9,6 @@ use std::sync::Arc;
 use egui::{Align2, Color32, FontId, Pos2, Rect, Sense, Vec2};
 
 use crate::solver::Dof;
-use crate::worker::Command;
 
 use super::beams_gpu::{self, Built, Strip};
 use super::diagrams::{self, Diagram};
@@ -232,9 +231,7 @@ fn handles(app: &mut TsmApp, ui: &mut egui::Ui, rect: Rect) {
         }
     }
     if let Some((index, value)) = send {
-        app.targets[index] = value;
-        app.targeting = true;
-        app.send(Command::SetTarget { index, value });
+        app.drive(index, value);
     }
 }
 

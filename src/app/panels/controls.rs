@@ -1,14 +1,11 @@
-//! The toolbar (scene picker, "Open..." path, formulation toggle, fit, force diagram, angle
-//! unit, exports, screenshot, status) and the sliders that drive each prescribed dof through `Command::SetTarget`.
+//! The toolbar (the menus of `menus.rs`, the element formulation, the stretch correction, Fit,
+//! the force diagram, the angle unit, the table, the status line) and the sliders that drive
+//! each prescribed dof (`TsmApp::drive`: from the viewed increment).
 
 use crate::solver::{Formulation, StretchCorrection};
 use crate::worker::Command;
 
-use crate::app::canvas::svg;
-use crate::app::display::Diagram;
-use crate::app::display::{Angles, Picked};
-use crate::app::export;
-use crate::app::screenshot::Shot;
+use crate::app::display::{Angles, Diagram};
 use crate::app::state::TsmApp;
 
 /// The stretch-correction mode of Newton's updates (`StretchCorrection`): a change reloads
@@ -28,6 +25,7 @@ fn stretch_correction(app: &mut TsmApp, mode: StretchCorrection, ui: &mut egui::
                 StretchCorrection::Always,
             ] {
                 if ui.selectable_label(mode == m, label(m)).clicked() && mode != m {
+                    app.set_aside_run();
                     app.send(Command::SetStretchCorrection(m));
                 }
             }
@@ -67,46 +65,36 @@ fn diagram_and_angles(app: &mut TsmApp, ui: &mut egui::Ui) {
     }
 }
 
-/// The top bar.
+/// The top bar: the menus, then widgets of fixed width (they keep their place whatever the
+/// scene and the state), then the status line.
 pub fn toolbar(app: &mut TsmApp, ui: &mut egui::Ui) {
     ui.horizontal_wrapped(|ui| {
-        let current = app.scene_name.clone();
-        egui::ComboBox::from_label("Scene")
-            .selected_text(short(&current))
-            .show_ui(ui, |ui| {
-                for (file, _) in crate::scene::builtin::BUILTIN {
-                    let name = file.trim_end_matches(".ron");
-                    if ui.selectable_label(current == name, name).clicked() {
-                        app.open(name);
-                    }
-                }
-            });
-        let name = ui.label("file");
-        ui.add(
-            egui::TextEdit::singleline(&mut app.open_path)
-                .hint_text("scene.ron path")
-                .desired_width(150.0),
-        )
-        .labelled_by(name.id);
-        if ui.button("Open...").clicked() && !app.open_path.trim().is_empty() {
-            let p = app.open_path.trim().to_string();
-            app.open(&p);
-        }
+        super::menus::menus(app, ui);
         ui.separator();
-        if let Some(l) = &app.loaded {
+        ui.add_enabled_ui(app.loaded.is_some(), |ui| {
             ui.label("Element:");
-            let f = l.scene.model.formulation;
-            let mode = l.scene.params.stretch_correction;
+            let (f, mode) = app.loaded.as_ref().map_or(
+                (Formulation::Timoshenko, StretchCorrection::default()),
+                |l| (l.scene.model.formulation, l.scene.params.stretch_correction),
+            );
             for (label, value) in [
                 ("Timoshenko", Formulation::Timoshenko),
                 ("Bernoulli-Euler", Formulation::BernoulliEuler),
             ] {
-                if ui.selectable_label(f == value, label).clicked() && f != value {
+                let hint =
+                    "solve again from increment 0 with this element; Undo brings the run back";
+                if ui
+                    .selectable_label(f == value, label)
+                    .on_hover_text(hint)
+                    .clicked()
+                    && f != value
+                {
+                    app.set_aside_run();
                     app.send(Command::SetFormulation(value));
                 }
             }
             stretch_correction(app, mode, ui);
-        }
+        });
         ui.separator();
         if ui
             .button("Fit")
@@ -124,95 +112,39 @@ pub fn toolbar(app: &mut TsmApp, ui: &mut egui::Ui) {
             app.table.open = !app.table.open;
         }
         ui.separator();
-        let name = ui.label("Export as");
-        ui.add(
-            egui::TextEdit::singleline(&mut app.export_stem)
-                .hint_text("export file stem")
-                .desired_width(110.0),
-        )
-        .labelled_by(name.id);
-        exports(app, ui);
-        ui.separator();
-        // A spinner-sized slot, there or not, and one elided line (the whole text on hover): the
-        // bar, and the viewport under it, keep their layout when the solver starts and stops
-        // or a long message comes (else the beams and the handle under the pointer would jump).
-        let side = ui.spacing().interact_size.y;
-        let (slot, _) = ui.allocate_exact_size(egui::vec2(side, side), egui::Sense::hover());
-        let line = if app.busy {
+        status(app, ui);
+    });
+}
+
+/// A spinner-sized slot, there or not, and one elided line (the whole text on hover; errors in
+/// full in the error panel): the bar, and the viewport under it, keep their layout when the
+/// solver starts and stops or a long message comes (else the beams and the handle under the
+/// pointer would jump).
+fn status(app: &TsmApp, ui: &mut egui::Ui) {
+    let side = ui.spacing().interact_size.y;
+    let (slot, _) = ui.allocate_exact_size(egui::vec2(side, side), egui::Sense::hover());
+    let line =
+        if app.busy {
             egui::Spinner::new().paint_at(ui, slot);
             egui::RichText::new("solving...")
         } else {
             match (&app.error, app.roundoff_summary()) {
-                (Some(e), _) => egui::RichText::new(e).color(ui.visuals().error_fg_color),
+                (Some(_), _) => egui::RichText::new("error: see the panel below")
+                    .color(ui.visuals().error_fg_color),
                 (None, Some(s)) => egui::RichText::new(format!("{}; {s}", app.status))
                     .color(super::plots::ROUNDOFF),
                 (None, None) => egui::RichText::new(&app.status),
             }
         };
-        // The rest of the row (a row of its own when little is left), whatever the text.
-        // (A wrapping row reports its whole width as available: measure what is left of it.)
-        let width = ui.max_rect().right() - ui.cursor().left() - ui.spacing().item_spacing.x;
-        let width = if width < 120.0 { 300.0 } else { width };
-        let row = egui::Layout::left_to_right(egui::Align::Center);
-        ui.allocate_ui_with_layout(egui::vec2(width, side), row, |ui| {
-            ui.set_min_width(width);
-            ui.add(egui::Label::new(line).truncate());
-        });
+    // The rest of the row (a row of its own when little is left), whatever the text.
+    // (A wrapping row reports its whole width as available: measure what is left of it.)
+    let width = ui.max_rect().right() - ui.cursor().left() - ui.spacing().item_spacing.x;
+    let width = if width < 120.0 { 300.0 } else { width };
+    let row = egui::Layout::left_to_right(egui::Align::Center);
+    ui.allocate_ui_with_layout(egui::vec2(width, side), row, |ui| {
+        ui.set_min_width(width);
+        ui.add(egui::Label::new(line).truncate());
     });
-}
-
-/// Export buttons.
-fn exports(app: &mut TsmApp, ui: &mut egui::Ui) {
-    let stem = app.export_stem.trim().to_string();
-    let Some(loaded) = &app.loaded else { return };
-    let mut note = None;
-    if ui.button("Export JSON").clicked() {
-        let path = std::path::PathBuf::from(format!("{stem}.json"));
-        let h = export::history(loaded, &app.history, &app.events, app.error.as_deref());
-        note = Some(h.write_json(&path).map(|_| path));
-    }
-    let picked: Vec<usize> = match app.pinned {
-        Some(Picked::Node(n)) => vec![n],
-        _ => Vec::new(),
-    };
-    if ui
-        .button("Export CSV")
-        .on_hover_text("every increment; with a node selected, its displacements too")
-        .clicked()
-    {
-        let path = std::path::PathBuf::from(format!("{stem}.csv"));
-        note = Some(export::write_csv(&path, loaded, &app.history, &picked).map(|_| path));
-    }
-    if ui
-        .button("Export SVG")
-        .on_hover_text("the viewed increment's beams, for papers")
-        .clicked()
-    {
-        if let Some(r) = app.record() {
-            let path = std::path::PathBuf::from(format!("{stem}.svg"));
-            note = Some(svg::write_svg(&path, loaded, r).map(|_| path));
-        }
-    }
-    if ui.button("Save PNG").clicked() && app.shot.is_none() {
-        app.shot = Some(Shot::new(format!("{stem}.png").into(), None, false));
-        app.status = format!("saving {stem}.png");
-    }
-    match note {
-        Some(Ok(p)) => {
-            let full = std::fs::canonicalize(&p).unwrap_or(p);
-            app.status = format!("wrote {}", full.display());
-        }
-        Some(Err(e)) => app.error = Some(format!("export failed: {e}")),
-        None => {}
-    }
-}
-
-/// Last path component without `.ron`.
-fn short(name: &str) -> String {
-    let base = std::path::Path::new(name)
-        .file_name()
-        .map_or(name.into(), |f| f.to_string_lossy().to_string());
-    base.trim_end_matches(".ron").to_string()
 }
 
 /// One slider per prescribed dof ("node 34 v"), driving its target.
@@ -257,8 +189,7 @@ pub fn sliders(app: &mut TsmApp, ui: &mut egui::Ui) {
         }
     }
     for (index, value) in sends {
-        app.targeting = true;
-        app.send(Command::SetTarget { index, value });
+        app.drive(index, value);
     }
     // One row of button height either way, so the details below do not jump.
     ui.horizontal(|ui| {

@@ -1,15 +1,17 @@
 //! The keyboard: Space runs or stops, Left and Right step through the increments (Right at the
 //! last one solves one more step), Home and End go to the first and last, Esc stops the
-//! solver, F fits the view (in `canvas::viewport`), and ? lists them all in a window. Keys act
-//! only while no text field has the keyboard.
+//! solver, F fits the view (in `canvas::viewport`), Ctrl+Z brings back what was set aside,
+//! Ctrl+O opens a scene, Ctrl+S saves the view's PNG, Ctrl+E exports the history, and ? lists
+//! them all in a window. Keys act only while no text field has the keyboard.
 
 use egui::Key;
 
+use super::menus;
 use crate::app::state::TsmApp;
 use crate::worker::Command;
 
 /// Every shortcut and what it does, as the help window lists them.
-pub const SHORTCUTS: [(&str, &str); 7] = [
+pub const SHORTCUTS: [(&str, &str); 11] = [
     ("Space", "run the remaining steps, or stop the solver"),
     (
         "Left / Right",
@@ -19,12 +21,38 @@ pub const SHORTCUTS: [(&str, &str); 7] = [
     ("Esc", "stop the solver (the accepted increments stay)"),
     ("F", "fit the view"),
     ("double-click", "fit the view"),
+    (
+        "Ctrl+Z",
+        "undo: bring back the increments a branch, a change of scene or setting, or Reset set aside",
+    ),
+    ("Ctrl+O", "open a scene file"),
+    ("Ctrl+S", "save the viewed increment as a PNG (Export menu: name and size)"),
+    ("Ctrl+E", "export the history as JSON and CSV (Export menu: name)"),
     ("?", "show or hide this list"),
 ];
 
 /// Act on the keys pressed this frame.
 pub fn handle(app: &mut TsmApp, ctx: &egui::Context) {
-    if ctx.egui_wants_keyboard_input() || app.loaded.is_none() {
+    if ctx.egui_wants_keyboard_input() {
+        return;
+    }
+    let command = |k: Key| ctx.input_mut(|i| i.consume_key(egui::Modifiers::COMMAND, k));
+    if command(Key::Z) {
+        app.undo();
+    }
+    if command(Key::O) {
+        menus::open_dialog(app, ctx);
+    }
+    if command(Key::S) {
+        menus::export_png(app);
+    }
+    if command(Key::E) {
+        menus::export_json(app);
+        if app.error.is_none() {
+            menus::export_csv(app);
+        }
+    }
+    if app.loaded.is_none() {
         return;
     }
     let pressed = |k: Key| ctx.input(|i| i.key_pressed(k));

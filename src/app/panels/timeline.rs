@@ -1,7 +1,8 @@
 //! The timeline: a slider over the converged increments ("Increment") and the buttons
-//! "Step back", "Step" (next stored increment, or one more solved step at the end), "Play" /
-//! "Pause" (replay), "Run" (solve the scene's remaining steps), "Stop" (any run) and "Reset". Increments accepted
-//! at the round-off floor are ticked under the slider.
+//! "Previous", "Next" (the next increment; at the last one, one more scene step solved), "Play" /
+//! "Pause" (replay), "Run" (solve the scene's remaining steps), "Stop" (any run), "Reset" and
+//! "Undo" (bring back what a branch, a change or Reset set aside). Increments accepted at the
+//! round-off floor are ticked under the slider, branch points marked over it.
 
 use crate::worker::Command;
 
@@ -23,15 +24,23 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui) {
             app.playing = false;
         }
         roundoff_ticks(app, ui, r.rect, last);
+        branch_marks(app, ui, r.rect, last);
         let loaded = app.loaded.is_some();
         if ui
-            .add_enabled(app.selected > 0, egui::Button::new("Step back"))
+            .add_enabled(app.selected > 0, egui::Button::new("Previous"))
+            .on_hover_text("the previous increment (Left)")
             .clicked()
         {
             app.selected -= 1;
             app.playing = false;
         }
-        if ui.add_enabled(loaded, egui::Button::new("Step")).clicked() {
+        if ui
+            .add_enabled(loaded, egui::Button::new("Next"))
+            .on_hover_text(
+                "the next increment; at the last one, solve one more step of the scene (Right)",
+            )
+            .clicked()
+        {
             app.playing = false;
             if app.selected < last {
                 app.selected += 1;
@@ -62,13 +71,55 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui) {
         {
             app.send(Command::Cancel);
         }
-        if ui.add_enabled(loaded, egui::Button::new("Reset")).clicked() {
+        if ui
+            .add_enabled(loaded, egui::Button::new("Reset"))
+            .on_hover_text("back to increment 0; Undo brings the run back")
+            .clicked()
+        {
             app.playing = false;
             app.targeting = false;
+            app.set_aside_run();
             app.worker.send(Command::Reset);
+        }
+        let what = app.undo.last().map(|s| s.describe());
+        let undo = ui
+            .add_enabled(what.is_some(), egui::Button::new("Undo"))
+            .on_hover_text(match &what {
+                Some(w) => format!("bring back {w} (Ctrl+Z)"),
+                None => "nothing set aside (Ctrl+Z)".into(),
+            });
+        if undo.clicked() {
+            app.undo();
         }
     });
 }
+
+/// A triangle over the slider at every increment the shown history branched at.
+fn branch_marks(app: &TsmApp, ui: &egui::Ui, rect: egui::Rect, last: usize) {
+    if last == 0 {
+        return;
+    }
+    let track = ui.spacing().slider_width;
+    let (x0, y) = (rect.left() + 6.0, rect.top() + 1.0);
+    let span = (track - 12.0).max(1.0);
+    let painter = ui.painter();
+    for &inc in &app.branch_points {
+        let k = app.history.at_or_before(inc);
+        let x = x0 + span * k as f32 / last as f32;
+        painter.add(egui::Shape::convex_polygon(
+            vec![
+                egui::pos2(x - 4.0, y - 3.0),
+                egui::pos2(x + 4.0, y - 3.0),
+                egui::pos2(x, y + 3.0),
+            ],
+            BRANCH,
+            egui::Stroke::NONE,
+        ));
+    }
+}
+
+/// The colour of branch points.
+pub const BRANCH: egui::Color32 = egui::Color32::from_rgb(40, 120, 200);
 
 /// A tick under the slider at every increment accepted at the round-off floor (the colour of
 /// their markers in the convergence plot), so that they are seen before they are selected.

@@ -1,6 +1,6 @@
 //! Screenshots: the `view --screenshot` sequence (wait for the scene and the requested steps,
 //! let the layout settle, request the frame, save the PNG and its `.json` sidecar, close) and
-//! the "Save PNG" button.
+//! "Save window image" in the Export menu.
 
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicI32, Ordering};
@@ -11,7 +11,7 @@ use egui::{ColorImage, Rect};
 use serde::Serialize;
 
 use super::export::save_png;
-use super::view::View;
+use crate::app::view::View;
 
 /// Longest a screenshot run may take before it gives up.
 const TIMEOUT: Duration = Duration::from_secs(600);

@@ -1,0 +1,45 @@
+//! The error panel under the toolbar: the last error in full (scene file, line and field, or
+//! increment, node and element, as the message names them), in a scrolling area whose text can
+//! be selected, with Copy and Close. A new error opens it again.
+
+use crate::app::state::TsmApp;
+
+/// The tallest the panel grows before its text scrolls (points).
+const MAX_HEIGHT: f32 = 160.0;
+
+/// Show the panel while there is an error to show.
+pub fn panel(app: &mut TsmApp, ui: &mut egui::Ui) {
+    let Some(e) = app.error.clone().filter(|_| app.show_error) else {
+        return;
+    };
+    egui::Panel::top("error").show(ui, |ui| {
+        ui.horizontal(|ui| {
+            ui.label(
+                egui::RichText::new("Error")
+                    .strong()
+                    .color(ui.visuals().error_fg_color),
+            );
+            if ui
+                .button("Copy")
+                .on_hover_text("copy the whole message")
+                .clicked()
+            {
+                ui.ctx().copy_text(e.clone());
+                app.status = "error message copied".into();
+            }
+            if ui.button("Close").clicked() {
+                app.show_error = false;
+            }
+        });
+        egui::ScrollArea::vertical()
+            .max_height(MAX_HEIGHT)
+            .auto_shrink([false, true])
+            .show(ui, |ui| {
+                ui.add(
+                    egui::Label::new(egui::RichText::new(&e).monospace())
+                        .wrap()
+                        .selectable(true),
+                );
+            });
+    });
+}

@@ -1,0 +1,252 @@
+//! The menus of the toolbar and what they do: File (Open with the native dialog, recent
+//! files, the built-in scenes, a typed path, Save scene as), Export (the history as JSON and
+//! CSV, the viewed increment as SVG and as a PNG of a chosen size, the window as a picture,
+//! under the name in "Export as", which "..." picks with a dialog) and Help (the shortcuts).
+//! Also the answers of the dialogs and files dropped on the window. Every write confirms with
+//! its full path or says why it failed.
+
+use std::path::{Path, PathBuf};
+
+use egui::containers::menu::{MenuButton, MenuConfig};
+
+use crate::app::canvas::{figure, svg};
+use crate::app::display::Picked;
+use crate::app::files::dialog::Purpose;
+use crate::app::files::export;
+use crate::app::files::scenes::{dropped_scene, is_file, save_scene};
+use crate::app::files::screenshot::Shot;
+use crate::app::state::TsmApp;
+
+/// The three menus.
+pub fn menus(app: &mut TsmApp, ui: &mut egui::Ui) {
+    file_menu(app, ui);
+    let stay = MenuConfig::new().close_behavior(egui::PopupCloseBehavior::CloseOnClickOutside);
+    MenuButton::new("Export")
+        .config(stay)
+        .ui(ui, |ui| export_menu(app, ui));
+    ui.menu_button("Help", |ui| {
+        if ui.button("Shortcuts (?)").clicked() {
+            app.show_shortcuts = true;
+        }
+    });
+}
+
+/// The File menu.
+fn file_menu(app: &mut TsmApp, ui: &mut egui::Ui) {
+    ui.menu_button("File", |ui| {
+        if ui.button("Open... (Ctrl+O)").clicked() {
+            open_dialog(app, ui.ctx());
+        }
+        ui.menu_button("Open recent", |ui| {
+            let recent = app.recent.files().to_vec();
+            if recent.is_empty() {
+                ui.label("no scene files opened yet");
+            }
+            for p in recent {
+                if ui.button(p.display().to_string()).clicked() {
+                    app.open(&p.to_string_lossy());
+                }
+            }
+        });
+        ui.menu_button("Built-in scenes", |ui| {
+            for (file, _) in crate::scene::builtin::BUILTIN {
+                let name = file.trim_end_matches(".ron");
+                if ui.selectable_label(app.scene_name == name, name).clicked() {
+                    app.open(name);
+                }
+            }
+        });
+        ui.horizontal(|ui| {
+            let name = ui.label("path");
+            ui.add(
+                egui::TextEdit::singleline(&mut app.open_path)
+                    .hint_text("scene.ron")
+                    .desired_width(180.0),
+            )
+            .labelled_by(name.id);
+            if ui.button("Open path").clicked() && !app.open_path.trim().is_empty() {
+                let p = app.open_path.trim().to_string();
+                app.open(&p);
+            }
+        });
+        ui.separator();
+        if ui.button("Save scene as...").clicked() {
+            let folder = folder_of(&app.scene_name);
+            app.dialogs
+                .show(Purpose::SaveScene, folder, ui.ctx().clone());
+        }
+    });
+}
+
+/// The folder of a scene file's name (none for a built-in scene).
+fn folder_of(name: &str) -> Option<PathBuf> {
+    is_file(name)
+        .then(|| Path::new(name).parent().map(Path::to_path_buf))
+        .flatten()
+}
+
+/// Show the Open dialog (Ctrl+O).
+pub fn open_dialog(app: &mut TsmApp, ctx: &egui::Context) {
+    let folder = folder_of(&app.scene_name);
+    app.dialogs.show(Purpose::OpenScene, folder, ctx.clone());
+}
+
+/// The Export menu.
+fn export_menu(app: &mut TsmApp, ui: &mut egui::Ui) {
+    ui.horizontal(|ui| {
+        let name = ui.label("Export as");
+        ui.add(
+            egui::TextEdit::singleline(&mut app.export_stem)
+                .hint_text("folder/name, no extension")
+                .desired_width(200.0),
+        )
+        .labelled_by(name.id);
+        if ui
+            .button("...")
+            .on_hover_text("pick the folder and name")
+            .clicked()
+        {
+            let folder = Path::new(&app.export_stem).parent().map(Path::to_path_buf);
+            app.dialogs
+                .show(Purpose::ExportStem, folder, ui.ctx().clone());
+        }
+    });
+    ui.separator();
+    if ui
+        .button("Export JSON")
+        .on_hover_text("the history (Ctrl+E)")
+        .clicked()
+    {
+        export_json(app);
+    }
+    if ui
+        .button("Export CSV")
+        .on_hover_text("one row an increment; with a node selected, its displacements too (Ctrl+E)")
+        .clicked()
+    {
+        export_csv(app);
+    }
+    if ui
+        .button("Export SVG")
+        .on_hover_text("the viewed increment, for papers: beams as paths")
+        .clicked()
+    {
+        export_svg(app);
+    }
+    ui.horizontal(|ui| {
+        if ui
+            .button("Export PNG")
+            .on_hover_text("the viewed increment alone, at this size (Ctrl+S)")
+            .clicked()
+        {
+            export_png(app);
+        }
+        let w = ui.label("width");
+        ui.add(egui::DragValue::new(&mut app.png_size[0]).range(16..=16384))
+            .labelled_by(w.id);
+        let h = ui.label("height");
+        ui.add(egui::DragValue::new(&mut app.png_size[1]).range(16..=16384))
+            .labelled_by(h.id);
+    });
+    if ui
+        .button("Save window image")
+        .on_hover_text("the whole window as it is drawn, panels included")
+        .clicked()
+        && app.shot.is_none()
+    {
+        let path = with_ext(&app.export_stem, "window.png");
+        app.status = format!("saving {}", path.display());
+        app.shot = Some(Shot::new(path, None, false));
+    }
+}
+
+/// `stem` with extension `ext`.
+fn with_ext(stem: &str, ext: &str) -> PathBuf {
+    PathBuf::from(format!("{}.{ext}", stem.trim()))
+}
+
+/// Say what a write did: its full path, or why it failed.
+pub fn confirm(app: &mut TsmApp, what: Result<PathBuf, String>) {
+    match what {
+        Ok(p) => {
+            let full = std::fs::canonicalize(&p).unwrap_or(p);
+            app.status = format!("wrote {}", full.display());
+        }
+        Err(e) => app.error = Some(format!("export failed: {e}")),
+    }
+}
+
+/// Export the history as JSON.
+pub fn export_json(app: &mut TsmApp) {
+    let Some(loaded) = &app.loaded else { return };
+    let path = with_ext(&app.export_stem, "json");
+    let h = export::history(loaded, &app.history, &app.events, app.error.as_deref());
+    let done = h.write_json(&path).map(|_| path).map_err(|e| e.to_string());
+    confirm(app, done);
+}
+
+/// Export the history as CSV (with the selected node's displacements).
+pub fn export_csv(app: &mut TsmApp) {
+    let Some(loaded) = &app.loaded else { return };
+    let picked: Vec<usize> = match app.pinned {
+        Some(Picked::Node(n)) => vec![n],
+        _ => Vec::new(),
+    };
+    let path = with_ext(&app.export_stem, "csv");
+    let done = export::write_csv(&path, loaded, &app.history, &picked)
+        .map(|_| path)
+        .map_err(|e| e.to_string());
+    confirm(app, done);
+}
+
+/// Export the viewed increment as SVG.
+pub fn export_svg(app: &mut TsmApp) {
+    let (Some(loaded), Some(r)) = (&app.loaded, app.record()) else {
+        return;
+    };
+    let path = with_ext(&app.export_stem, "svg");
+    let done = svg::write_svg(&path, loaded, r, app.diagram)
+        .map(|_| path)
+        .map_err(|e| e.to_string());
+    confirm(app, done);
+}
+
+/// Export the viewed increment as a PNG of the chosen size (Ctrl+S).
+pub fn export_png(app: &mut TsmApp) {
+    let (Some(loaded), Some(r)) = (&app.loaded, app.record()) else {
+        return;
+    };
+    let path = with_ext(&app.export_stem, "png");
+    let done = figure::write_png(&path, loaded, r, app.diagram, app.png_size).map(|_| path);
+    confirm(app, done);
+}
+
+/// Act on a closed dialog's answer and on a file dropped on the window.
+pub fn answers(app: &mut TsmApp, ctx: &egui::Context) {
+    if let Some((purpose, Some(path))) = app.dialogs.poll() {
+        match purpose {
+            Purpose::OpenScene => app.open(&path.to_string_lossy()),
+            Purpose::SaveScene => save_scene_as(app, &path),
+            Purpose::ExportStem => {
+                app.export_stem = path.with_extension("").to_string_lossy().into_owned();
+                app.status = format!("exports go to {}.*", app.export_stem);
+            }
+        }
+    }
+    match dropped_scene(ctx) {
+        Some(Ok(path)) => app.open(&path.to_string_lossy()),
+        Some(Err(why)) => app.error = Some(why),
+        None => {}
+    }
+}
+
+/// Save the scene as solved to `path` (the dialog's answer, or a test's path).
+pub fn save_scene_as(app: &mut TsmApp, path: &Path) {
+    let Some(loaded) = &app.loaded else { return };
+    let done = save_scene(path, &loaded.scene).map(|_| path.to_path_buf());
+    let ok = done.is_ok();
+    confirm(app, done);
+    if ok {
+        app.recent.opened(path);
+    }
+}
