@@ -34,6 +34,8 @@ pub struct Startup {
     pub no_gpu: bool,
     /// The force diagram to draw along the beams.
     pub diagram: Option<Diagram>,
+    /// The scene remembered from the last time the app ran (default: the one eframe stored).
+    pub remembered: Option<String>,
 }
 
 impl Startup {
@@ -152,6 +154,26 @@ impl TsmApp {
     /// The status line's text.
     pub fn status(&self) -> &str {
         &self.status
+    }
+
+    /// The converged states held: the undeformed state, then the increments.
+    pub fn history(&self) -> &[IncrementRecord] {
+        &self.history
+    }
+
+    /// The events of the history held.
+    pub fn events(&self) -> &[Event] {
+        &self.events
+    }
+
+    /// The name the current scene was opened by (a path or a built-in name).
+    pub fn scene_name(&self) -> &str {
+        &self.scene_name
+    }
+
+    /// Whether a file dialog is open.
+    pub fn dialog_open(&self) -> bool {
+        self.dialogs.open()
     }
 
     /// Send a command to the worker (and note that work was requested).

@@ -32,7 +32,8 @@ impl TsmApp {
             && cc.wgpu_render_state.as_ref().is_some_and(beams_gpu::init);
         let persist = startup.screenshot.is_none();
         let stored_scene: Option<String> = if persist {
-            cc.storage.and_then(|s| eframe::get_value(s, KEY_SCENE))
+            (startup.remembered.clone())
+                .or_else(|| cc.storage.and_then(|s| eframe::get_value(s, KEY_SCENE)))
         } else {
             None
         };

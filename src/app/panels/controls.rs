@@ -155,9 +155,9 @@ pub fn sliders(app: &mut TsmApp, ui: &mut egui::Ui) {
     if model.prescribed.is_empty() {
         let lambda = app.record().map_or(0.0, |r| r.load_factor);
         let control = if l.scene.params.arc_length.is_some() {
-            "arc-length control: each Step is one arc"
+            "arc-length control: each step solved is one arc"
         } else {
-            "load control; use Step / Run"
+            "load control: Next or Run solves steps"
         };
         ui.label(format!("load factor {lambda:.4} ({control})"));
         return;

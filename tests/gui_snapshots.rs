@@ -1,0 +1,70 @@
+//! Snapshot images of the main views (egui_kittest rendering the real `TsmApp` on wgpu; Mesa's
+//! lavapipe in CI): Example 3.2 at increment 12 with its moment diagram, Example 3.1 as it
+//! opens (fitted), and the table of a cantilever's elements. Each is compared with its image in
+//! `tests/snapshots/` pixel by pixel; up to 0.25% of the pixels may differ (the iteration
+//! times the details panel prints, and the rasteriser's anti-aliasing). `UPDATE_SNAPSHOTS=1`
+//! writes new references; a failing comparison leaves `.new.png` and `.diff.png` beside them.
+#![cfg(feature = "gui")]
+
+use std::time::Duration;
+
+use egui_kittest::kittest::Queryable;
+use egui_kittest::{Harness, SnapshotOptions};
+use tsm_contact::app::canvas::diagrams::Diagram;
+use tsm_contact::app::{Startup, TsmApp};
+
+mod gui_support;
+use gui_support::{loaded, solving, wait};
+
+const SIZE: [f32; 2] = [1400.0, 900.0];
+
+fn options() -> SnapshotOptions {
+    let pixels = (SIZE[0] * SIZE[1]) as usize;
+    SnapshotOptions::new()
+        .threshold(0.6)
+        .max_failed_pixels(pixels / 400)
+}
+
+fn harness(startup: Startup) -> Harness<'static, TsmApp> {
+    Harness::builder()
+        .with_size(SIZE)
+        .with_theme(egui::Theme::Light)
+        .wgpu()
+        .build_eframe(move |cc| TsmApp::new(cc, startup))
+}
+
+#[test]
+fn example_3_2_at_increment_12_with_its_moment_diagram() {
+    let mut h = harness(Startup {
+        diagram: Some(Diagram::Moment),
+        steps: Some(12),
+        ..Startup::scene("example_3_2")
+    });
+    wait(&mut h, "12 increments", Duration::from_secs(60), |h| {
+        h.state().increments() == 12 && !solving(h)
+    });
+    h.run_steps(4);
+    h.snapshot_options("example_3_2_moment", &options());
+}
+
+#[test]
+fn example_3_1_opens_fitted_to_the_view() {
+    let mut h = harness(Startup::scene("example_3_1"));
+    loaded(&mut h);
+    h.run_steps(4);
+    h.snapshot_options("example_3_1_opened", &options());
+}
+
+#[test]
+fn the_table_of_lee_frames_nodes() {
+    let mut h = harness(Startup {
+        steps: Some(5),
+        ..Startup::scene("lee_frame")
+    });
+    wait(&mut h, "5 increments", Duration::from_secs(60), |h| {
+        h.state().increments() >= 5 && !solving(h)
+    });
+    h.get_by_label("Table").click();
+    h.run_steps(5);
+    h.snapshot_options("lee_frame_table", &options());
+}
