@@ -261,3 +261,17 @@ fn the_validation_tables_are_the_work_precision_points() {
     }
     assert!(checked >= 80, "{checked} values checked");
 }
+
+/// The user guide lists every keyboard shortcut the app's help window lists.
+#[cfg(feature = "gui")]
+#[test]
+fn the_user_guide_lists_every_shortcut() {
+    let guide = std::fs::read_to_string(root().join("docs/user-guide.md")).unwrap();
+    for (key, _) in tsm_contact::app::panels::shortcuts::SHORTCUTS {
+        let first = key.split(" / ").next().unwrap().split(',').next().unwrap();
+        assert!(
+            guide.contains(&format!("| {first}")) || guide.contains(&format!(", {first} |")),
+            "docs/user-guide.md has no row for {key}"
+        );
+    }
+}

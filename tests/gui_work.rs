@@ -266,9 +266,10 @@ fn ctrl_s_and_ctrl_e_write_their_files_and_ctrl_o_opens_the_dialog() {
     let csv = std::fs::read_to_string(stem.with_extension("csv")).expect("CSV written");
     assert_eq!(csv.lines().count(), 4, "a header and three increments");
     assert!(json.contains("\"increments\""));
+    assert_eq!(h.state().dialogs_shown(), 0);
     h.key_press_modifiers(Modifiers::COMMAND, Key::O);
     h.step();
-    assert!(h.state().dialog_open() || h.state().error().is_none());
+    assert_eq!(h.state().dialogs_shown(), 1, "Ctrl+O shows the Open dialog");
     let _ = std::fs::remove_dir_all(dir);
 }
 

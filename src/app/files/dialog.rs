@@ -21,12 +21,18 @@ pub enum Purpose {
 #[derive(Default)]
 pub struct Dialogs {
     pending: Option<(Purpose, Receiver<Option<PathBuf>>)>,
+    shown: usize,
 }
 
 impl Dialogs {
     /// Whether a dialog is open.
     pub fn open(&self) -> bool {
         self.pending.is_some()
+    }
+
+    /// How many dialogs were shown.
+    pub fn shown(&self) -> usize {
+        self.shown
     }
 
     /// Show the dialog for `purpose` starting in `folder` (nothing if one is open already).
@@ -62,6 +68,7 @@ impl Dialogs {
             });
         if spawned.is_ok() {
             self.pending = Some((purpose, rx));
+            self.shown += 1;
         }
     }
 

@@ -12,6 +12,8 @@ use crate::solver::params::SolverParams;
 use crate::solver::report::SolveError;
 use crate::solver::rigid_modes::free_parts;
 use crate::solver::state::State;
+
+use super::Checkpoint;
 use crate::solver::structure::Structure;
 
 /// The TSM solver for one model: the structure (read through `Deref`), the converged state, and
@@ -27,7 +29,7 @@ pub struct Solver {
     /// The acceptance check's geometric test, at the last accepted state.
     pub(crate) crossing: CrossingCheck,
     /// Checkpoints of the accepted increments, when asked for (`keep_checkpoints`).
-    pub(crate) kept: Option<Vec<super::Checkpoint>>,
+    pub(crate) kept: Option<Vec<Checkpoint>>,
 }
 
 impl Deref for Solver {
@@ -164,5 +166,45 @@ impl Solver {
     /// (`SolverParams::stretch_correction`).
     pub fn stretch_correcting(&self) -> bool {
         self.newton().stretch_correcting()
+    }
+}
+
+impl Solver {
+    /// The accepted state as it is now.
+    pub fn checkpoint(&self) -> Checkpoint {
+        Checkpoint {
+            state: self.state.clone(),
+            crossing: self.crossing.memory(),
+        }
+    }
+
+    /// Go on from `checkpoint` (taken from this solver, or one built from the same model and
+    /// parameters): the next increment is solved exactly as it was after the checkpoint.
+    pub fn restore(&mut self, checkpoint: &Checkpoint) {
+        self.state = checkpoint.state.clone();
+        if !self.crossing.is_empty() {
+            self.crossing.restore(&checkpoint.crossing);
+        }
+        // The kept assembly belongs to another state of the same number, perhaps.
+        self.work.converged_assembly.0.borrow_mut().take();
+    }
+
+    /// Keep a checkpoint of every accepted increment from now on (or stop keeping them), for
+    /// `take_checkpoints`.
+    pub fn keep_checkpoints(&mut self, on: bool) {
+        self.kept = on.then(Vec::new);
+    }
+
+    /// The checkpoints kept since the last call, oldest first.
+    pub fn take_checkpoints(&mut self) -> Vec<Checkpoint> {
+        self.kept.as_mut().map(std::mem::take).unwrap_or_default()
+    }
+
+    /// Keep a checkpoint of the state just accepted, if asked to (`keep_checkpoints`).
+    pub(crate) fn keep_checkpoint(&mut self) {
+        if self.kept.is_some() {
+            let c = self.checkpoint();
+            self.kept.as_mut().expect("kept").push(c);
+        }
     }
 }
