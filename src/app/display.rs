@@ -84,3 +84,30 @@ pub struct TableView {
     /// Largest first.
     pub descending: bool,
 }
+
+/// The dof the load-displacement curve is drawn against: the largest component of the first
+/// nodal load, or, with distributed loads only, the translation of the node farthest from the
+/// supports along the first distributed load's larger component (a cantilever's tip).
+pub(crate) fn loaded_dof(model: &crate::solver::Model) -> Option<(usize, usize)> {
+    if let Some(load) = model.loads.first() {
+        let o = (0..3)
+            .max_by(|&a, &b| load.force[a].abs().total_cmp(&load.force[b].abs()))
+            .unwrap_or(1);
+        return Some((load.node, o));
+    }
+    let d = model.distributed.first()?;
+    let o = usize::from(d.q[0][1].abs() >= d.q[0][0].abs());
+    let held: Vec<usize> = model.supports.iter().map(|s| s.node).collect();
+    let far = |n: usize| {
+        let p = model.position(n);
+        (held.iter())
+            .map(|&h| {
+                let q = model.position(h);
+                (p[0] - q[0]).hypot(p[1] - q[1])
+            })
+            .fold(f64::INFINITY, f64::min)
+    };
+    (0..model.nodes.len())
+        .max_by(|&a, &b| far(a).total_cmp(&far(b)))
+        .map(|n| (n, o))
+}

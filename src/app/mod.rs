@@ -2,7 +2,7 @@
 //! renders a screenshot and exits. The app state lives in `state.rs` (the camera in `view.rs`),
 //! the window that lays out the panels in `window.rs`, the panels in `panels/`, the viewport
 //! and what it draws in `canvas/`, files and exports in `files/`; the history it holds in
-//! `retention.rs` and `branches.rs` (set-aside runs and Undo); `units.rs` and `frame_log.rs`
+//! `retention.rs`, `branches.rs` (what is set aside) and `undo.rs` (branching and Undo); `units.rs` and `frame_log.rs`
 //! serve them.
 
 pub mod branches;
@@ -13,6 +13,7 @@ pub mod frame_log;
 pub mod panels;
 pub mod retention;
 pub mod state;
+pub mod undo;
 pub mod units;
 pub mod view;
 pub mod window;

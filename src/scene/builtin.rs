@@ -35,6 +35,10 @@ pub const BUILTIN: &[(&str, &str)] = &[
         "pin_on_cantilever.ron",
         include_str!("../../assets/scenes/pin_on_cantilever.ron"),
     ),
+    (
+        "heavy_strip.ron",
+        include_str!("../../assets/scenes/heavy_strip.ron"),
+    ),
 ];
 
 /// The RON text of a built-in scene by file name (with or without `.ron`).

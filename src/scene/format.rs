@@ -39,6 +39,9 @@ pub struct SceneFile {
     /// Prescribed displacements.
     #[serde(default)]
     pub prescribed: Vec<PrescribedDef>,
+    /// Loads distributed along bodies.
+    #[serde(default)]
+    pub distributed: Vec<DistributedDef>,
     /// Which nodes may touch which bodies.
     #[serde(default)]
     pub contacts: Vec<ContactDef>,
@@ -71,6 +74,10 @@ pub struct SectionDef {
     /// Shear area Ae (m^2); default A.
     #[serde(rename = "Ae", default)]
     pub ae: Option<f64>,
+    /// Mass per volume (kg/m^3): with `control.gravity`, the bodies of this section carry
+    /// their self-weight, density A g per length.
+    #[serde(default)]
+    pub density: Option<f64>,
 }
 
 /// An explicit node.
@@ -143,6 +150,24 @@ pub struct LoadDef {
     pub m: f64,
 }
 
+/// A load distributed along a body's elements, per unit of undeformed length, in fixed
+/// directions.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DistributedDef {
+    /// The body it acts on.
+    pub body: String,
+    /// The first and last element (from 1, in body order) it covers; default all of them.
+    #[serde(default)]
+    pub elements: Option<(usize, usize)>,
+    /// Load per length (x, y) at the start of the first element (N/m).
+    pub q: (f64, f64),
+    /// Load per length at the end of the last element, for a load varying linearly along the
+    /// range; default `q` (uniform).
+    #[serde(default)]
+    pub q_end: Option<(f64, f64)>,
+}
+
 /// A prescribed displacement.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -190,6 +215,9 @@ pub struct ControlDef {
     /// Arc-length control (load-driven scenes): length of one increment along the equilibrium
     /// path as the root-mean-square change of the free dofs (m, rad). Each step is one arc; the load factor is solved for.
     pub arc_length: Option<f64>,
+    /// Acceleration of gravity (x, y) (m/s^2): the self-weight of the sections with a
+    /// `density`, scaled by the load factor like every load.
+    pub gravity: Option<(f64, f64)>,
 }
 
 impl Default for ControlDef {
@@ -202,6 +230,7 @@ impl Default for ControlDef {
             max_step: None,
             stretch_correction: StretchCorrection::AfterCutBack,
             arc_length: None,
+            gravity: None,
         }
     }
 }

@@ -27,7 +27,8 @@ pub mod structure;
 pub use acceptance::{Crossing, CrossingCheck};
 pub use control::{Checkpoint, Solver};
 pub use model::{
-    Beam, Body, ContactPair, Dof, Formulation, Load, Model, Node, Prescribed, Section, Support,
+    Beam, Body, ContactPair, DistributedLoad, Dof, Formulation, Load, Model, Node, Prescribed,
+    Section, Support,
 };
 pub use params::{SolverParams, StretchCorrection};
 pub use report::{

@@ -120,6 +120,17 @@ pub struct Load {
     pub force: [f64; 3],
 }
 
+/// A load distributed along a beam element per unit of its undeformed length, in fixed
+/// (global) directions, varying linearly from end i to end j, scaled by the load factor like
+/// the nodal loads (self-weight is one: density A g).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DistributedLoad {
+    /// Beam element index.
+    pub beam: usize,
+    /// Load per length (x and y components) at end i and at end j.
+    pub q: [[f64; 2]; 2],
+}
+
 /// A prescribed ("compulsory") displacement of one dof.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Prescribed {
@@ -153,6 +164,9 @@ pub struct Model {
     pub supports: Vec<Support>,
     /// Reference loads (multiplied by the load factor).
     pub loads: Vec<Load>,
+    /// Distributed loads, element by element.
+    #[serde(default)]
+    pub distributed: Vec<DistributedLoad>,
     /// Prescribed displacements.
     pub prescribed: Vec<Prescribed>,
     /// Load factor increment per step.
@@ -220,6 +234,11 @@ impl Model {
         let b = &self.beams[e];
         let (p, q) = (self.position(b.i), self.position(b.j));
         (q[0] - p[0]).hypot(q[1] - p[1])
+    }
+
+    /// Whether the model has loads (nodal or distributed) for the load factor to scale.
+    pub fn has_loads(&self) -> bool {
+        !self.loads.is_empty() || !self.distributed.is_empty()
     }
 
     /// "bar element 3": beam element `e` named by its body and its place in the body, from 1

@@ -86,13 +86,13 @@ pub fn paint(
             let (x0, x1) = (k as f64 / SAMPLES as f64, (k + 1) as f64 / SAMPLES as f64);
             let mid = value_at(model, r, diagram, e, 0.5 * (x0 + x1));
             let fill = if mid >= 0.0 { pos_fill } else { neg_fill };
-            let quad = vec![
-                point(x0),
-                point(x1),
-                point(x1) + off(x1),
-                point(x0) + off(x0),
-            ];
-            p.add(Shape::convex_polygon(quad, fill, Stroke::NONE));
+            let (o0, o1) = (off(x0), off(x1));
+            // A quad of (nearly) no area is left out: its anti-aliased edges would have no
+            // direction, and egui draws them as long slivers.
+            if o0.length() + o1.length() > 0.5 {
+                let quad = vec![point(x0), point(x1), point(x1) + o1, point(x0) + o0];
+                p.add(Shape::convex_polygon(quad, fill, Stroke::NONE));
+            }
             outline.push(point(x0) + off(x0));
         }
         outline.push(point(1.0) + off(1.0));

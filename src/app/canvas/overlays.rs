@@ -1,6 +1,6 @@
 //! The viewport's egui overlays (egui's own feathering): clamps, pins and rollers, contact nodes
 //! with force arrows scaled by Yc, body names, the handle of each prescribed dof, the bending
-//! moment legend and a scale bar.
+//! moment legend, a scale bar, and the nodal and the distributed loads.
 
 use egui::{Align2, Color32, FontId, Pos2, Rect, Shape, Stroke, Vec2};
 
@@ -395,6 +395,55 @@ pub(crate) fn loads(
                 at + Vec2::new(16.0, -16.0),
                 Align2::LEFT_BOTTOM,
                 format!("{} {}", num(f[2]), units.moment()),
+                FontId::proportional(11.0),
+                LOAD,
+            );
+        }
+    }
+}
+
+/// The distributed loads at the viewed increment: arrows onto the deformed elements (at most
+/// about 60 of them, evenly spread), 22 points for the largest load per length, which is
+/// labelled with its value.
+pub(crate) fn distributed_loads(
+    p: &egui::Painter,
+    model: &Model,
+    r: &IncrementRecord,
+    units: Units,
+    s: &dyn Fn([f64; 2]) -> Pos2,
+) {
+    const LOAD: Color32 = Color32::from_rgb(120, 60, 170);
+    let at_mid = |q: &[[f64; 2]; 2]| [(q[0][0] + q[1][0]) / 2.0, (q[0][1] + q[1][1]) / 2.0];
+    let qmax = (model.distributed.iter())
+        .map(|d| {
+            let q = at_mid(&d.q);
+            (q[0] * r.load_factor).hypot(q[1] * r.load_factor)
+        })
+        .fold(0.0f64, f64::max);
+    if qmax == 0.0 || !qmax.is_finite() {
+        return;
+    }
+    let stride = model.distributed.len().div_ceil(60).max(1);
+    let mut labelled = false;
+    for d in model.distributed.iter().step_by(stride) {
+        let b = &model.beams[d.beam];
+        let (a, c) = (r.nodes[b.i], r.nodes[b.j]);
+        let at = s([(a[0] + c[0]) / 2.0, (a[1] + c[1]) / 2.0]);
+        let q = at_mid(&d.q).map(|v| v * r.load_factor);
+        let size = q[0].hypot(q[1]);
+        if size == 0.0 {
+            continue;
+        }
+        let dir = Vec2::new(q[0] as f32, -q[1] as f32) / size as f32;
+        let len = 6.0 + 16.0 * (size / qmax) as f32;
+        let tail = at - dir * len;
+        p.arrow(tail, dir * (len - 1.0), Stroke::new(1.2, LOAD));
+        if !labelled && size >= qmax * (1.0 - 1e-9) {
+            labelled = true;
+            p.text(
+                tail - dir * 4.0,
+                Align2::CENTER_CENTER,
+                format!("{} {}/{}", num(size), units.force(), units.length()),
                 FontId::proportional(11.0),
                 LOAD,
             );

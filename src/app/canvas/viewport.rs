@@ -134,6 +134,7 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui, gpu: Option<&egui_wgpu::RenderS
         diagrams::paint(&painter, model, r, d, &unit, &to_screen);
     }
     overlays::loads(&painter, model, r, units, &to_screen);
+    overlays::distributed_loads(&painter, model, r, units, &to_screen);
     overlays::legend(&painter, rect, mmax, units);
     overlays::scale_bar(&painter, rect, view.scale, units);
     // What the pointer is on: its values on hover, pinned in the details panel on a click.

@@ -380,11 +380,7 @@ fn reaction(app: &TsmApp, ui: &mut egui::Ui) -> Option<usize> {
                 format!("reaction ({})", units.of_reaction(p.dof)),
                 pts,
             )
-        } else if let Some(load) = model.loads.first() {
-            let o = (0..3)
-                .max_by(|&a, &b| load.force[a].abs().total_cmp(&load.force[b].abs()))
-                .unwrap_or(1);
-            let n = load.node;
+        } else if let Some((n, o)) = crate::app::display::loaded_dof(model) {
             let x0 = [model.nodes[n].x, model.nodes[n].y, 0.0][o];
             let pts = app
                 .history

@@ -1,18 +1,20 @@
 //! The boundary conditions and loading of a scene: `supports`, `loads` and `prescribed`
-//! displacements, each on a node that has the dof, none both supported and prescribed.
+//! displacements, each on a node that has the dof, none both supported and prescribed; the
+//! distributed loads come from `distributed.rs`.
 
 use std::collections::HashSet;
 
 use super::errors::{Ctx, SceneError};
 use super::geometry::Geometry;
 use crate::scene::format::SceneFile;
-use crate::solver::{Dof, Load, Prescribed, Support};
+use crate::solver::{DistributedLoad, Dof, Load, Prescribed, Support};
 
 /// Supports, loads and prescribed displacements of a scene.
 pub(super) struct Conditions {
     pub(super) supports: Vec<Support>,
     pub(super) loads: Vec<Load>,
     pub(super) prescribed: Vec<Prescribed>,
+    pub(super) distributed: Vec<DistributedLoad>,
 }
 
 /// The conditions of `sf` on geometry `g`.
@@ -80,5 +82,6 @@ pub(super) fn conditions(
         supports,
         loads,
         prescribed,
+        distributed: super::distributed::distributed(ctx, sf, g)?,
     })
 }

@@ -41,7 +41,7 @@ pub(super) fn control(ctx: &Ctx, sf: &SceneFile, c_: &Conditions) -> Result<Cont
             Some("arc_length".into()),
             s,
         )?;
-        if c_.loads.is_empty() {
+        if c_.loads.is_empty() && c_.distributed.is_empty() {
             return Err(ctx.err(
                 "control.arc_length",
                 Some("arc_length".into()),
@@ -67,7 +67,7 @@ pub(super) fn control(ctx: &Ctx, sf: &SceneFile, c_: &Conditions) -> Result<Cont
                 format!("must be finite, got {v}"),
             ))
         }
-        None if c_.loads.is_empty() => 0.0,
+        None if c_.loads.is_empty() && c_.distributed.is_empty() => 0.0,
         None => 1.0 / steps as f64,
     };
     Ok(Control {

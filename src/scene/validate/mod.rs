@@ -8,6 +8,7 @@
 mod conditions;
 mod contacts;
 mod control;
+mod distributed;
 mod errors;
 mod geometry;
 mod parse;

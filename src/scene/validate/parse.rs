@@ -115,6 +115,7 @@ fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
         bodies: g.bodies,
         supports: c.supports,
         loads: c.loads,
+        distributed: c.distributed,
         prescribed: c.prescribed,
         load_per_step: run.load_per_step,
         formulation: sf.formulation,

@@ -23,7 +23,7 @@ impl Solver {
         let nominal = self.params.arc_length.ok_or_else(|| SolveError::Invalid {
             reason: "arc-length control needs control.arc_length".into(),
         })?;
-        if self.model.loads.is_empty() {
+        if !self.model.has_loads() {
             return Err(SolveError::Invalid {
                 reason: "arc-length control needs at least one load".into(),
             });

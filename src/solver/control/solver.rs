@@ -204,7 +204,9 @@ impl Solver {
     pub(crate) fn keep_checkpoint(&mut self) {
         if self.kept.is_some() {
             let c = self.checkpoint();
-            self.kept.as_mut().expect("kept").push(c);
+            if let Some(kept) = &mut self.kept {
+                kept.push(c);
+            }
         }
     }
 }

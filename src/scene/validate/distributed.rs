@@ -1,0 +1,115 @@
+//! The distributed loads of a scene: each `distributed` entry on a body's elements (all of
+//! them, or a range), uniform or varying linearly from its first element's start to its last
+//! element's end, per unit of undeformed length in fixed directions; and the self-weight of
+//! every body whose section has a `density`, under `control.gravity`.
+
+use super::errors::{Ctx, SceneError};
+use super::geometry::Geometry;
+use crate::scene::format::SceneFile;
+use crate::solver::DistributedLoad;
+
+/// The distributed loads of `sf` on geometry `g`, element by element.
+pub(super) fn distributed(
+    ctx: &Ctx,
+    sf: &SceneFile,
+    g: &Geometry,
+) -> Result<Vec<DistributedLoad>, SceneError> {
+    let mut out = Vec::new();
+    for (k, d) in sf.distributed.iter().enumerate() {
+        let field = format!("distributed[{k}] (body {})", d.body);
+        let b = *g.body_index.get(d.body.as_str()).ok_or_else(|| {
+            ctx.err(
+                format!("distributed[{k}].body"),
+                Some(format!("body: \"{}\"", d.body)),
+                format!("no body named \"{}\"", d.body),
+            )
+        })?;
+        let elements = &g.bodies[b].elements;
+        let (first, last) = d.elements.unwrap_or((1, elements.len()));
+        if first < 1 || last < first || last > elements.len() {
+            return Err(ctx.err(
+                format!("{field}.elements"),
+                Some("elements".into()),
+                format!(
+                    "({first}, {last}) is not a range of the body's elements 1 to {}",
+                    elements.len()
+                ),
+            ));
+        }
+        let q0 = [d.q.0, d.q.1];
+        let q1 = d.q_end.map_or(q0, |q| [q.0, q.1]);
+        if !q0.iter().chain(&q1).all(|v| v.is_finite()) {
+            return Err(ctx.err(field, Some("q".into()), "q and q_end must be finite"));
+        }
+        // The load varies linearly with the arc length along the range.
+        let range = &elements[first - 1..last];
+        let lengths: Vec<f64> = range.iter().map(|&e| length(g, e)).collect();
+        let total: f64 = lengths.iter().sum();
+        let at = |s: f64| {
+            let t = if total > 0.0 { s / total } else { 0.0 };
+            [q0[0] + t * (q1[0] - q0[0]), q0[1] + t * (q1[1] - q0[1])]
+        };
+        let mut s = 0.0;
+        for (&e, l) in range.iter().zip(&lengths) {
+            out.push(DistributedLoad {
+                beam: e,
+                q: [at(s), at(s + l)],
+            });
+            s += l;
+        }
+    }
+    self_weight(ctx, sf, g, &mut out)?;
+    Ok(out)
+}
+
+/// Undeformed length of element `e`.
+fn length(g: &Geometry, e: usize) -> f64 {
+    let b = &g.beams[e];
+    let (p, q) = (&g.nodes[b.i], &g.nodes[b.j]);
+    (q.x - p.x).hypot(q.y - p.y)
+}
+
+/// The self-weight density A g of every body whose section has a density.
+fn self_weight(
+    ctx: &Ctx,
+    sf: &SceneFile,
+    g: &Geometry,
+    out: &mut Vec<DistributedLoad>,
+) -> Result<(), SceneError> {
+    let heavy = sf.sections.iter().any(|s| s.density.is_some());
+    let Some(gravity) = sf.control.gravity else {
+        if heavy {
+            return Err(ctx.err(
+                "control.gravity",
+                Some("density".into()),
+                "a section has a density but control has no gravity: the self-weight needs both",
+            ));
+        }
+        return Ok(());
+    };
+    if !(gravity.0.is_finite() && gravity.1.is_finite()) {
+        return Err(ctx.err(
+            "control.gravity",
+            Some("gravity".into()),
+            "gravity must be finite",
+        ));
+    }
+    for (b, body) in sf.bodies.iter().enumerate() {
+        let Some(section) = sf.sections.iter().find(|s| s.name == body.section) else {
+            continue;
+        };
+        let Some(rho) = section.density else { continue };
+        if !(rho.is_finite() && rho >= 0.0) {
+            return Err(ctx.err(
+                format!("sections ({}).density", section.name),
+                Some("density".into()),
+                "density must be finite and not negative",
+            ));
+        }
+        let q = [rho * section.a * gravity.0, rho * section.a * gravity.1];
+        for &e in &g.bodies[b].elements {
+            out.push(DistributedLoad { beam: e, q: [q, q] });
+        }
+    }
+    Ok(())
+}
