@@ -68,3 +68,45 @@ fn the_table_of_lee_frames_nodes() {
     h.run_steps(5);
     h.snapshot_options("lee_frame_table", &options());
 }
+
+/// Example 3.2 solved to increment 30, branched at 20 with the drive moved on: the branch
+/// point is marked over the timeline, and Undo is offered.
+#[test]
+fn example_3_2_branched_at_increment_20() {
+    let mut h = harness(Startup {
+        steps: Some(30),
+        ..Startup::scene("example_3_2")
+    });
+    wait(&mut h, "30 increments", Duration::from_secs(60), |h| {
+        h.state().increments() == 30 && !solving(h)
+    });
+    h.get_by_role_and_label(egui::accesskit::Role::Slider, "Increment")
+        .set_value_accesskit(20.0);
+    h.run_steps(2);
+    h.get_by_role_and_label(egui::accesskit::Role::Slider, "node 34 v")
+        .set_value_accesskit(-0.23);
+    wait(&mut h, "the branch", Duration::from_secs(60), |h| {
+        !solving(h) && h.state().increments() == 23
+    });
+    h.run_steps(4);
+    h.snapshot_options("example_3_2_branched", &options());
+}
+
+/// A scene file with an error: the error panel shows the whole message, located.
+#[test]
+fn a_scene_error_in_the_error_panel() {
+    let path = std::env::temp_dir().join("tsm-snapshot-bad.ron");
+    std::fs::write(
+        &path,
+        "(\n    name: \"bad\",\n    sections: [(name: \"s\", E: 1.0, A: 1.0, I: 1.0)],\n    bodies: [(name: \"b\", section: \"steel\", path: [(0.0, 0.0), (1.0, 0.0)], elements: 2, first_node: 1)],\n)\n",
+    )
+    .unwrap();
+    let mut h = harness(Startup::scene("example_3_1"));
+    loaded(&mut h);
+    h.state_mut().open(&path.to_string_lossy());
+    h.run_steps(4);
+    let name = path.display().to_string();
+    h.snapshot_options("error_panel", &options());
+    assert!(h.state().error().is_some_and(|e| e.contains(&name)));
+    std::fs::remove_file(path).ok();
+}
