@@ -199,3 +199,45 @@ fn a_heavy_cantilever_converges_to_the_elastica_as_h_squared() {
         assert!(errors[2] < 2e-3 * L, "{f}: errors {errors:?}");
     }
 }
+
+/// Inside an element the moment and shear diagrams follow the distributed load: on a cantilever
+/// of two elements under a small uniform load w, M(s) = w (L - s)^2 / 2 and V(s) = w (L - s)
+/// in size at every quarter of the element at the clamp (the end values come from the solver,
+/// the parabola between them from the load), to 1e-3 of the clamp's values.
+#[cfg(feature = "gui")]
+#[test]
+fn the_diagrams_follow_the_load_inside_an_element() {
+    use tsm_contact::app::canvas::diagrams::{value_at, Diagram};
+    let w = 1e-3;
+    let text = format!(
+        r#"(
+    name: "cantilever",
+    formulation: BernoulliEuler,
+    sections: [(name: "s", E: 2.0e5, A: 1.0e3, I: 1.0e-3)],
+    bodies: [(name: "beam", section: "s", path: [(0.0, 0.0), ({L}, 0.0)], elements: 2, first_node: 1)],
+    supports: [(node: 1, u: true, v: true, phi: true)],
+    distributed: [(body: "beam", q: (0.0, {}))],
+    control: (steps: 1),
+)"#,
+        -w
+    );
+    let scene = parse(&text, "cantilever.ron").unwrap();
+    let mut solver = scene.solver().unwrap();
+    let r = solver.step(&mut Silent).unwrap().pop().unwrap();
+    let model = &scene.model;
+    let (m0, v0) = (w * L * L / 2.0, w * L);
+    for k in 0..=4 {
+        let x = k as f64 / 4.0;
+        let s = x * L / 2.0;
+        let m = value_at(model, &r, Diagram::Moment, 0, x);
+        let v = value_at(model, &r, Diagram::Shear, 0, x);
+        assert!(
+            (m.abs() - w * (L - s).powi(2) / 2.0).abs() < 1e-3 * m0,
+            "M at s = {s}: {m}"
+        );
+        assert!(
+            (v.abs() - w * (L - s)).abs() < 1e-3 * v0,
+            "V at s = {s}: {v}"
+        );
+    }
+}

@@ -1,7 +1,7 @@
 //! The keyboard and Stop (egui_kittest on the real `TsmApp`): Right at the last increment
 //! solves one more step, Left, Home and End move through the stored increments, ? opens the
-//! list of shortcuts, and Esc stops an arc-length run of Lee's frame within 50 ms, keeping its
-//! accepted increments.
+//! list of shortcuts, F fits the view again after a pan, and Esc stops an arc-length run of
+//! Lee's frame within 50 ms, keeping its accepted increments.
 #![cfg(feature = "gui")]
 
 use std::time::{Duration, Instant};
@@ -79,4 +79,32 @@ fn esc_stops_an_arc_length_run_within_50_ms() {
         h.step();
     }
     assert_eq!(h.state().increments(), kept);
+}
+
+/// F fits the view again after a pan: node 1 of Example 3.2 returns to where the fitted view
+/// drew it on loading, to a tenth of a point.
+#[test]
+fn f_fits_the_view_again_after_a_pan() {
+    let mut h = harness_on("example_3_2");
+    h.run_steps(3);
+    let (rect, fitted) = h.state().node_on_screen(1).expect("node 1 is drawn");
+    // A drag on empty space near the viewport's bottom-left corner pans the view.
+    let from = rect.left_bottom() + egui::vec2(60.0, -60.0);
+    h.drag_at(from);
+    h.step();
+    for k in 1..=10 {
+        h.hover_at(from + egui::vec2(8.0 * k as f32, -5.0 * k as f32));
+        h.step();
+    }
+    h.drop_at(from + egui::vec2(80.0, -50.0));
+    h.run_steps(2);
+    let (_, panned) = h.state().node_on_screen(1).unwrap();
+    assert!(
+        (panned - fitted).length() > 40.0,
+        "the drag pans: {fitted:?} -> {panned:?}"
+    );
+    press(&mut h, Key::F);
+    h.run_steps(2);
+    let (_, again) = h.state().node_on_screen(1).unwrap();
+    assert!((again - fitted).length() < 0.1, "{fitted:?} -> {again:?}");
 }

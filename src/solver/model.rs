@@ -164,7 +164,7 @@ pub struct Model {
     pub supports: Vec<Support>,
     /// Reference loads (multiplied by the load factor).
     pub loads: Vec<Load>,
-    /// Distributed loads, element by element.
+    /// Distributed loads, sorted by element.
     #[serde(default)]
     pub distributed: Vec<DistributedLoad>,
     /// Prescribed displacements.
@@ -234,6 +234,13 @@ impl Model {
         let b = &self.beams[e];
         let (p, q) = (self.position(b.i), self.position(b.j));
         (q[0] - p[0]).hypot(q[1] - p[1])
+    }
+
+    /// The distributed loads on beam element `e` (`distributed` is sorted by element).
+    pub fn distributed_on(&self, e: usize) -> &[DistributedLoad] {
+        let from = self.distributed.partition_point(|d| d.beam < e);
+        let to = self.distributed.partition_point(|d| d.beam <= e);
+        &self.distributed[from..to]
     }
 
     /// Whether the model has loads (nodal or distributed) for the load factor to scale.

@@ -4,7 +4,7 @@
 
 use egui::{Color32, FontId, Pos2, Shape, Stroke, Vec2};
 
-use super::shapes::moment_at;
+use super::shapes::{moment_at, transverse_load};
 pub use crate::app::display::Diagram;
 use crate::solver::{IncrementRecord, Model};
 
@@ -27,6 +27,9 @@ pub fn value_at(model: &Model, r: &IncrementRecord, diagram: Diagram, e: usize, 
             for c in r.contacts.iter().filter(|c| c.element == e) {
                 let a = c.xi.clamp(0.0, 1.0);
                 v += c.force * if x < a { 1.0 - a } else { -a };
+            }
+            if let Some([pi, pj]) = transverse_load(model, r, e) {
+                v += l * ((2.0 * pi + pj) / 6.0 - pi * x - (pj - pi) * x * x / 2.0);
             }
             v
         }

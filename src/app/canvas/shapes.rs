@@ -22,8 +22,8 @@ pub struct BodyCurve {
 }
 
 /// Bending moment at fraction `x` along element `e` of a simply supported beam carrying the end
-/// moments (Mi, Mj) and the element's contact forces (sign convention of the element force
-/// equation: `Mi` at end i, `-Mj` at end j).
+/// moments (Mi, Mj), the element's contact forces and its distributed loads (sign convention
+/// of the element force equation: `Mi` at end i, `-Mj` at end j).
 pub fn moment_at(model: &Model, record: &IncrementRecord, e: usize, x: f64) -> f64 {
     let f = record.element_forces.get(e).copied().unwrap_or([0.0; 3]);
     let l = model.beam_length(e);
@@ -32,8 +32,37 @@ pub fn moment_at(model: &Model, record: &IncrementRecord, e: usize, x: f64) -> f
         let a = c.xi.clamp(0.0, 1.0);
         m += c.force * l * if x <= a { (1.0 - a) * x } else { a * (1.0 - x) };
     }
+    if let Some([pi, pj]) = transverse_load(model, record, e) {
+        m += l * l * ((2.0 * pi + pj) / 6.0 * x - pi * x * x / 2.0 - (pj - pi) * x.powi(3) / 6.0);
+    }
     m
 }
+
+/// The distributed loads on element `e` across its chord at the viewed state, per length at
+/// ends i and j, positive on the side a positive element force Y acts on (`SIDE`); `None`
+/// without distributed loads.
+pub fn transverse_load(model: &Model, record: &IncrementRecord, e: usize) -> Option<[f64; 2]> {
+    let on = model.distributed_on(e);
+    if on.is_empty() {
+        return None;
+    }
+    let b = &model.beams[e];
+    let (a, c) = (record.nodes.get(b.i)?, record.nodes.get(b.j)?);
+    let (dx, dy) = (c[0] - a[0], c[1] - a[1]);
+    let l = dx.hypot(dy).max(1e-300);
+    let n = [-dy / l, dx / l];
+    let mut p = [0.0; 2];
+    for d in on {
+        for (end, q) in p.iter_mut().zip(&d.q) {
+            *end += record.load_factor * SIDE * (q[0] * n[0] + q[1] * n[1]);
+        }
+    }
+    Some(p)
+}
+
+/// The side of the chord a positive element force Y acts on (+1: the normal turned +90 degrees
+/// from the chord i -> j).
+const SIDE: f64 = 1.0;
 
 /// Deformed curves of every body (elements chained in body order; a gap starts a new curve).
 pub fn deformed_bodies(

@@ -59,6 +59,8 @@ pub(super) fn distributed(
         }
     }
     self_weight(ctx, sf, g, &mut out)?;
+    // By element (`Model::distributed_on` looks them up so).
+    out.sort_by_key(|d| d.beam);
     Ok(out)
 }
 
