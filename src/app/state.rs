@@ -171,6 +171,11 @@ impl TsmApp {
         &self.scene_name
     }
 
+    /// Whether a file dialog is open.
+    pub fn dialog_open(&self) -> bool {
+        self.dialogs.open()
+    }
+
     /// How many file dialogs the app has shown.
     pub fn dialogs_shown(&self) -> usize {
         self.dialogs.shown()

@@ -5,6 +5,7 @@
 
 use std::path::PathBuf;
 use std::sync::mpsc::{channel, Receiver};
+use std::time::{Duration, Instant};
 
 /// What a dialog was opened for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -20,8 +21,23 @@ pub enum Purpose {
 /// The dialog in progress, if any.
 #[derive(Default)]
 pub struct Dialogs {
-    pending: Option<(Purpose, Receiver<Option<PathBuf>>)>,
+    pending: Option<(Purpose, Receiver<Option<PathBuf>>, Instant)>,
     shown: usize,
+}
+
+/// A dialog that answers "nothing" sooner than this was most likely never shown (a person takes
+/// longer to cancel one).
+const TOO_QUICK: Duration = Duration::from_millis(300);
+
+/// The answer of a closed dialog.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Answer {
+    /// The path chosen.
+    Chosen(PathBuf),
+    /// Cancelled.
+    Cancelled,
+    /// No dialog could be shown (no desktop portal, no zenity).
+    Unavailable,
 }
 
 impl Dialogs {
@@ -67,19 +83,23 @@ impl Dialogs {
                 repaint.request_repaint();
             });
         if spawned.is_ok() {
-            self.pending = Some((purpose, rx));
+            self.pending = Some((purpose, rx, Instant::now()));
             self.shown += 1;
         }
     }
 
-    /// The answer of the dialog, once it is closed: the purpose and the path chosen (`None`
-    /// when cancelled or when no dialog could be shown).
-    pub fn poll(&mut self) -> Option<(Purpose, Option<PathBuf>)> {
-        let (purpose, rx) = self.pending.as_ref()?;
+    /// The answer of the dialog, once it is closed, with its purpose.
+    pub fn poll(&mut self) -> Option<(Purpose, Answer)> {
+        let (purpose, rx, shown) = self.pending.as_ref()?;
         let answer = match rx.try_recv() {
-            Ok(path) => path,
+            Ok(Some(path)) => Answer::Chosen(path),
+            Ok(None) | Err(std::sync::mpsc::TryRecvError::Disconnected)
+                if shown.elapsed() < TOO_QUICK =>
+            {
+                Answer::Unavailable
+            }
+            Ok(None) | Err(std::sync::mpsc::TryRecvError::Disconnected) => Answer::Cancelled,
             Err(std::sync::mpsc::TryRecvError::Empty) => return None,
-            Err(std::sync::mpsc::TryRecvError::Disconnected) => None,
         };
         let purpose = *purpose;
         self.pending = None;

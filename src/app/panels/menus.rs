@@ -11,7 +11,7 @@ use egui::containers::menu::{MenuButton, MenuConfig};
 
 use crate::app::canvas::{figure, svg};
 use crate::app::display::Picked;
-use crate::app::files::dialog::Purpose;
+use crate::app::files::dialog::{Answer, Purpose};
 use crate::app::files::export;
 use crate::app::files::scenes::{dropped_scene, is_file, save_scene};
 use crate::app::files::screenshot::Shot;
@@ -223,15 +223,21 @@ pub fn export_png(app: &mut TsmApp) {
 
 /// Act on a closed dialog's answer and on a file dropped on the window.
 pub fn answers(app: &mut TsmApp, ctx: &egui::Context) {
-    if let Some((purpose, Some(path))) = app.dialogs.poll() {
-        match purpose {
+    match app.dialogs.poll() {
+        Some((purpose, Answer::Chosen(path))) => match purpose {
             Purpose::OpenScene => app.open(&path.to_string_lossy()),
             Purpose::SaveScene => save_scene_as(app, &path),
             Purpose::ExportStem => {
                 app.export_stem = path.with_extension("").to_string_lossy().into_owned();
                 app.status = format!("exports go to {}.*", app.export_stem);
             }
+        },
+        Some((_, Answer::Unavailable)) => {
+            app.status = "no file dialog can be shown on this desktop (it needs a desktop \
+                          portal or zenity): type the path under File > path, or in Export as"
+                .into();
         }
+        Some((_, Answer::Cancelled)) | None => {}
     }
     match dropped_scene(ctx) {
         Some(Ok(path)) => app.open(&path.to_string_lossy()),
