@@ -166,6 +166,11 @@ pub struct DistributedDef {
     /// range; default `q` (uniform).
     #[serde(default)]
     pub q_end: Option<(f64, f64)>,
+    /// The load follows the deformation (a pressure): `q` and `q_end` are then per unit of
+    /// current length, along each element's chord (from its start to its end) and across it
+    /// (to the left). Default false: per undeformed length, in fixed x and y.
+    #[serde(default)]
+    pub follower: bool,
 }
 
 /// A prescribed displacement.

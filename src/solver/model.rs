@@ -120,15 +120,21 @@ pub struct Load {
     pub force: [f64; 3],
 }
 
-/// A load distributed along a beam element per unit of its undeformed length, in fixed
-/// (global) directions, varying linearly from end i to end j, scaled by the load factor like
-/// the nodal loads (self-weight is one: density A g).
+/// A load distributed along a beam element, varying linearly from end i to end j, scaled by
+/// the load factor like the nodal loads. Either fixed: per unit of undeformed length in global
+/// directions (self-weight is one: density A g); or a follower: per unit of current length,
+/// along and across the current chord (a pressure), so that it turns and stretches with the
+/// element.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct DistributedLoad {
     /// Beam element index.
     pub beam: usize,
-    /// Load per length (x and y components) at end i and at end j.
+    /// Load per length at end i and at end j: (x, y), or for a follower (along the chord i -> j,
+    /// across it to the left).
     pub q: [[f64; 2]; 2],
+    /// Whether it follows the element.
+    #[serde(default)]
+    pub follower: bool,
 }
 
 /// A prescribed ("compulsory") displacement of one dof.
@@ -241,6 +247,11 @@ impl Model {
         let from = self.distributed.partition_point(|d| d.beam < e);
         let to = self.distributed.partition_point(|d| d.beam <= e);
         &self.distributed[from..to]
+    }
+
+    /// Whether the model has distributed loads that follow the deformation.
+    pub fn has_followers(&self) -> bool {
+        self.distributed.iter().any(|d| d.follower)
     }
 
     /// Whether the model has loads (nodal or distributed) for the load factor to scale.

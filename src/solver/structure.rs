@@ -142,6 +142,7 @@ impl Structure {
             ordering: ord,
             contact: self.params.contact_options(usize::MAX),
             loads: &[],
+            follower: None,
         }
     }
 

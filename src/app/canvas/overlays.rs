@@ -413,10 +413,23 @@ pub(crate) fn distributed_loads(
     s: &dyn Fn([f64; 2]) -> Pos2,
 ) {
     const LOAD: Color32 = Color32::from_rgb(120, 60, 170);
-    let at_mid = |q: &[[f64; 2]; 2]| [(q[0][0] + q[1][0]) / 2.0, (q[0][1] + q[1][1]) / 2.0];
+    // The load per length at the middle of the element, in x and y (a follower's turned from
+    // its chord frame).
+    let at_mid = |d: &crate::solver::DistributedLoad| {
+        let q = [(d.q[0][0] + d.q[1][0]) / 2.0, (d.q[0][1] + d.q[1][1]) / 2.0];
+        if !d.follower {
+            return q;
+        }
+        let b = &model.beams[d.beam];
+        let (a, c) = (r.nodes[b.i], r.nodes[b.j]);
+        let (dx, dy) = (c[0] - a[0], c[1] - a[1]);
+        let l = dx.hypot(dy).max(1e-300);
+        let (t, n) = ([dx / l, dy / l], [-dy / l, dx / l]);
+        [q[0] * t[0] + q[1] * n[0], q[0] * t[1] + q[1] * n[1]]
+    };
     let qmax = (model.distributed.iter())
         .map(|d| {
-            let q = at_mid(&d.q);
+            let q = at_mid(d);
             (q[0] * r.load_factor).hypot(q[1] * r.load_factor)
         })
         .fold(0.0f64, f64::max);
@@ -429,7 +442,7 @@ pub(crate) fn distributed_loads(
         let b = &model.beams[d.beam];
         let (a, c) = (r.nodes[b.i], r.nodes[b.j]);
         let at = s([(a[0] + c[0]) / 2.0, (a[1] + c[1]) / 2.0]);
-        let q = at_mid(&d.q).map(|v| v * r.load_factor);
+        let q = at_mid(d).map(|v| v * r.load_factor);
         let size = q[0].hypot(q[1]);
         if size == 0.0 {
             continue;

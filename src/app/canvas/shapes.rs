@@ -51,10 +51,18 @@ pub fn transverse_load(model: &Model, record: &IncrementRecord, e: usize) -> Opt
     let (dx, dy) = (c[0] - a[0], c[1] - a[1]);
     let l = dx.hypot(dy).max(1e-300);
     let n = [-dy / l, dx / l];
+    // A follower load is per current length: on the undeformed length the moment formula
+    // uses, (l / l0)^2 times as much.
+    let stretch = (l / model.beam_length(e).max(1e-300)).powi(2);
     let mut p = [0.0; 2];
     for d in on {
         for (end, q) in p.iter_mut().zip(&d.q) {
-            *end += record.load_factor * SIDE * (q[0] * n[0] + q[1] * n[1]);
+            let across = if d.follower {
+                q[1] * stretch
+            } else {
+                q[0] * n[0] + q[1] * n[1]
+            };
+            *end += record.load_factor * SIDE * across;
         }
     }
     Some(p)

@@ -1,7 +1,8 @@
 //! The distributed loads of a scene: each `distributed` entry on a body's elements (all of
 //! them, or a range), uniform or varying linearly from its first element's start to its last
-//! element's end, per unit of undeformed length in fixed directions; and the self-weight of
-//! every body whose section has a `density`, under `control.gravity`.
+//! element's end, per unit of undeformed length in fixed directions, or per unit of current
+//! length along and across the deformed chord (`follower`); and the self-weight of every body
+//! whose section has a `density`, under `control.gravity`.
 
 use super::errors::{Ctx, SceneError};
 use super::geometry::Geometry;
@@ -36,6 +37,14 @@ pub(super) fn distributed(
                 ),
             ));
         }
+        if d.follower && sf.control.arc_length.is_some() {
+            return Err(ctx.err(
+                format!("{field}.follower"),
+                Some("follower".into()),
+                "follower loads cannot be traced by arc length (the reference load would turn \
+                 with the structure): use load control",
+            ));
+        }
         let q0 = [d.q.0, d.q.1];
         let q1 = d.q_end.map_or(q0, |q| [q.0, q.1]);
         if !q0.iter().chain(&q1).all(|v| v.is_finite()) {
@@ -54,6 +63,7 @@ pub(super) fn distributed(
             out.push(DistributedLoad {
                 beam: e,
                 q: [at(s), at(s + l)],
+                follower: d.follower,
             });
             s += l;
         }
@@ -110,7 +120,11 @@ fn self_weight(
         }
         let q = [rho * section.a * gravity.0, rho * section.a * gravity.1];
         for &e in &g.bodies[b].elements {
-            out.push(DistributedLoad { beam: e, q: [q, q] });
+            out.push(DistributedLoad {
+                beam: e,
+                q: [q, q],
+                follower: false,
+            });
         }
     }
     Ok(())

@@ -1,8 +1,9 @@
 //! Assembly: the unbalanced force (loads minus the internal forces, with its norm, settled block
 //! by block as the elements finish with it) and the band tangent summed from beam and contact
-//! elements, at one state. The per-element adds are `internal.rs`.
+//! elements and the follower loads, at one state. The per-element adds are `internal.rs`.
 
 use super::dofs::{relative, DofMap, Ordering};
+use super::follower::follower_response;
 use super::internal::{add_element, add_plain_beam, Internal};
 use super::packed::PackedBeam;
 use crate::solver::element::beam::BeamElement;
@@ -80,6 +81,9 @@ pub struct AssemblyContext<'a> {
     /// The external forces at their equations (ascending), for the unbalanced force; none
     /// leaves it `-sum J S`.
     pub loads: &'a [(usize, f64)],
+    /// The load factor the follower loads are assembled at (`None`: the model has none, or
+    /// they are left out).
+    pub follower: Option<f64>,
 }
 
 /// Assemble internal forces (and the tangent) at displacements `d`.
@@ -150,7 +154,7 @@ pub(super) fn assemble_kernel(
     if with_tangent {
         // Beam tangents are exactly symmetric (entry by entry); contact elements' are not.
         let t = tangent.get_or_insert_with(|| BandMatrix::zeros(0, 0, 0));
-        if ord.links.is_empty() {
+        if ord.links.is_empty() && ctx.follower.is_none() {
             t.reset_symmetric_lazily(ord.n_eq, ord.band);
         } else {
             t.reset(ord.n_eq, ord.band, ord.band);
@@ -181,6 +185,7 @@ pub(super) fn assemble_kernel(
         let group = match wide {
             Some(cpu)
                 if e >= one_by_one
+                    && ctx.follower.is_none()
                     && e + 4 <= n_beams
                     && contact_beams.peek().is_none_or(|&c| c >= e + 4) =>
             {
@@ -275,6 +280,29 @@ pub(super) fn assemble_kernel(
                 &mut *coupling,
             );
             add_element(&gdofs, r.nodal.as_slice(), k, ord, dofs, dp, sink);
+        }
+        if let Some(lambda) = ctx.follower {
+            let on = model.distributed_on(e);
+            if on.iter().any(|l| l.follower) {
+                let (xi, _) = relative(model, dofs, d, beam.i, beam.i);
+                let (xj, _) = relative(model, dofs, d, beam.j, beam.i);
+                let (nodal, k) = follower_response(on, [xj[0] - xi[0], xj[1] - xi[1]], lambda);
+                gdofs.clear();
+                gdofs.extend(
+                    [beam.i, beam.j]
+                        .iter()
+                        .flat_map(|&n| (0..2).map(move |o| (n, o)))
+                        .map(|(n, o)| dofs.dof(n, o)),
+                );
+                let k = with_tangent.then_some(move |a: usize, b: usize| k[a][b]);
+                let sink = (
+                    &mut internal,
+                    (held.0, &mut *held.1),
+                    tangent.as_mut(),
+                    &mut *coupling,
+                );
+                add_element(&gdofs, &nodal, k, ord, dofs, dp, sink);
+            }
         }
         e += 1;
         internal.settle(ord.final_before[e] as usize);

@@ -2,7 +2,8 @@
 //! 10^5 elements with a tip load needs one entry, not a vector over every dof per increment.
 //! A distributed load adds the work-equivalent forces of its linear variation to the element's
 //! two nodes (per undeformed length and in fixed directions, it does not depend on the
-//! deformation, so it adds nothing to the tangent).
+//! deformation, so it adds nothing to the tangent). Follower loads depend on the state: they
+//! are assembled with the elements (`follower.rs`).
 
 use super::dofs::DofMap;
 use crate::solver::model::Model;
@@ -45,7 +46,7 @@ impl ExternalForce {
                 entries.push((dofs.dof(l.node, o), lambda * l.force[o]));
             }
         }
-        for d in &model.distributed {
+        for d in model.distributed.iter().filter(|d| !d.follower) {
             let b = &model.beams[d.beam];
             let l = model.beam_length(d.beam);
             // Linear shape functions: (2 qi + qj) l / 6 at i and (qi + 2 qj) l / 6 at j.
@@ -113,7 +114,11 @@ mod tests {
         s.structure
             .model
             .distributed
-            .push(crate::solver::DistributedLoad { beam: 2, q });
+            .push(crate::solver::DistributedLoad {
+                beam: 2,
+                q,
+                follower: false,
+            });
         let (l, b) = (s.model.beam_length(2), s.model.beams[2].clone());
         let f = s.external_force(1.0);
         let pieces = 10_000;

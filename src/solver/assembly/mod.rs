@@ -1,10 +1,11 @@
 //! Assembly of the global equations at one state: the dof map and the equation ordering
 //! (`dofs.rs`), the external force at a load factor (`loads.rs`), and the unbalanced force and
 //! band tangent summed from the beam and contact elements (`assemble.rs`, with the per-element
-//! adds in `internal.rs`).
+//! adds in `internal.rs`) and the distributed loads that follow the deformation (`follower.rs`).
 
 mod assemble;
 mod dofs;
+mod follower;
 mod internal;
 mod loads;
 mod packed;
@@ -13,5 +14,6 @@ mod tests;
 
 pub use assemble::{assemble, assemble_into, Assembled, AssemblyContext, ElementResults};
 pub use dofs::{current, relative, ContactLink, DofKind, DofMap, Ordering};
+pub use follower::follower_response;
 pub use loads::ExternalForce;
 pub use packed::PackedBeam;

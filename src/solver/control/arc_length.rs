@@ -23,6 +23,11 @@ impl Solver {
         let nominal = self.params.arc_length.ok_or_else(|| SolveError::Invalid {
             reason: "arc-length control needs control.arc_length".into(),
         })?;
+        if self.model.has_followers() {
+            return Err(SolveError::Invalid {
+                reason: "follower loads cannot be traced by arc length: use load control".into(),
+            });
+        }
         if !self.model.has_loads() {
             return Err(SolveError::Invalid {
                 reason: "arc-length control needs at least one load".into(),

@@ -4,7 +4,7 @@
 use std::ops::Deref;
 
 use crate::solver::acceptance::CrossingCheck;
-use crate::solver::assembly::assemble;
+use crate::solver::assembly::{assemble, AssemblyContext};
 use crate::solver::contact::{ContactSet, ContactView};
 use crate::solver::model::Model;
 use crate::solver::newton::{Newton, Workspace};
@@ -120,7 +120,11 @@ impl Solver {
         let ord = self
             .work
             .ordering_for(&self.structure, &self.state.contacts);
-        let asm = assemble(&self.context(&ord), d, true, None);
+        let ctx = AssemblyContext {
+            follower: (self.model.has_followers()).then_some(self.state.load_factor),
+            ..self.context(&ord)
+        };
+        let asm = assemble(&ctx, d, true, None);
         let fext = self.external_force(self.state.load_factor);
         let free: Vec<usize> = ord.dof_of.iter().map(|&g| g as usize).collect();
         // Assembled with no loads: the unbalanced force is -sum J S.

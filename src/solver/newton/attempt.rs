@@ -67,7 +67,10 @@ impl Newton<'_> {
         // The predictor's assembly is the last converged one when nothing differs: no contact
         // element and no prescribed increment (which would need the coupling K_fp dp).
         let mut reuse = false;
-        if ordering.links.is_empty() && path.starts_at_the_converged_state() {
+        if ordering.links.is_empty()
+            && path.starts_at_the_converged_state()
+            && !self.model.has_followers()
+        {
             if let Some(kept) = self.work.converged_assembly.take(self.state.increment) {
                 asm = kept;
                 asm.coupling.clear();
@@ -83,6 +86,7 @@ impl Newton<'_> {
             let ctx = AssemblyContext {
                 contact: p.contact_options(pass_iter + 1),
                 loads: &loads,
+                follower: self.model.has_followers().then(|| path.load_factor()),
                 ..self.context(&ordering)
             };
             if std::mem::take(&mut reuse) {

@@ -120,6 +120,13 @@ impl Path {
         self.dp().is_none_or(|dp| dp.iter().all(|v| *v == 0.0))
     }
 
+    /// The load factor of the current iterate.
+    pub(super) fn load_factor(&self) -> f64 {
+        match self {
+            Path::Prescribed { lambda, .. } | Path::Arc { lambda, .. } => *lambda,
+        }
+    }
+
     /// The external force at the current load factor and its sum of squares.
     pub(super) fn external_force(&self) -> (&ExternalForce, f64) {
         match self {
