@@ -457,3 +457,66 @@ fn bad_distributed_loads_are_refused_with_their_field() {
         assert_eq!(e.line, Some(line), "{e}");
     }
 }
+
+/// The clamp's reactions balance the load, computed here from the accepted node positions
+/// alone: for a follower pressure q_n across each deformed chord D (the force q_n R D at the
+/// chord's middle, R the quarter turn) and for a fixed load w per undeformed length (w l0 at
+/// the middle of each chord), forces and moment about the clamp, at every increment, to 1e-7
+/// of the load.
+#[test]
+fn the_reactions_balance_the_distributed_load_at_every_increment() {
+    for (follower, q) in [(true, -40.0), (false, -40.0)] {
+        let text = format!(
+            r#"(
+    name: "loaded",
+    sections: [(name: "s", E: 2.0e5, A: 1.0e3, I: 1.0e-3)],
+    bodies: [(name: "beam", section: "s", path: [(0.0, 0.0), ({L}, 0.0)], elements: 12, first_node: 1)],
+    supports: [(node: 1, u: true, v: true, phi: true)],
+    distributed: [(body: "beam", q: (0.0, {q}), follower: {follower})],
+    control: (steps: 5),
+)"#
+        );
+        let mut solver = parse(&text, "loaded.ron").unwrap().solver().unwrap();
+        for _ in 0..5 {
+            for r in solver.step(&mut Silent).unwrap() {
+                let x0 = r.nodes[0];
+                let (mut f, mut m) = ([0.0; 2], 0.0);
+                for k in 0..12 {
+                    let (a, b) = (r.nodes[k], r.nodes[k + 1]);
+                    let dd = [b[0] - a[0], b[1] - a[1]];
+                    let load = if follower {
+                        [-q * dd[1], q * dd[0]]
+                    } else {
+                        [0.0, q * L / 12.0]
+                    };
+                    let load = load.map(|v| v * r.load_factor);
+                    let mid = [(a[0] + b[0]) / 2.0 - x0[0], (a[1] + b[1]) / 2.0 - x0[1]];
+                    f[0] += load[0];
+                    f[1] += load[1];
+                    m += mid[0] * load[1] - mid[1] * load[0];
+                }
+                let reaction = |dof: &str| {
+                    r.reactions
+                        .iter()
+                        .find(|x| x.node == 1 && x.dof == dof)
+                        .unwrap()
+                        .value
+                };
+                let size = f[0].hypot(f[1]);
+                assert!(
+                    (reaction("u") + f[0]).abs() < 1e-7 * size,
+                    "follower {follower}"
+                );
+                assert!(
+                    (reaction("v") + f[1]).abs() < 1e-7 * size,
+                    "follower {follower}"
+                );
+                assert!(
+                    (reaction("phi") + m).abs() < 1e-7 * size * L,
+                    "follower {follower}: moment {} vs {m}",
+                    reaction("phi")
+                );
+            }
+        }
+    }
+}
