@@ -25,6 +25,13 @@ fn options() -> SnapshotOptions {
         .max_failed_pixels(pixels / 400)
 }
 
+/// Fit the view to the viewed increment (F) and let it settle: the picture then does not
+/// depend on when, during the run, the view was last fitted.
+fn fit(h: &mut Harness<'static, TsmApp>) {
+    h.key_press(egui::Key::F);
+    h.run_steps(4);
+}
+
 fn harness(startup: Startup) -> Harness<'static, TsmApp> {
     Harness::builder()
         .with_size(SIZE)
@@ -43,7 +50,7 @@ fn example_3_2_at_increment_12_with_its_moment_diagram() {
     wait(&mut h, "12 increments", Duration::from_secs(60), |h| {
         h.state().increments() == 12 && !solving(h)
     });
-    h.run_steps(4);
+    fit(&mut h);
     h.snapshot_options("example_3_2_moment", &options());
 }
 
@@ -88,7 +95,7 @@ fn example_3_2_branched_at_increment_20() {
     wait(&mut h, "the branch", Duration::from_secs(60), |h| {
         !solving(h) && h.state().increments() == 23
     });
-    h.run_steps(4);
+    fit(&mut h);
     h.snapshot_options("example_3_2_branched", &options());
 }
 

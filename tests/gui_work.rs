@@ -161,8 +161,9 @@ fn a_missing_remembered_scene_opens_the_default_and_says_why() {
 
 /// Example 3.2 solved to increment 30, viewed at 20 and its drive moved: the run goes on from
 /// 20 (the increments 1 to 20 stay as they were, the new ones follow the new target), and
-/// Ctrl+Z brings the old 30 increments and their events back exactly. Going on from there
-/// gives increment 31 exactly as an unbroken run of 31 steps does.
+/// Ctrl+Z brings the old 30 increments and their events back exactly; Ctrl+Y brings the branch
+/// back exactly, and Undo the old path again. Going on from there gives increment 31 exactly as
+/// an unbroken run of 31 steps does.
 #[test]
 fn a_branch_at_increment_20_is_undone_exactly() {
     let mut h = harness(Startup::scene("example_3_2"));
@@ -194,6 +195,17 @@ fn a_branch_at_increment_20_is_undone_exactly() {
     });
     assert_eq!(results(h.state().history()), old);
     assert_eq!(h.state().events(), old_events);
+    // Redo brings the branch back exactly, and Undo the old path again.
+    h.key_press_modifiers(Modifiers::COMMAND, Key::Y);
+    wait(&mut h, "the redo", Duration::from_secs(30), |h| {
+        h.state().increments() == branch.len() - 1 && !solving(h)
+    });
+    assert_eq!(results(h.state().history()), branch);
+    h.get_by_label("Undo").click();
+    wait(&mut h, "the second undo", Duration::from_secs(30), |h| {
+        h.state().increments() == 30 && !solving(h)
+    });
+    assert_eq!(results(h.state().history()), old);
     h.get_by_label("Next").click();
     wait(&mut h, "increment 31", Duration::from_secs(60), |h| {
         h.state().increments() == 31 && !solving(h)
@@ -211,7 +223,7 @@ fn a_branch_at_increment_20_is_undone_exactly() {
 }
 
 /// Switching the element with a history starts again from increment 0; Undo brings the
-/// Timoshenko run back exactly, and its element with it.
+/// Timoshenko run back exactly, and its element with it; Redo the Bernoulli-Euler one.
 #[test]
 fn a_changed_element_sets_the_run_aside_and_undo_brings_it_back() {
     let mut h = harness(Startup::scene("example_3_2"));
@@ -229,6 +241,11 @@ fn a_changed_element_sets_the_run_aside_and_undo_brings_it_back() {
     h.run_steps(3);
     assert_eq!(results(h.state().history()), old);
     assert!(h.query_by_label("Timoshenko").is_some());
+    // Redo goes back to the Bernoulli-Euler run.
+    h.get_by_label("Redo").click();
+    wait(&mut h, "the redo", Duration::from_secs(30), |h| {
+        h.state().status().contains("(BernoulliEuler)") && h.state().increments() == 0
+    });
 }
 
 /// Ctrl+S writes the view's PNG at the size set in the Export menu, Ctrl+E the history as

@@ -1,8 +1,8 @@
-//! Branching the history and taking it back. A drive moved while an earlier increment is
-//! viewed goes on from that increment, and the later ones are set aside; a changed setting or
-//! another scene starts again from increment 0, and the old run is set aside whole. Undo
-//! (Ctrl+Z) brings back what was set aside last, exactly as it was, and the worker goes on from
-//! its end.
+//! What a branch or a change sets aside. A drive moved while an earlier increment is viewed
+//! goes on from that increment, and the later ones are set aside; a changed setting or another
+//! scene starts again from increment 0, and the old run is set aside whole. Undo (Ctrl+Z)
+//! brings back what was set aside last, exactly as it was, and sets aside what it replaces for
+//! Redo (Ctrl+Y); `undo.rs` does it.
 
 use crate::scene::Scene;
 use crate::solver::{Checkpoint, Event};
@@ -22,6 +22,8 @@ pub enum SetAside {
         tail: Tail,
         /// Their events.
         events: Vec<Event>,
+        /// Whether they are the branch (brought back by Redo) rather than the path it left.
+        branched: bool,
     },
     /// A whole run, before a change of scene or setting.
     Run {

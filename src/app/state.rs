@@ -98,6 +98,8 @@ pub struct TsmApp {
     pub(crate) table: TableView,
     /// Histories set aside (a branch's later increments, a run before a change), newest last.
     pub(crate) undo: Vec<SetAside>,
+    /// Histories Undo replaced, newest last (cleared by a new branch or change).
+    pub(crate) redo: Vec<SetAside>,
     /// The increments the shown history branched at (marked on the timeline).
     pub(crate) branch_points: Vec<usize>,
     /// Messages of work set aside are still coming: skip them until the worker says it is
@@ -283,7 +285,7 @@ impl TsmApp {
                         self.send(Command::RunSteps(k));
                     }
                     if let Some(run) = self.restoring.take() {
-                        self.take_back(run);
+                        let _ = self.take_back(run);
                     }
                     if let Some(shot) = &mut self.shot {
                         shot.loaded(self.busy);

@@ -1,6 +1,7 @@
-//! Branching and Undo on the app: driving a prescribed dof from the viewed increment (the
+//! Branching, Undo and Redo on the app: driving a prescribed dof from the viewed increment (the
 //! later increments set aside), setting a whole run aside before a change of scene or setting,
-//! and bringing back what was set aside last, with the worker going on from its end.
+//! bringing back what was set aside last (Undo) with the worker going on from its end, and
+//! what Undo replaced (Redo).
 
 use crate::worker::Command;
 
@@ -39,7 +40,11 @@ impl TsmApp {
         let mut tail = self.history.split_off(k + 1);
         tail.trim_to_checkpoint();
         let events = events_after(&mut self.events, at);
-        self.set_aside(SetAside::Branch { tail, events });
+        self.set_aside(SetAside::Branch {
+            tail,
+            events,
+            branched: false,
+        });
         self.branch_points.push(at);
         self.restore(c);
         self.status = format!("going on from increment {at}; Ctrl+Z brings back the old path");
@@ -58,41 +63,55 @@ impl TsmApp {
     /// to set aside before its first increment.
     pub(crate) fn set_aside_run(&mut self) {
         self.error = None;
-        let Some(l) = &self.loaded else { return };
         if self.last() == 0 {
             return;
         }
+        if let Some(run) = self.take_run() {
+            self.set_aside(run);
+        }
+    }
+
+    /// The current run, taken out of the app to be set aside (the worker's messages of it
+    /// skipped from now on).
+    fn take_run(&mut self) -> Option<SetAside> {
+        let l = self.loaded.as_ref()?;
         if self.busy {
             self.worker.send(Command::Cancel);
         }
-        let run = SetAside::Run {
+        self.stale = true;
+        Some(SetAside::Run {
             scene: Box::new(l.scene.clone()),
             history: std::mem::take(&mut self.history),
             events: std::mem::take(&mut self.events),
             selected: self.selected,
             name: self.scene_name.clone(),
             branches: std::mem::take(&mut self.branch_points),
-        };
-        self.set_aside(run);
-        self.stale = true;
+        })
     }
 
-    /// Keep `s` for Undo, within `UNDO_DEPTH` entries and one history budget in all.
+    /// Keep `s` for Undo (a new branch or change: nothing is left to redo).
     fn set_aside(&mut self, s: SetAside) {
-        self.undo.push(s);
-        while self.undo.len() > UNDO_DEPTH
-            || (self.undo.len() > 1
-                && self.undo.iter().map(SetAside::bytes).sum::<usize>() > HISTORY_BUDGET)
-        {
-            self.undo.remove(0);
-        }
+        self.redo.clear();
+        keep(&mut self.undo, s);
     }
 
     /// Bring back what was set aside last (Ctrl+Z): the history as it was, and the worker
-    /// going on from its end.
+    /// going on from its end; what it replaces is kept for Redo.
     pub(crate) fn undo(&mut self) {
-        let Some(s) = self.undo.pop() else {
-            self.status = "nothing to undo".into();
+        self.swap(true);
+    }
+
+    /// Bring back what Undo replaced (Ctrl+Y), keeping what it replaces for Undo.
+    pub(crate) fn redo(&mut self) {
+        self.swap(false);
+    }
+
+    /// Bring back the newest entry of the undo (`undo`) or the redo stack, and keep what it
+    /// replaces on the other.
+    fn swap(&mut self, undo: bool) {
+        let from = if undo { &mut self.undo } else { &mut self.redo };
+        let Some(s) = from.pop() else {
+            self.status = format!("nothing to {}", if undo { "undo" } else { "redo" });
             return;
         };
         if self.busy {
@@ -100,31 +119,52 @@ impl TsmApp {
         }
         self.playing = false;
         self.status = format!("brought back {}", s.describe());
-        match s {
+        let replaced = match s {
             SetAside::Branch { .. } => self.take_back(s),
             SetAside::Run {
                 ref scene,
                 ref name,
                 ..
             } => {
+                let current = self.take_run();
                 self.scene_name = name.clone();
                 self.worker.send(Command::LoadScene(scene.clone()));
                 self.stale = true;
                 self.restoring = Some(s);
+                current
             }
+        };
+        if let Some(r) = replaced {
+            keep(if undo { &mut self.redo } else { &mut self.undo }, r);
         }
     }
 
-    /// Put a set-aside history back in place (a whole run once its scene is loaded).
-    pub(crate) fn take_back(&mut self, s: SetAside) {
-        match s {
-            SetAside::Branch { tail, events } => {
-                let from = self.history.get(tail.at - 1).map_or(0, |r| r.increment);
-                events_after(&mut self.events, from);
+    /// Put a set-aside history back in place (a whole run once its scene is loaded), and
+    /// return what a branch's increments replace.
+    pub(crate) fn take_back(&mut self, s: SetAside) -> Option<SetAside> {
+        let replaced = match s {
+            SetAside::Branch {
+                tail,
+                events,
+                branched,
+            } => {
+                let at = tail.at;
+                let from = self.history.get(at - 1).map_or(0, |r| r.increment);
+                let old_events = events_after(&mut self.events, from);
                 self.events.extend(events);
-                self.history.rejoin(tail);
-                self.branch_points.pop();
+                let mut old = self.history.rejoin(tail);
+                old.trim_to_checkpoint();
+                if branched {
+                    self.branch_points.push(from);
+                } else {
+                    self.branch_points.pop();
+                }
                 self.selected = self.last();
+                Some(SetAside::Branch {
+                    tail: old,
+                    events: old_events,
+                    branched: !branched,
+                })
             }
             SetAside::Run {
                 history,
@@ -137,11 +177,24 @@ impl TsmApp {
                 self.events = events;
                 self.selected = selected.min(self.last());
                 self.branch_points = branches;
+                None
             }
-        }
+        };
         if let Some(l) = &self.loaded {
             let c = end_checkpoint(&self.history, &l.checkpoint);
             self.restore(c);
         }
+        replaced
+    }
+}
+
+/// Push `s` on an undo or redo stack, within `UNDO_DEPTH` entries and one history budget in
+/// all (the oldest go first).
+fn keep(stack: &mut Vec<SetAside>, s: SetAside) {
+    stack.push(s);
+    while stack.len() > UNDO_DEPTH
+        || (stack.len() > 1 && stack.iter().map(SetAside::bytes).sum::<usize>() > HISTORY_BUDGET)
+    {
+        stack.remove(0);
     }
 }

@@ -90,6 +90,7 @@ impl TsmApp {
             plot_dof: 1,
             table: Default::default(),
             undo: Vec::new(),
+            redo: Vec::new(),
             branch_points: Vec::new(),
             stale: false,
             restoring: None,

@@ -1,6 +1,7 @@
 //! The keyboard: Space runs or stops, Left and Right step through the increments (Right at the
 //! last one solves one more step), Home and End go to the first and last, Esc stops the
-//! solver, F fits the view (in `canvas::viewport`), Ctrl+Z brings back what was set aside,
+//! solver, F fits the view (in `canvas::viewport`), Ctrl+Z brings back what was set aside and
+//! Ctrl+Y (or Ctrl+Shift+Z) what Undo replaced,
 //! Ctrl+O opens a scene, Ctrl+S saves the view's PNG, Ctrl+E exports the history, and ? lists
 //! them all in a window. Keys act only while no text field has the keyboard.
 
@@ -11,7 +12,7 @@ use crate::app::state::TsmApp;
 use crate::worker::Command;
 
 /// Every shortcut and what it does, as the help window lists them.
-pub const SHORTCUTS: [(&str, &str); 11] = [
+pub const SHORTCUTS: [(&str, &str); 12] = [
     ("Space", "run the remaining steps, or stop the solver"),
     (
         "Left / Right",
@@ -25,6 +26,7 @@ pub const SHORTCUTS: [(&str, &str); 11] = [
         "Ctrl+Z",
         "undo: bring back the increments a branch, a change of scene or setting, or Reset set aside",
     ),
+    ("Ctrl+Y", "redo: bring back what Undo replaced (also Ctrl+Shift+Z)"),
     ("Ctrl+O", "open a scene file"),
     ("Ctrl+S", "save the viewed increment as a PNG (Export menu: name and size)"),
     ("Ctrl+E", "export the history as JSON and CSV (Export menu: name)"),
@@ -37,6 +39,10 @@ pub fn handle(app: &mut TsmApp, ctx: &egui::Context) {
         return;
     }
     let command = |k: Key| ctx.input_mut(|i| i.consume_key(egui::Modifiers::COMMAND, k));
+    let shifted = egui::Modifiers::COMMAND | egui::Modifiers::SHIFT;
+    if ctx.input_mut(|i| i.consume_key(shifted, Key::Z)) || command(Key::Y) {
+        app.redo();
+    }
     if command(Key::Z) {
         app.undo();
     }

@@ -1,8 +1,9 @@
 //! The timeline: a slider over the converged increments ("Increment") and the buttons
 //! "Previous", "Next" (the next increment; at the last one, one more scene step solved), "Play" /
 //! "Pause" (replay), "Run" (solve the scene's remaining steps), "Stop" (any run), "Reset" and
-//! "Undo" (bring back what a branch, a change or Reset set aside). Increments accepted at the
-//! round-off floor are ticked under the slider, branch points marked over it.
+//! "Undo" (bring back what a branch, a change or Reset set aside), "Redo" (what Undo replaced).
+//! Increments accepted at the round-off floor are ticked under the slider, branch points marked
+//! over it.
 
 use crate::worker::Command;
 
@@ -13,7 +14,7 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui) {
     ui.horizontal(|ui| {
         let last = app.last();
         let mut sel = app.selected.min(last);
-        ui.spacing_mut().slider_width = (ui.available_width() - 520.0).max(120.0);
+        ui.spacing_mut().slider_width = (ui.available_width() - 580.0).max(120.0);
         let r = ui.add(
             egui::Slider::new(&mut sel, 0..=last)
                 .text("Increment")
@@ -90,6 +91,16 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui) {
             });
         if undo.clicked() {
             app.undo();
+        }
+        let what = app.redo.last().map(|s| s.describe());
+        let redo = ui
+            .add_enabled(what.is_some(), egui::Button::new("Redo"))
+            .on_hover_text(match &what {
+                Some(w) => format!("bring back {w} (Ctrl+Y)"),
+                None => "nothing to redo (Ctrl+Y)".into(),
+            });
+        if redo.clicked() {
+            app.redo();
         }
     });
 }
