@@ -86,6 +86,28 @@ fn equilibrium(
             load2 += (rec.load_factor * f[k]).powi(2);
         }
     }
+    // Distributed loads: half of each element's share on each of its nodes (a fixed load per
+    // undeformed length, or a follower's along and across the current chord).
+    for &(body, q, follower) in &spec.distributed {
+        for &(_, i, j) in spec.elements.iter().filter(|e| e.0 == body) {
+            let f = if follower {
+                let (a, c) = (pos(i), pos(j));
+                let d = [c[0] - a[0], c[1] - a[1]];
+                [q[0] * d[0] - q[1] * d[1], q[0] * d[1] + q[1] * d[0]]
+            } else {
+                let (a, c) = (spec.coords[&i], spec.coords[&j]);
+                let l0 = (c[0] - a[0]).hypot(c[1] - a[1]);
+                [q[0] * l0, q[1] * l0]
+            };
+            for n in [i, j] {
+                let e = ext.entry(n).or_default();
+                for k in 0..2 {
+                    e[k] += rec.load_factor * f[k] / 2.0;
+                }
+            }
+            load2 += (rec.load_factor * f[0]).powi(2) + (rec.load_factor * f[1]).powi(2);
+        }
+    }
     for r in &rec.reactions {
         let k = match r.dof.as_str() {
             "u" => 0,

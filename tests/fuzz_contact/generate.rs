@@ -1,8 +1,9 @@
 //! Random contact scenes for the campaign: a pin pushed onto a beam, a beam's tip pushed onto
 //! another beam, and a pin dragged across two beams (a transfer), with gaps from zero to large,
-//! both formulations and random prescribed steps and loads. Each scene comes with its own plain
-//! description (node positions, bodies, element ends, candidates, loads), which the checker
-//! reads instead of the solver's model.
+//! both formulations and random prescribed steps and loads (a third with a distributed load on
+//! one beam, fixed or following it). Each scene comes with its own plain description (node
+//! positions, bodies, element ends, candidates, loads), which the checker reads instead of the
+//! solver's model.
 
 use std::collections::HashMap;
 use std::fmt::Write;
@@ -25,6 +26,10 @@ pub struct Spec {
     pub candidates: Vec<(u32, usize)>,
     /// Applied loads per unit load factor: node, (fx, fy, m).
     pub loads: Vec<(u32, [f64; 3])>,
+    /// Uniform distributed loads per unit load factor: body, (qx, qy) per undeformed length,
+    /// or for a follower (along, across) each chord per current length, and whether it
+    /// follows.
+    pub distributed: Vec<(usize, [f64; 2], bool)>,
     /// The gap between the pushed node and the beam it is pushed onto at the start, over the
     /// scene's length.
     pub gap: f64,
@@ -72,6 +77,7 @@ impl Builder {
                 elements: Vec::new(),
                 candidates: Vec::new(),
                 loads: Vec::new(),
+                distributed: Vec::new(),
                 gap: 0.0,
             },
             bodies: Vec::new(),
@@ -170,6 +176,26 @@ impl Builder {
         let loads: Vec<String> = (self.spec.loads.iter())
             .map(|(n, f)| format!("(node: {n}, fx: {:e}, fy: {:e}, m: {:e})", f[0], f[1], f[2]))
             .collect();
+        // A third of the scenes: a uniform distributed load on one beam, fixed or following
+        // it, of about the tip load's size in all (drawn last, so the rest of the scene is
+        // that of the same seed without it).
+        if rng.next() < -1.0 / 3.0 {
+            let body = pick(rng, self.names.len());
+            let q = scale / length * uniform(rng, 0.2, 2.0);
+            let follower = rng.next() < 0.0;
+            let angle = uniform(rng, -3.2, 3.2);
+            self.spec
+                .distributed
+                .push((body, [q * angle.cos(), q * angle.sin()], follower));
+        }
+        let distributed: Vec<String> = (self.spec.distributed.iter())
+            .map(|(b, q, f)| {
+                format!(
+                    r#"(body: "{}", q: ({:e}, {:e}), follower: {f})"#,
+                    self.names[*b], q[0], q[1]
+                )
+            })
+            .collect();
         let mut contacts = String::new();
         for (node, body) in &self.spec.candidates {
             let _ = write!(
@@ -186,6 +212,7 @@ impl Builder {
     bodies: [{}],
     supports: [{}],
     loads: [{}],
+    distributed: [{}],
     prescribed: [{}],
     contacts: [{contacts}],
     control: (steps: {steps}),
@@ -198,6 +225,7 @@ impl Builder {
             self.bodies.join(", "),
             self.supports.join(", "),
             loads.join(", "),
+            distributed.join(", "),
             self.prescribed.join(", "),
         );
         self.spec
