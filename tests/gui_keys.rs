@@ -51,11 +51,25 @@ fn arrows_home_and_end_walk_the_increments_and_question_mark_lists_the_keys() {
     assert!(label(&h, "stop the solver").is_some());
 }
 
+/// Lee's frame on 60 elements a member, traced in 3,000 short arcs: a run long enough to be
+/// stopped in the middle on any machine.
+const LONG_LEE: &str = r#"(
+    name: "Lee's frame, fine",
+    formulation: BernoulliEuler,
+    sections: [(name: "member", E: 720.0, A: 6.0, I: 2.0, nu: 0.3)],
+    bodies: [(name: "frame", section: "member", path: [(0.0, 0.0), (0.0, 120.0), (120.0, 120.0)], elements: 60, first_node: 1)],
+    supports: [(node: 1, u: true, v: true), (node: 121, u: true, v: true)],
+    loads: [(node: 73, fy: -1.0)],
+    control: (steps: 3000, arc_length: 0.05),
+)"#;
+
 /// Lee's frame is traced by arc length (load control): Space starts the run, and Esc ends it
 /// within 50 ms of the key, with every increment accepted before it kept.
 #[test]
 fn esc_stops_an_arc_length_run_within_50_ms() {
-    let mut h = harness_on("lee_frame");
+    let path = std::env::temp_dir().join(format!("tsm-long-lee-{}.ron", std::process::id()));
+    std::fs::write(&path, LONG_LEE).unwrap();
+    let mut h = harness_on(&path.to_string_lossy());
     press(&mut h, Key::Space);
     wait(&mut h, "the run to start", Duration::from_secs(60), |h| {
         solving(h) && h.state().increments() >= 3
@@ -79,6 +93,8 @@ fn esc_stops_an_arc_length_run_within_50_ms() {
         h.step();
     }
     assert_eq!(h.state().increments(), kept);
+    assert!(kept < 3000, "stopped before the end");
+    std::fs::remove_file(path).ok();
 }
 
 /// F fits the view again after a pan: node 1 of Example 3.2 returns to where the fitted view
