@@ -84,6 +84,12 @@ fn an_opened_file_replaces_the_scene_and_a_bad_one_keeps_it_with_its_error() {
     shows_scene(&mut h, "Example 3.2: three cantilevers and a pin");
     h.state_mut().open(&good.to_string_lossy());
     shows_scene(&mut h, "cantilever");
+    let canonical = std::fs::canonicalize(&good).unwrap();
+    assert_eq!(
+        h.state().recent_files(),
+        [canonical.clone()],
+        "a recent file"
+    );
     let bad = dir.join("bad.ron");
     let long_name = "x".repeat(2000);
     std::fs::write(
@@ -104,6 +110,11 @@ fn an_opened_file_replaces_the_scene_and_a_bad_one_keeps_it_with_its_error() {
     assert!(h.query_by_label("Copy").is_some());
     assert!(h.query_by_label("cantilever").is_some(), "the scene stays");
     assert_eq!(h.state().scene_name(), good.to_string_lossy());
+    assert_eq!(
+        h.state().recent_files(),
+        [canonical],
+        "a file that fails is not recent"
+    );
     let _ = std::fs::remove_dir_all(dir);
 }
 

@@ -173,6 +173,11 @@ impl TsmApp {
         &self.scene_name
     }
 
+    /// The scene files opened last, newest first (File > Open recent).
+    pub fn recent_files(&self) -> &[std::path::PathBuf] {
+        self.recent.files()
+    }
+
     /// Whether a file dialog is open.
     pub fn dialog_open(&self) -> bool {
         self.dialogs.open()

@@ -146,6 +146,7 @@ impl eframe::App for TsmApp {
         };
         egui::CentralPanel::no_frame().show(ui, |ui| viewport::show(self, ui, gpu.as_ref()));
         shortcuts::window(self, &ctx);
+        menus::drop_hint(&ctx);
         table::window(self, &ctx);
         if let Some(shot) = &mut self.shot {
             shot.frame(&ctx, &self.layout);

@@ -2,7 +2,7 @@
 //! files, the built-in scenes, a typed path, Save scene as), Export (the history as JSON and
 //! CSV, the viewed increment as SVG and as a PNG of a chosen size, the window as a picture,
 //! under the name in "Export as", which "..." picks with a dialog) and Help (the shortcuts).
-//! Also the answers of the dialogs and files dropped on the window. Every write confirms with
+//! Also the answers of the dialogs, and files dragged over and dropped on the window. Every write confirms with
 //! its full path or says why it failed.
 
 use std::path::{Path, PathBuf};
@@ -244,6 +244,24 @@ pub fn answers(app: &mut TsmApp, ctx: &egui::Context) {
         Some(Err(why)) => app.error = Some(why),
         None => {}
     }
+}
+
+/// While files are dragged over the window: say that a dropped scene opens.
+pub fn drop_hint(ctx: &egui::Context) {
+    if ctx.input(|i| i.raw.hovered_files.is_empty()) {
+        return;
+    }
+    let layer = egui::LayerId::new(egui::Order::Foreground, egui::Id::unique("drop hint"));
+    let painter = ctx.layer_painter(layer);
+    let rect = ctx.content_rect();
+    painter.rect_filled(rect, 0.0, egui::Color32::from_black_alpha(120));
+    painter.text(
+        rect.center(),
+        egui::Align2::CENTER_CENTER,
+        "drop a .ron scene file to open it",
+        egui::FontId::proportional(22.0),
+        egui::Color32::WHITE,
+    );
 }
 
 /// Save the scene as solved to `path` (the dialog's answer, or a test's path).
