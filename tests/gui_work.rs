@@ -87,7 +87,7 @@ fn an_opened_file_replaces_the_scene_and_a_bad_one_keeps_it_with_its_error() {
     let canonical = std::fs::canonicalize(&good).unwrap();
     assert_eq!(
         h.state().recent_files(),
-        [canonical.clone()],
+        std::slice::from_ref(&canonical),
         "a recent file"
     );
     let bad = dir.join("bad.ron");
