@@ -2,7 +2,7 @@
 //! quietly, with exit status 0 and nothing on stderr. The comb prints more than a pipe holds
 //! (64 KiB), so the solver is still writing when the pipe closes. The report commands make their
 //! output folder, and name it where it cannot be made. The history numbers contact elements as
-//! the scene does.
+//! the scene does. `figure` draws a state as a PNG of the asked size or an SVG.
 
 use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
@@ -117,4 +117,72 @@ fn contacts_in_the_history_carry_their_place_in_their_body() {
     }
     assert!(seen > 50, "{seen} contacts");
     let _ = std::fs::remove_file(json);
+}
+
+/// `figure` writes the state after the steps without a window: a PNG of the asked size with the
+/// beams drawn, an SVG with one path per body (Example 3.2 has three), and a clear error for a
+/// size it cannot draw or a format it does not write.
+#[cfg(feature = "gui")]
+#[test]
+fn figure_draws_the_state_as_a_png_of_the_asked_size_or_an_svg() {
+    let dir = std::env::temp_dir().join(format!("tsm-cli-figure-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let run = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_tsm-contact"))
+            .args(args)
+            .output()
+            .expect("runs")
+    };
+    let png = dir.join("f.png");
+    let p = png.to_str().unwrap();
+    let r = run(&[
+        "figure",
+        "example_3_2",
+        "--steps",
+        "12",
+        "--diagram",
+        "m",
+        "--out",
+        p,
+        "--size",
+        "640x360",
+    ]);
+    assert_eq!(
+        r.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&r.stderr)
+    );
+    let img = image::open(&png).unwrap().to_rgb8();
+    assert_eq!(img.dimensions(), (640, 360));
+    // The three beams, each about half the width long: at least 600 pixels of ink.
+    let ink = img
+        .pixels()
+        .filter(|q| q.0.iter().all(|&c| c < 128))
+        .count();
+    assert!(ink > 600, "the beams are drawn: {ink} pixels of ink");
+    let svg = dir.join("f.svg");
+    let r = run(&[
+        "figure",
+        "example_3_2",
+        "--steps",
+        "12",
+        "--out",
+        svg.to_str().unwrap(),
+    ]);
+    assert_eq!(r.status.code(), Some(0));
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert_eq!(text.lines().filter(|l| l.starts_with("<path ")).count(), 3);
+    let r = run(&["figure", "example_3_2", "--out", p, "--size", "10x10"]);
+    assert_eq!(r.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&r.stderr).contains("--size 10x10"));
+    let r = run(&[
+        "figure",
+        "example_3_2",
+        "--out",
+        dir.join("f.jpg").to_str().unwrap(),
+    ]);
+    assert_eq!(r.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&r.stderr).contains(".png or .svg"));
+    let _ = std::fs::remove_dir_all(dir);
 }

@@ -139,7 +139,9 @@ fn the_readme_sample_output_is_the_programs() {
 fn the_cli_reference_is_the_help() {
     let page = std::fs::read_to_string(root().join("docs/cli.md")).unwrap();
     let printed = blocks(&page, "text");
-    let commands = ["solve", "scenes", "view", "bench", "stress", "scale"];
+    let commands = [
+        "solve", "scenes", "view", "figure", "bench", "stress", "scale",
+    ];
     assert_eq!(printed.len(), commands.len());
     for (c, shown) in commands.iter().zip(&printed) {
         let (code, help) = run(&root(), &[c, "--help"]);

@@ -126,6 +126,29 @@ pub(super) enum Command {
         #[arg(long, value_enum)]
         diagram: Option<DiagramArg>,
     },
+    /// Draw a scene's state after some steps as a figure for papers, without a window: the
+    /// undeformed shape, the deformed beams, a force diagram, pins and contact nodes; a PNG of
+    /// the chosen size or an SVG, by the extension of --out.
+    #[cfg(feature = "gui")]
+    #[command(
+        after_help = "Example: tsm-contact figure example_3_2 --steps 40 --diagram m --out fig.png --size 1200x700"
+    )]
+    Figure {
+        /// Scene file or built-in name.
+        scene: String,
+        /// Solve this many steps first (default: the scene's).
+        #[arg(long)]
+        steps: Option<usize>,
+        /// Draw this force diagram along the beams: n (axial), v (shear) or m (moment).
+        #[arg(long, value_enum)]
+        diagram: Option<DiagramArg>,
+        /// The file to write: .png or .svg.
+        #[arg(long)]
+        out: PathBuf,
+        /// Width x height of a PNG in pixels (an SVG is 1200 wide, as tall as it needs).
+        #[arg(long, default_value = "1600x1000")]
+        size: String,
+    },
 }
 
 /// A force diagram drawn along the beams: axial force N, shear V or bending moment M.

@@ -1,7 +1,8 @@
 //! Command-line interface, one file per subcommand: `solve` runs a scene headless
 //! (`solve.rs`); `bench`, `stress` and `scale` measure the solver (`reports.rs`); `scenes`
 //! lists the built-in scenes; `view` (feature `gui`) opens the visualiser or renders a
-//! screenshot. `args.rs` is the command line as clap parses it.
+//! screenshot; `figure` (feature `gui`) draws a state as a PNG or SVG without a window
+//! (`figure.rs`). `args.rs` is the command line as clap parses it.
 
 /// `println!` that ends the program quietly when stdout is closed (output piped into `head`)
 /// instead of panicking.
@@ -18,6 +19,8 @@ macro_rules! out {
 }
 
 mod args;
+#[cfg(feature = "gui")]
+mod figure;
 #[cfg(feature = "reports")]
 mod reports;
 mod solve;
@@ -64,6 +67,14 @@ pub fn run() -> i32 {
                 ..Default::default()
             })
         }
+        #[cfg(feature = "gui")]
+        Some(Command::Figure {
+            scene,
+            steps,
+            diagram,
+            out,
+            size,
+        }) => figure::run(&scene, steps, diagram, &out, &size),
         None => {
             #[cfg(feature = "gui")]
             {

@@ -1,0 +1,91 @@
+//! `figure`: a scene's state after some steps drawn as a figure for papers, without a window
+//! (`app::canvas::figure`): a PNG of the chosen size or an SVG, by the extension of the file.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use super::args::DiagramArg;
+use tsm_contact::app::canvas::diagrams::Diagram;
+use tsm_contact::app::canvas::{figure, svg};
+use tsm_contact::scene::builtin::open;
+use tsm_contact::solver::Silent;
+use tsm_contact::worker::{initial_record, Loaded};
+
+/// Solve `steps` steps of `scene` (default: the scene's) and write the last state to `out`;
+/// returns the exit code (1 with the reason on stderr when the scene, the size, the solve or
+/// the write fails).
+pub fn run(
+    scene: &str,
+    steps: Option<usize>,
+    diagram: Option<DiagramArg>,
+    out: &Path,
+    size: &str,
+) -> i32 {
+    match draw(scene, steps, diagram, out, size) {
+        Ok(()) => {
+            out!("wrote {}", out.display());
+            0
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            1
+        }
+    }
+}
+
+fn draw(
+    name: &str,
+    steps: Option<usize>,
+    diagram: Option<DiagramArg>,
+    out: &Path,
+    size: &str,
+) -> Result<(), String> {
+    let size = parse_size(size)?;
+    let ext = out.extension().and_then(|e| e.to_str()).unwrap_or("");
+    if !matches!(ext, "png" | "svg") {
+        return Err(format!(
+            "{}: the figure is written as .png or .svg",
+            out.display()
+        ));
+    }
+    let scene = open(name).map_err(|e| e.to_string())?;
+    let mut solver = scene.solver().map_err(|e| format!("{name}: {e}"))?;
+    let initial = initial_record(&solver);
+    let mut last = initial.clone();
+    for _ in 0..steps.unwrap_or(scene.steps) {
+        let recs = (solver.step(&mut Silent)).map_err(|e| format!("{name}: {e}"))?;
+        if let Some(r) = recs.into_iter().last() {
+            last = r;
+        }
+    }
+    let loaded = Loaded {
+        checkpoint: Arc::new(solver.checkpoint()),
+        initial,
+        elements: solver.elements().to_vec(),
+        prescribed_labels: Vec::new(),
+        scene,
+    };
+    let diagram = diagram.map(|d| match d {
+        DiagramArg::N => Diagram::Axial,
+        DiagramArg::V => Diagram::Shear,
+        DiagramArg::M => Diagram::Moment,
+    });
+    if ext == "png" {
+        figure::write_png(out, &loaded, &last, diagram, size)
+    } else {
+        svg::write_svg(out, &loaded, &last, diagram)
+            .map_err(|e| format!("cannot write {}: {e}", out.display()))
+    }
+}
+
+/// "1600x1000" as [1600, 1000], each from 16 to 16384.
+fn parse_size(size: &str) -> Result<[u32; 2], String> {
+    let bad = || format!("--size {size}: write it as WIDTHxHEIGHT in pixels, each 16 to 16384");
+    let (w, h) = size.split_once(['x', 'X']).ok_or_else(bad)?;
+    let w: u32 = w.trim().parse().map_err(|_| bad())?;
+    let h: u32 = h.trim().parse().map_err(|_| bad())?;
+    if !(16..=16384).contains(&w) || !(16..=16384).contains(&h) {
+        return Err(bad());
+    }
+    Ok([w, h])
+}
