@@ -177,17 +177,24 @@ fn a_heavy_cantilever_converges_to_the_elastica_as_h_squared() {
         -reference[1] > 0.25 * L,
         "a large deflection: {reference:?}"
     );
+    let load = format!("distributed: [(body: \"beam\", q: (0.0, {}))],", -w);
+    converges_as_h_squared("fixed load", &load, reference);
+}
+
+/// The tip of the cantilever under `load` (scene text) in 10 steps against `reference`, on 8,
+/// 16 and 32 elements, both formulations: the error over L falls by 3 to 5 with each halving
+/// (h^2), and is under 2e-3 on 32 elements. Prints the errors.
+fn converges_as_h_squared(what: &str, load: &str, reference: [f64; 2]) {
     for f in ["BernoulliEuler", "Timoshenko"] {
         let errors: Vec<f64> = [8, 16, 32]
             .iter()
             .map(|&n| {
-                let extra = format!("distributed: [(body: \"beam\", q: (0.0, {}))],", -w);
-                let p = tip(n, f, &extra, 10);
+                let p = tip(n, f, load, 10);
                 (p[0] - reference[0]).hypot(p[1] - reference[1])
             })
             .collect();
         eprintln!(
-            "{f}: tip error / L on 8, 16, 32 elements: {:.3e} {:.3e} {:.3e}",
+            "{f}, {what}: tip error / L on 8, 16, 32 elements: {:.3e} {:.3e} {:.3e}",
             errors[0] / L,
             errors[1] / L,
             errors[2] / L
@@ -337,30 +344,11 @@ fn a_follower_pressure_converges_to_its_elastica_as_h_squared() {
         (reference[0] - fixed[0]).hypot(reference[1] - fixed[1]) > 0.02 * L,
         "the follower load bends the beam otherwise than a fixed one: {reference:?} {fixed:?}"
     );
-    for f in ["BernoulliEuler", "Timoshenko"] {
-        let errors: Vec<f64> = [8, 16, 32]
-            .iter()
-            .map(|&n| {
-                let extra = format!(
-                    "distributed: [(body: \"beam\", q: (0.0, {}), follower: true)],",
-                    -w
-                );
-                let p = tip(n, f, &extra, 10);
-                (p[0] - reference[0]).hypot(p[1] - reference[1])
-            })
-            .collect();
-        eprintln!(
-            "{f}, follower: tip error / L on 8, 16, 32 elements: {:.3e} {:.3e} {:.3e}",
-            errors[0] / L,
-            errors[1] / L,
-            errors[2] / L
-        );
-        for k in 0..2 {
-            let ratio = errors[k] / errors[k + 1];
-            assert!((3.0..5.0).contains(&ratio), "{f}: errors {errors:?}");
-        }
-        assert!(errors[2] < 2e-3 * L, "{f}: errors {errors:?}");
-    }
+    let load = format!(
+        "distributed: [(body: \"beam\", q: (0.0, {}), follower: true)],",
+        -w
+    );
+    converges_as_h_squared("follower", &load, reference);
 }
 
 /// The solver's tangent with a follower load is the derivative of its unbalanced force:

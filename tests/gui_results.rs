@@ -12,20 +12,7 @@ use tsm_contact::app::units::num;
 use tsm_contact::app::{Startup, TsmApp};
 
 mod gui_support;
-use gui_support::{label, loaded, shown_increment, wait};
-
-/// A 2 m cantilever of 10 elements in kN and m, clamped at node 1, with a 0.01 kN tip load
-/// (small: the deflection is a millionth of the length, so statics on the undeformed shape holds
-/// to six digits).
-const CANTILEVER: &str = r#"(
-    name: "cantilever",
-    units: kN_m,
-    sections: [(name: "s", E: 2.0e8, A: 1.0e-2, I: 1.0e-4)],
-    bodies: [(name: "beam", section: "s", path: [(0.0, 0.0), (2.0, 0.0)], elements: 10, first_node: 1)],
-    supports: [(node: 1, u: true, v: true, phi: true)],
-    loads: [(node: 11, fy: -0.01)],
-    control: (steps: 1),
-)"#;
+use gui_support::{label, loaded, shown_increment, wait, CANTILEVER};
 
 /// The app on `scene` (a path or built-in name) with `diagram`, its first step solved.
 fn solved(scene: &str, diagram: Option<Diagram>) -> Harness<'static, TsmApp> {

@@ -17,17 +17,7 @@ use tsm_contact::scene::builtin::{builtin, open, BUILTIN};
 use tsm_contact::solver::{IncrementRecord, Silent};
 
 mod gui_support;
-use gui_support::{label, loaded, shown_increment, solving, wait};
-
-const CANTILEVER: &str = r#"(
-    name: "cantilever",
-    units: kN_m,
-    sections: [(name: "s", E: 2.0e8, A: 1.0e-2, I: 1.0e-4)],
-    bodies: [(name: "beam", section: "s", path: [(0.0, 0.0), (2.0, 0.0)], elements: 10, first_node: 1)],
-    supports: [(node: 1, u: true, v: true, phi: true)],
-    loads: [(node: 11, fy: -0.01)],
-    control: (steps: 1),
-)"#;
+use gui_support::{label, loaded, shown_increment, solving, wait, CANTILEVER};
 
 /// A folder of this test's own.
 fn folder(name: &str) -> PathBuf {
