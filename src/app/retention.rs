@@ -103,10 +103,7 @@ impl KeptHistory {
     }
 
     fn count_bytes(&mut self) {
-        self.bytes = self.records.iter().map(record_bytes).sum::<usize>()
-            + (self.checkpoints.iter().flatten())
-                .map(|c| c.bytes())
-                .sum::<usize>();
+        self.bytes = bytes_of(&self.records, &self.checkpoints);
     }
 
     /// Keep `c` as the state to go on from after the kept record of its increment (dropped if
@@ -198,10 +195,7 @@ impl Tail {
 
     /// The bytes the records and their checkpoints take.
     pub fn bytes(&self) -> usize {
-        self.records.iter().map(record_bytes).sum::<usize>()
-            + (self.checkpoints.iter().flatten())
-                .map(|c| c.bytes())
-                .sum::<usize>()
+        bytes_of(&self.records, &self.checkpoints)
     }
 
     /// Drop the records at the end that have no checkpoint yet (the worker had not sent it when
@@ -213,6 +207,14 @@ impl Tail {
             self.places.pop();
         }
     }
+}
+
+/// The memory records and their checkpoints take.
+fn bytes_of(records: &[IncrementRecord], checkpoints: &[Option<Arc<Checkpoint>>]) -> usize {
+    records.iter().map(record_bytes).sum::<usize>()
+        + (checkpoints.iter().flatten())
+            .map(|c| c.bytes())
+            .sum::<usize>()
 }
 
 /// The memory a record takes (its vectors' contents; the residual records included).

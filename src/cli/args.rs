@@ -159,3 +159,16 @@ pub enum DiagramArg {
     V,
     M,
 }
+
+#[cfg(feature = "gui")]
+impl DiagramArg {
+    /// The diagram it names.
+    pub fn diagram(self) -> tsm_contact::app::canvas::diagrams::Diagram {
+        use tsm_contact::app::canvas::diagrams::Diagram;
+        match self {
+            DiagramArg::N => Diagram::Axial,
+            DiagramArg::V => Diagram::Shear,
+            DiagramArg::M => Diagram::Moment,
+        }
+    }
+}

@@ -5,7 +5,6 @@ use std::path::Path;
 use std::sync::Arc;
 
 use super::args::DiagramArg;
-use tsm_contact::app::canvas::diagrams::Diagram;
 use tsm_contact::app::canvas::{figure, svg};
 use tsm_contact::scene::builtin::open;
 use tsm_contact::solver::Silent;
@@ -65,11 +64,7 @@ fn draw(
         prescribed_labels: Vec::new(),
         scene,
     };
-    let diagram = diagram.map(|d| match d {
-        DiagramArg::N => Diagram::Axial,
-        DiagramArg::V => Diagram::Shear,
-        DiagramArg::M => Diagram::Moment,
-    });
+    let diagram = diagram.map(DiagramArg::diagram);
     if ext == "png" {
         figure::write_png(out, &loaded, &last, diagram, size)
     } else {

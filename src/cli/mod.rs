@@ -53,12 +53,7 @@ pub fn run() -> i32 {
             screenshot,
             diagram,
         }) => {
-            use tsm_contact::app::canvas::diagrams::Diagram;
-            let diagram = diagram.map(|d| match d {
-                args::DiagramArg::N => Diagram::Axial,
-                args::DiagramArg::V => Diagram::Shear,
-                args::DiagramArg::M => Diagram::Moment,
-            });
+            let diagram = diagram.map(args::DiagramArg::diagram);
             tsm_contact::app::run(tsm_contact::app::Startup {
                 scene,
                 steps,

@@ -6,7 +6,7 @@
 use std::path::Path;
 
 use super::diagrams::{value_at, Diagram};
-use super::shapes::{deformed_bodies, undeformed_bodies};
+use super::shapes::{chord_frame, deformed_bodies, undeformed_bodies};
 use crate::solver::{IncrementRecord, Model};
 use crate::worker::Loaded;
 
@@ -189,8 +189,9 @@ fn diagram_lines(model: &Model, r: &IncrementRecord, d: Diagram, reach: f64) -> 
     for (e, beam) in model.beams.iter().enumerate() {
         let (a, b) = (r.nodes[beam.i], r.nodes[beam.j]);
         let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-        let l = dx.hypot(dy).max(1e-300);
-        let n = [-dy / l, dx / l];
+        let Some((_, n, _)) = chord_frame(model, r, e) else {
+            continue;
+        };
         let mut points = vec![[a[0], a[1]]];
         for (k, v) in values[e].iter().enumerate() {
             let x = k as f64 / DIAGRAM_SAMPLES as f64;

@@ -420,11 +420,9 @@ pub(crate) fn distributed_loads(
         if !d.follower {
             return q;
         }
-        let b = &model.beams[d.beam];
-        let (a, c) = (r.nodes[b.i], r.nodes[b.j]);
-        let (dx, dy) = (c[0] - a[0], c[1] - a[1]);
-        let l = dx.hypot(dy).max(1e-300);
-        let (t, n) = ([dx / l, dy / l], [-dy / l, dx / l]);
+        let Some((t, n, _)) = super::shapes::chord_frame(model, r, d.beam) else {
+            return q;
+        };
         [q[0] * t[0] + q[1] * n[0], q[0] * t[1] + q[1] * n[1]]
     };
     let qmax = (model.distributed.iter())

@@ -46,11 +46,7 @@ pub fn transverse_load(model: &Model, record: &IncrementRecord, e: usize) -> Opt
     if on.is_empty() {
         return None;
     }
-    let b = &model.beams[e];
-    let (a, c) = (record.nodes.get(b.i)?, record.nodes.get(b.j)?);
-    let (dx, dy) = (c[0] - a[0], c[1] - a[1]);
-    let l = dx.hypot(dy).max(1e-300);
-    let n = [-dy / l, dx / l];
+    let (_, n, l) = chord_frame(model, record, e)?;
     // A follower load is per current length: on the undeformed length the moment formula
     // uses, (l / l0)^2 times as much.
     let stretch = (l / model.beam_length(e).max(1e-300)).powi(2);
@@ -66,6 +62,20 @@ pub fn transverse_load(model: &Model, record: &IncrementRecord, e: usize) -> Opt
         }
     }
     Some(p)
+}
+
+/// The current chord of element `e` in record `r`: its unit direction t (from end i to end j),
+/// its unit normal n (t turned +90 degrees) and its length.
+pub fn chord_frame(
+    model: &Model,
+    r: &IncrementRecord,
+    e: usize,
+) -> Option<([f64; 2], [f64; 2], f64)> {
+    let b = model.beams.get(e)?;
+    let (a, c) = (r.nodes.get(b.i)?, r.nodes.get(b.j)?);
+    let (dx, dy) = (c[0] - a[0], c[1] - a[1]);
+    let l = dx.hypot(dy).max(1e-300);
+    Some(([dx / l, dy / l], [-dy / l, dx / l], l))
 }
 
 /// The side of the chord a positive element force Y acts on (+1: the normal turned +90 degrees

@@ -82,27 +82,30 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui) {
             app.set_aside_run();
             app.worker.send(Command::Reset);
         }
-        let what = app.undo.last().map(|s| s.describe());
-        let undo = ui
-            .add_enabled(what.is_some(), egui::Button::new("Undo"))
-            .on_hover_text(match &what {
-                Some(w) => format!("bring back {w} (Ctrl+Z)"),
-                None => "nothing set aside (Ctrl+Z)".into(),
-            });
-        if undo.clicked() {
+        if set_aside_button(ui, "Undo", app.undo.last(), "Ctrl+Z") {
             app.undo();
         }
-        let what = app.redo.last().map(|s| s.describe());
-        let redo = ui
-            .add_enabled(what.is_some(), egui::Button::new("Redo"))
-            .on_hover_text(match &what {
-                Some(w) => format!("bring back {w} (Ctrl+Y)"),
-                None => "nothing to redo (Ctrl+Y)".into(),
-            });
-        if redo.clicked() {
+        if set_aside_button(ui, "Redo", app.redo.last(), "Ctrl+Y") {
             app.redo();
         }
     });
+}
+
+/// The Undo or Redo button: enabled when there is something to bring back, which its hover
+/// text names. Returns whether it was clicked.
+fn set_aside_button(
+    ui: &mut egui::Ui,
+    label: &str,
+    next: Option<&crate::app::branches::SetAside>,
+    key: &str,
+) -> bool {
+    let hint = match next {
+        Some(s) => format!("bring back {} ({key})", s.describe()),
+        None => format!("nothing to bring back ({key})"),
+    };
+    ui.add_enabled(next.is_some(), egui::Button::new(label))
+        .on_hover_text(hint)
+        .clicked()
 }
 
 /// A triangle over the slider at every increment the shown history branched at.
