@@ -129,8 +129,10 @@ fn status(app: &TsmApp, ui: &mut egui::Ui) {
             egui::RichText::new("solving...")
         } else {
             match (&app.error, app.roundoff_summary()) {
-                (Some(_), _) => egui::RichText::new("error: see the panel below")
+                (Some(_), _) if app.show_error => egui::RichText::new("error: see the panel below")
                     .color(ui.visuals().error_fg_color),
+                // The panel closed: the message in the line (whole on hover).
+                (Some(e), _) => egui::RichText::new(e).color(ui.visuals().error_fg_color),
                 (None, Some(s)) => egui::RichText::new(format!("{}; {s}", app.status))
                     .color(super::plots::ROUNDOFF),
                 (None, None) => egui::RichText::new(&app.status),

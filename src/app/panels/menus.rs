@@ -172,7 +172,7 @@ pub fn confirm(app: &mut TsmApp, what: Result<PathBuf, String>) {
             let full = std::fs::canonicalize(&p).unwrap_or(p);
             app.status = format!("wrote {}", full.display());
         }
-        Err(e) => app.error = Some(format!("export failed: {e}")),
+        Err(e) => app.set_error(format!("export failed: {e}")),
     }
 }
 
@@ -241,7 +241,7 @@ pub fn answers(app: &mut TsmApp, ctx: &egui::Context) {
     }
     match dropped_scene(ctx) {
         Some(Ok(path)) => app.open(&path.to_string_lossy()),
-        Some(Err(why)) => app.error = Some(why),
+        Some(Err(why)) => app.set_error(why),
         None => {}
     }
 }
