@@ -251,6 +251,7 @@ mod tests {
             element_forces: Vec::new(),
             reactions: Vec::new(),
             contacts: Vec::new(),
+            obstacle_contacts: Vec::new(),
             max_penetration: 0.0,
             events: Vec::new(),
             seconds: 0.0,

@@ -45,6 +45,9 @@ pub struct SceneFile {
     /// Which nodes may touch which bodies.
     #[serde(default)]
     pub contacts: Vec<ContactDef>,
+    /// Rigid obstacles the nodes may touch but not cross.
+    #[serde(default)]
+    pub obstacles: Vec<ObstacleDef>,
     /// Increment control.
     #[serde(default)]
     pub control: ControlDef,
@@ -199,6 +202,70 @@ pub struct ContactDef {
     pub bodies: Vec<String>,
 }
 
+/// A rigid obstacle: its curve, the nodes that may touch it, and the node that moves it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ObstacleDef {
+    /// Name, unique among the obstacles.
+    pub name: String,
+    /// Its curve.
+    pub shape: ShapeDef,
+    /// Every node of these bodies may touch it.
+    #[serde(default)]
+    pub bodies: Vec<String>,
+    /// These nodes may touch it too (ids).
+    #[serde(default)]
+    pub nodes: Vec<u32>,
+    /// The node (id) whose displacement moves the obstacle, its u and v supported or
+    /// prescribed; none: the obstacle is fixed.
+    #[serde(default)]
+    pub pilot: Option<u32>,
+}
+
+/// The curve of an obstacle (m, degrees).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum ShapeDef {
+    /// The unbounded straight line through two points; free side to the left of `from` ->
+    /// `to`.
+    Line {
+        /// A point.
+        from: (f64, f64),
+        /// A second point.
+        to: (f64, f64),
+    },
+    /// Straight segments through the points, continued beyond both ends; free side to the
+    /// left of the direction of travel.
+    Polyline {
+        /// The corners, at least two.
+        points: Vec<(f64, f64)>,
+    },
+    /// A circle: a solid disk, or a hole with `hollow: true`.
+    Circle {
+        /// Centre.
+        centre: (f64, f64),
+        /// Radius.
+        radius: f64,
+        /// Whether the nodes stay inside (default false).
+        #[serde(default)]
+        hollow: bool,
+    },
+    /// The part of a circle from polar angle `from_deg` counter-clockwise to `to_deg`.
+    Arc {
+        /// Centre.
+        centre: (f64, f64),
+        /// Radius.
+        radius: f64,
+        /// Start angle (degrees).
+        from_deg: f64,
+        /// End angle (degrees).
+        to_deg: f64,
+        /// Whether the nodes stay inside (default false).
+        #[serde(default)]
+        hollow: bool,
+    },
+}
+
 /// Increment control.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -223,6 +290,9 @@ pub struct ControlDef {
     /// Acceleration of gravity (x, y) (m/s^2): the self-weight of the sections with a
     /// `density`, scaled by the load factor like every load.
     pub gravity: Option<(f64, f64)>,
+    /// The largest gap (either way) of a node resting on an obstacle, as a fraction of the
+    /// model's size (default 1e-9).
+    pub obstacle_gap: Option<f64>,
 }
 
 impl Default for ControlDef {
@@ -236,6 +306,7 @@ impl Default for ControlDef {
             stretch_correction: StretchCorrection::AfterCutBack,
             arc_length: None,
             gravity: None,
+            obstacle_gap: None,
         }
     }
 }

@@ -14,6 +14,7 @@ pub mod assembly;
 pub mod contact;
 pub mod control;
 pub mod element;
+pub mod errors;
 pub mod index_map;
 pub mod linear;
 pub mod model;
@@ -27,12 +28,12 @@ pub mod structure;
 pub use acceptance::{Crossing, CrossingCheck};
 pub use control::{Checkpoint, Solver};
 pub use model::{
-    Beam, Body, ContactPair, DistributedLoad, Dof, Formulation, Load, Model, Node, Prescribed,
-    Section, Support,
+    Beam, Body, ContactPair, DistributedLoad, Dof, Formulation, Load, Model, Node, Obstacle,
+    Prescribed, Section, Shape, Support,
 };
 pub use params::{SolverParams, StretchCorrection};
 pub use report::{
     ContactChange, Event, Flow, IncrementRecord, IncrementStatus, IterationRecord, NodeState,
-    Observer, Silent, SolveError,
+    Observer, ObstacleEvent, ObstacleState, Silent, SolveError,
 };
 pub use structure::Structure;

@@ -157,6 +157,104 @@ pub struct ContactPair {
     pub bodies: Vec<usize>,
 }
 
+/// The curve of a rigid obstacle, in the scene's coordinates. Each shape has a free side, where
+/// the nodes stay, and a solid side they may not enter.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Shape {
+    /// The straight line through `from` and `to`, unbounded; free side to the left of the
+    /// direction from `from` to `to` (a floor drawn left to right is free above).
+    Line {
+        /// A point of the line (m).
+        from: [f64; 2],
+        /// A second point of the line (m).
+        to: [f64; 2],
+    },
+    /// The chain of straight segments through `points`, continued beyond its first and last
+    /// point along its end segments, so that it divides the plane in two; free side to the
+    /// left of the direction of travel.
+    Polyline {
+        /// The corners, at least two (m).
+        points: Vec<[f64; 2]>,
+    },
+    /// A circle: a solid disk (nodes stay outside) or, `hollow`, a hole (nodes stay inside).
+    Circle {
+        /// Centre (m).
+        centre: [f64; 2],
+        /// Radius (m).
+        radius: f64,
+        /// Whether the nodes stay inside.
+        hollow: bool,
+    },
+    /// The part of a circle between the polar angles `from` and `to` (rad, counter-clockwise
+    /// from `from`): a node touches it only while its polar angle about the centre lies in
+    /// that range; there, it is a disk or a hole as for `Circle`.
+    Arc {
+        /// Centre (m).
+        centre: [f64; 2],
+        /// Radius (m).
+        radius: f64,
+        /// Start angle (rad).
+        from: f64,
+        /// End angle (rad), reached counter-clockwise from `from`.
+        to: f64,
+        /// Whether the nodes stay inside.
+        hollow: bool,
+    },
+}
+
+impl Shape {
+    /// The shape moved by `by` (m).
+    pub fn translated(&self, by: [f64; 2]) -> Shape {
+        let mv = |p: [f64; 2]| [p[0] + by[0], p[1] + by[1]];
+        match self {
+            Shape::Line { from, to } => Shape::Line {
+                from: mv(*from),
+                to: mv(*to),
+            },
+            Shape::Polyline { points } => Shape::Polyline {
+                points: points.iter().map(|&p| mv(p)).collect(),
+            },
+            Shape::Circle {
+                centre,
+                radius,
+                hollow,
+            } => Shape::Circle {
+                centre: mv(*centre),
+                radius: *radius,
+                hollow: *hollow,
+            },
+            Shape::Arc {
+                centre,
+                radius,
+                from,
+                to,
+                hollow,
+            } => Shape::Arc {
+                centre: mv(*centre),
+                radius: *radius,
+                from: *from,
+                to: *to,
+                hollow: *hollow,
+            },
+        }
+    }
+}
+
+/// A rigid obstacle: a curve the candidate nodes may touch and slide along but not cross.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Obstacle {
+    /// Name used in messages and the GUI.
+    pub name: String,
+    /// Its curve at rest.
+    pub shape: Shape,
+    /// The node whose displacement (u, v) moves the obstacle (its u and v are supported or
+    /// prescribed), or `None`: the obstacle is fixed. The force on the obstacle is that node's
+    /// reaction.
+    pub pilot: Option<usize>,
+    /// The nodes that may touch it (node indices, ascending).
+    pub nodes: Vec<usize>,
+}
+
 /// The whole model as the solver sees it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Model {
@@ -181,6 +279,9 @@ pub struct Model {
     pub formulation: Formulation,
     /// Contact candidate pairs.
     pub contacts: Vec<ContactPair>,
+    /// Rigid obstacles.
+    #[serde(default)]
+    pub obstacles: Vec<Obstacle>,
 }
 
 impl Model {
@@ -254,6 +355,13 @@ impl Model {
         self.distributed.iter().any(|d| d.follower)
     }
 
+    /// The (node, obstacle) pairs that may touch, node by node within each obstacle.
+    pub fn obstacle_candidates(&self) -> Vec<(usize, usize)> {
+        (self.obstacles.iter().enumerate())
+            .flat_map(|(o, ob)| ob.nodes.iter().map(move |&n| (n, o)))
+            .collect()
+    }
+
     /// Whether the model has loads (nodal or distributed) for the load factor to scale.
     pub fn has_loads(&self) -> bool {
         !self.loads.is_empty() || !self.distributed.is_empty()
@@ -305,6 +413,9 @@ impl Model {
         for n in &mut self.nodes {
             n.x -= centre[0];
             n.y -= centre[1];
+        }
+        for o in &mut self.obstacles {
+            o.shape = o.shape.translated([-centre[0], -centre[1]]);
         }
         (self, centre)
     }

@@ -62,6 +62,14 @@ pub struct SolverParams {
     /// A node found this far through a body (in element lengths) at the end of an increment
     /// makes the increment be cut back instead of activating the contact from so deep.
     pub max_penetration: f64,
+    /// The penalty of a node's contact with a rigid obstacle, in units of the largest axial
+    /// stiffness EA/l of the model's elements. The augmented Lagrangian closes the gap whatever
+    /// the penalty; a stiffer one closes it in fewer updates of the multipliers.
+    pub obstacle_penalty: f64,
+    /// The largest gap (either way) a node resting on a rigid obstacle is accepted with, as a
+    /// fraction of the model's size (`Structure::model_size`): the multipliers are updated
+    /// until every gap is within it, and no node may end further inside an obstacle.
+    pub obstacle_gap: f64,
     /// Arc-length control: the length of one increment along the equilibrium path, measured as
     /// the root-mean-square change of the free dofs (m, rad). `None`: load and prescribed displacements advance in equal
     /// steps (Newton with cut-backs). Only for load-driven scenes.
@@ -90,6 +98,8 @@ impl Default for SolverParams {
             roundoff_factor: 0.0,
             roundoff_bound: 1e-5,
             max_penetration: 0.25,
+            obstacle_penalty: 1.0,
+            obstacle_gap: 1e-9,
             arc_length: None,
             broad_phase: true,
         }

@@ -4,6 +4,7 @@
 
 use serde::{Deserialize, Serialize};
 
+pub use super::errors::{mechanism_text, SolveError};
 use super::model::Model;
 
 /// A node's position and rotation at one state: x, y, phi.
@@ -74,6 +75,8 @@ pub enum Event {
     },
     /// A contact changed state.
     Contact(ContactEvent),
+    /// A contact with a rigid obstacle began or ended.
+    Obstacle(ObstacleEvent),
     /// The stretch correction (`StretchCorrection::AfterCutBack`) is on from this increment's
     /// next attempt to the end of the run.
     StretchCorrectionOn {
@@ -115,6 +118,7 @@ impl Event {
                 *increment
             }
             Event::Contact(c) => c.increment,
+            Event::Obstacle(o) => o.increment,
         }
     }
 
@@ -150,8 +154,58 @@ impl Event {
                 c.xi,
                 c.iteration
             ),
+            Event::Obstacle(o) if o.change == ContactChange::Released => format!(
+                "node {} {} obstacle {} (F = {:+.4e}) at iteration {}",
+                o.node,
+                o.change.verb(),
+                o.obstacle,
+                o.force,
+                o.iteration
+            ),
+            Event::Obstacle(o) => format!(
+                "node {} {} obstacle {} at iteration {}",
+                o.node,
+                o.change.verb(),
+                o.obstacle,
+                o.iteration
+            ),
         }
     }
+}
+
+/// A node touching or leaving a rigid obstacle, and when.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ObstacleEvent {
+    /// What happened: `Activated` or `Released`.
+    pub change: ContactChange,
+    /// Increment number.
+    pub increment: usize,
+    /// Iteration within the increment.
+    pub iteration: usize,
+    /// User id of the node.
+    pub node: u32,
+    /// Name of the obstacle.
+    pub obstacle: String,
+    /// The normal force at the release (N; negative: it pulled), 0 at an activation.
+    pub force: f64,
+}
+
+/// A node resting on a rigid obstacle at a converged state.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ObstacleState {
+    /// User id of the node.
+    pub node: u32,
+    /// Name of the obstacle.
+    pub obstacle: String,
+    /// The normal force pushing the node off the obstacle (N, positive in compression).
+    pub force: f64,
+    /// The gap (m): positive clear of the obstacle, negative inside it (within
+    /// `SolverParams::obstacle_gap` of the model's size at an accepted state).
+    pub gap: f64,
+    /// The point of the obstacle it touches, in the scene's coordinates (m).
+    pub point: [f64; 2],
+    /// The unit normal there, pointing to the free side.
+    pub normal: [f64; 2],
 }
 
 /// A contact event with where and when it happened.
@@ -243,6 +297,9 @@ pub struct IncrementRecord {
     pub reactions: Vec<Reaction>,
     /// Active contacts.
     pub contacts: Vec<ContactState>,
+    /// Nodes resting on rigid obstacles.
+    #[serde(default)]
+    pub obstacle_contacts: Vec<ObstacleState>,
     /// Largest penetration of an inactive candidate node through a body's deformed shape, in
     /// element lengths, measured against the sides at the previous converged state (0 if none).
     pub max_penetration: f64,
@@ -278,170 +335,3 @@ pub trait Observer {
 /// An observer that ignores everything.
 pub struct Silent;
 impl Observer for Silent {}
-
-/// Why a run could not continue.
-#[derive(Clone, Debug, PartialEq, thiserror::Error, Serialize, Deserialize)]
-pub enum SolveError {
-    /// Newton failed even after the allowed cut-backs.
-    #[error(
-        "increment {increment}: no convergence after {cutbacks} cut-backs (last attempt: {reason})"
-    )]
-    NoConvergence {
-        /// Increment number.
-        increment: usize,
-        /// Cut-backs tried.
-        cutbacks: usize,
-        /// Why the last attempt failed.
-        reason: String,
-    },
-    /// Newton stalled at the round-off floor with a relative residual above
-    /// `SolverParams::roundoff_bound`, even after the allowed cut-backs.
-    #[error(
-        "increment {increment}: Newton stalls at relative residual {residual:.3e} (round-off floor {floor:.1e}), above the bound {bound:.0e} for acceptance at round-off, after {cutbacks} cut-backs"
-    )]
-    RoundOffFloor {
-        /// Increment number.
-        increment: usize,
-        /// Cut-backs tried.
-        cutbacks: usize,
-        /// Relative residual reached.
-        residual: f64,
-        /// Round-off floor estimate there.
-        floor: f64,
-        /// The bound it exceeds.
-        bound: f64,
-    },
-    /// A node passes through a body it is not in contact with in every attempt, even after the
-    /// allowed cut-backs (the acceptance check's geometric test).
-    #[error(
-        "increment {increment}: node {node} passes through {body} element {element} ({depth:.2e} element lengths beyond it) after {cutbacks} cut-backs"
-    )]
-    Crossing {
-        /// Increment number.
-        increment: usize,
-        /// Cut-backs tried.
-        cutbacks: usize,
-        /// User id of the node.
-        node: u32,
-        /// Name of the body.
-        body: String,
-        /// The place in its body (from 1) of the element the node ends beyond.
-        element: usize,
-        /// How far beyond, in element lengths.
-        depth: f64,
-    },
-    /// Every attempt converges to a state where an element has turned against its chord, or
-    /// changed its strain, by more than one increment may take (`acceptance::MAX_TURN_STEP`,
-    /// `acceptance::MAX_STRAIN_STEP`), even after the allowed cut-backs: the equilibrium Newton
-    /// finds lies far from the path.
-    #[error(
-        "increment {increment}: {body} element {element} turns by {turn:.2} rad against its chord and changes its strain by {strain:.1e} within the increment after {cutbacks} cut-backs (limits {max_turn} rad and {max_strain}): the equilibrium found lies far from the path"
-    )]
-    OutOfRange {
-        /// Increment number.
-        increment: usize,
-        /// Cut-backs tried.
-        cutbacks: usize,
-        /// Name of the body.
-        body: String,
-        /// The place in its body (from 1) of the element.
-        element: usize,
-        /// The larger change of its end rotations against its chord (rad).
-        turn: f64,
-        /// The change of its axial strain.
-        strain: f64,
-        /// The limit of the rotation change (rad).
-        max_turn: f64,
-        /// The limit of the strain change.
-        max_strain: f64,
-    },
-    /// A contact candidate node starts on a body's line with the neighbouring nodes of its own
-    /// beam not all clear on one side of it: which side it is on cannot be told.
-    #[error(
-        "node {node} starts on {body} with its own beam's neighbouring nodes not all on one side of it: move it off the line or its neighbours to one side"
-    )]
-    AmbiguousSide {
-        /// User id of the node.
-        node: u32,
-        /// Name of the body.
-        body: String,
-    },
-    /// The tangent is singular: the structure is a mechanism at these dofs.
-    #[error("the structure is a mechanism: {}", mechanism_text(dofs, *complete, bodies))]
-    Mechanism {
-        /// Free dofs as "node N u/v/phi".
-        dofs: Vec<String>,
-        /// Whether `dofs` is every dof of the null space (small models, and rigid motions the
-        /// supports leave free), or only the first that a factorisation finds without
-        /// stiffness (inner mechanisms of large ones).
-        complete: bool,
-        /// The bodies (`body "NAME"`) and lone nodes (`node N`) those dofs belong to.
-        bodies: Vec<String>,
-    },
-    /// A part of the structure (bodies joined by beams, or a lone node) can move rigidly: its
-    /// supports and prescribed displacements do not stop all its rigid motions.
-    #[error(
-        "the structure is a mechanism: {} can move rigidly ({motions} rigid motion{} not stopped; {}): support it further",
-        listed(parts, "parts"),
-        if *motions == 1 { "" } else { "s" },
-        held_text(held)
-    )]
-    RigidMotion {
-        /// The bodies (`body "NAME"`) and lone nodes (`node N`) that can move.
-        parts: Vec<String>,
-        /// How many rigid motions their held dofs leave free, over all of them.
-        motions: usize,
-        /// Their held dofs, as "node N u/v/phi".
-        held: Vec<String>,
-    },
-    /// The observer asked the run to stop.
-    #[error("stopped by the caller")]
-    Stopped,
-    /// The request does not fit the model (e.g. arc-length control without loads).
-    #[error("invalid request: {reason}")]
-    Invalid {
-        /// What is wrong.
-        reason: String,
-    },
-}
-
-/// Items in words: all of them up to eight, else how many `what` and the first eight.
-fn listed(items: &[String], what: &str) -> String {
-    match items.len() {
-        n if n <= 8 => items.join(", "),
-        n => format!("{n} {what}, among them {},", items[..8].join(", ")),
-    }
-}
-
-/// The held dofs of the parts that can move, in words.
-fn held_text(held: &[String]) -> String {
-    match held.len() {
-        0 => "nothing holds them".into(),
-        _ => format!("held only at {}", listed(held, "dofs")),
-    }
-}
-
-/// The dofs of a mechanism in words: how many, the bodies they belong to, the first few, and
-/// whether that is all of them.
-pub fn mechanism_text(dofs: &[String], complete: bool, bodies: &[String]) -> String {
-    const SHOWN: usize = 8;
-    let first = dofs[..dofs.len().min(SHOWN)].join(", ");
-    let owners = match bodies.len() {
-        0 => String::new(),
-        n if n <= SHOWN => format!(" (in {})", bodies.join(", ")),
-        n => format!(
-            " (in {n} bodies and nodes, among them {})",
-            bodies[..SHOWN].join(", ")
-        ),
-    };
-    match (complete, dofs.len()) {
-        (false, _) => format!(
-            "the free dof {first}{owners} has no stiffness (the first found; there may be more)"
-        ),
-        (true, 1) => format!("the free dof {first}{owners} has no stiffness"),
-        (true, n) if n <= SHOWN => {
-            format!("these {n} free dofs{owners} have no stiffness: {first}")
-        }
-        (true, n) => format!("{n} free dofs{owners} have no stiffness, among them {first}"),
-    }
-}

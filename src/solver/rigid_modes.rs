@@ -21,9 +21,10 @@ pub struct FreePart {
 const RANK_TOLERANCE: f64 = 1e-10;
 
 /// The parts of `model` (nodes joined by beams; a node without beams is a part of its own) whose
-/// held dofs leave a rigid motion free. Parts of one node without a rotation dof have only
-/// two rigid motions (translations).
-pub fn free_parts(model: &Model) -> Vec<FreePart> {
+/// held dofs, and the rigid obstacles they rest on (`resting`: a node and the obstacle's unit
+/// normal there, which holds the node's motion along it), leave a rigid motion free. Parts of
+/// one node without a rotation dof have only two rigid motions (translations).
+pub fn free_parts(model: &Model, resting: &[(usize, [f64; 2])]) -> Vec<FreePart> {
     let n = model.nodes.len();
     let mut root: Vec<usize> = (0..n).collect();
     fn find(root: &mut [usize], mut a: usize) -> usize {
@@ -66,7 +67,7 @@ pub fn free_parts(model: &Model) -> Vec<FreePart> {
     parts
         .into_iter()
         .filter_map(|nodes| {
-            let modes = free_modes(model, &nodes, &held);
+            let modes = free_modes(model, &nodes, &held, resting);
             (modes > 0).then_some(FreePart { nodes, modes })
         })
         .collect()
@@ -75,7 +76,12 @@ pub fn free_parts(model: &Model) -> Vec<FreePart> {
 /// The rigid motions of the part `nodes` that the held dofs leave free: 3 (or 2 for a lone node
 /// without rotation) minus the rank of the held rows of the rigid-motion matrix, whose columns
 /// are the translations along x and y and the rotation about the part's centre.
-fn free_modes(model: &Model, nodes: &[usize], held: &[[bool; 3]]) -> usize {
+fn free_modes(
+    model: &Model,
+    nodes: &[usize],
+    held: &[[bool; 3]],
+    resting: &[(usize, [f64; 2])],
+) -> usize {
     let pos = |k: usize| [model.nodes[k].x, model.nodes[k].y];
     let count = nodes.len() as f64;
     let centre = nodes.iter().fold([0.0, 0.0], |c, &k| {
@@ -89,7 +95,8 @@ fn free_modes(model: &Model, nodes: &[usize], held: &[[bool; 3]]) -> usize {
         return 0;
     }
     let spins = nodes.len() > 1 || model.nodes[nodes[0]].rotation;
-    if size == 0.0 || !spins {
+    let rests = resting.iter().any(|(k, _)| nodes.contains(k));
+    if (size == 0.0 || !spins) && !rests {
         // A lone node: its translations (and rotation, if it has one) are held or not.
         let h = held[nodes[0]];
         let own = if spins { 3 } else { 2 };
@@ -110,6 +117,14 @@ fn free_modes(model: &Model, nodes: &[usize], held: &[[bool; 3]]) -> usize {
                 g += r * r.transpose();
             }
         }
+    }
+    for &(k, n) in resting.iter().filter(|(k, _)| nodes.contains(k)) {
+        let (x, y) = (
+            (pos(k)[0] - centre[0]) / size.max(f64::MIN_POSITIVE),
+            (pos(k)[1] - centre[1]) / size.max(f64::MIN_POSITIVE),
+        );
+        let r = nalgebra::Vector3::new(n[0], n[1], n[1] * x - n[0] * y);
+        g += r * r.transpose();
     }
     let eig = nalgebra::SymmetricEigen::new(g).eigenvalues;
     let top = eig.iter().fold(0.0f64, |m, v| m.max(*v)).max(1.0);

@@ -5,7 +5,8 @@
 //! and the dofs of a mechanism.
 
 use super::assembly::{
-    assemble, current, AssemblyContext, DofKind, DofMap, ExternalForce, Ordering, PackedBeam,
+    assemble, current, obstacle_gap, AssemblyContext, DofKind, DofMap, ExternalForce, ObstacleLink,
+    Ordering, PackedBeam,
 };
 use super::element::beam::BeamElement;
 use super::model::Model;
@@ -47,6 +48,11 @@ pub struct Structure {
     pub(crate) position_roundoff: f64,
     /// The larger side of the model's bounding box at rest.
     pub(crate) size: f64,
+    /// The (node, obstacle) pairs that may touch.
+    pub(crate) obstacle_candidates: Vec<(usize, usize)>,
+    /// The penalty of the obstacle contacts (N/m): `SolverParams::obstacle_penalty` times the
+    /// largest EA/l.
+    pub(crate) obstacle_penalty: f64,
 }
 
 impl Structure {
@@ -71,7 +77,12 @@ impl Structure {
         nodes.sort_unstable();
         nodes.dedup();
         let (lo, hi) = model.bounds();
+        let axial = (0..model.beams.len())
+            .map(|e| model.beams[e].section.ea / model.beam_length(e))
+            .fold(0.0, f64::max);
         Structure {
+            obstacle_candidates: model.obstacle_candidates(),
+            obstacle_penalty: params.obstacle_penalty * axial,
             force_floor: params.force_floor * max_ea.max(f64::MIN_POSITIVE),
             candidates,
             candidate_nodes: nodes.len(),
@@ -99,6 +110,31 @@ impl Structure {
     /// The larger side of the model's bounding box at rest (m).
     pub fn model_size(&self) -> f64 {
         self.size
+    }
+
+    /// The obstacle contacts of the structure at rest: every candidate node within the obstacle
+    /// tolerance of its obstacle (a strip lying on a table starts resting on it), with a
+    /// multiplier of 0, and the obstacle's normal there.
+    pub(crate) fn resting_at_start(&self) -> Vec<(ObstacleLink, [f64; 2])> {
+        let d = vec![0.0; self.dofs.len()];
+        let tol = self.obstacle_tolerance();
+        (self.obstacle_candidates.iter())
+            .filter_map(|&(node, obstacle)| {
+                let gap = obstacle_gap(&self.model, &self.dofs, &d, node, obstacle)?;
+                let link = ObstacleLink {
+                    node,
+                    obstacle,
+                    multiplier: 0.0,
+                };
+                (gap.g.abs() <= tol).then_some((link, gap.n))
+            })
+            .collect()
+    }
+
+    /// The largest gap (either way) of an accepted obstacle contact (m):
+    /// `SolverParams::obstacle_gap` of the model's size, and the round-off of the positions.
+    pub fn obstacle_tolerance(&self) -> f64 {
+        self.params.obstacle_gap * self.size + self.position_roundoff
     }
 
     /// Position and rotation of every node at displacements `d`, in the scene's coordinates.
@@ -143,6 +179,8 @@ impl Structure {
             contact: self.params.contact_options(usize::MAX),
             loads: &[],
             follower: None,
+            obstacles: &[],
+            obstacle_penalty: self.obstacle_penalty,
         }
     }
 
@@ -177,13 +215,23 @@ impl Structure {
     }
 
     /// The free dofs (global numbers) that have no stiffness at displacements `d` under
-    /// equation ordering `ord` (empty if the structure is stable), and whether they are all of
+    /// equation ordering `ord` with the obstacle contacts `obstacles` (empty if the structure
+    /// is stable), and whether they are all of
     /// them: small models get every dof of the null space; large ones the first failing pivot.
-    pub fn mechanism_dofs(&self, ord: &Ordering, d: &[f64]) -> (Vec<usize>, bool) {
+    pub fn mechanism_dofs(
+        &self,
+        ord: &Ordering,
+        d: &[f64],
+        obstacles: &[ObstacleLink],
+    ) -> (Vec<usize>, bool) {
         if ord.n_eq == 0 {
             return (Vec::new(), true);
         }
-        let asm = assemble(&self.context(ord), d, true, None);
+        let ctx = AssemblyContext {
+            obstacles,
+            ..self.context(ord)
+        };
+        let asm = assemble(&ctx, d, true, None);
         let k = asm.tangent.expect("tangent");
         let scale = k.max_diagonal().max(f64::MIN_POSITIVE);
         let global = |eq: usize| ord.dof_of[eq] as usize;

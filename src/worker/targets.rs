@@ -81,6 +81,7 @@ pub fn initial_record(solver: &Solver) -> IncrementRecord {
         element_forces: vec![[0.0; 3]; model.beams.len()],
         reactions: Vec::new(),
         contacts: Vec::new(),
+        obstacle_contacts: Vec::new(),
         max_penetration: 0.0,
         events: Vec::new(),
         seconds: 0.0,

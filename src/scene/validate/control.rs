@@ -10,6 +10,10 @@ use crate::solver::SolverParams;
 /// 1e-2 an increment a hundredth out of equilibrium would count as converged.
 const RELATIVE_RESIDUAL: (f64, f64) = (0.0, 1e-2);
 
+/// The range of the obstacle gap (a fraction of the model's size): below 1e-15 it is under the
+/// round-off of the positions, above 1e-3 a node would rest visibly inside its obstacle.
+const OBSTACLE_GAP: (f64, f64) = (1e-15, 1e-3);
+
 /// The run settings of a scene.
 pub(super) struct Control {
     pub(super) params: SolverParams,
@@ -28,6 +32,10 @@ pub(super) fn control(ctx: &Ctx, sf: &SceneFile, c_: &Conditions) -> Result<Cont
     if let Some(b) = c.roundoff_bound {
         within(ctx, "control.roundoff_bound", b, RELATIVE_RESIDUAL)?;
         params.roundoff_bound = b;
+    }
+    if let Some(g) = c.obstacle_gap {
+        within(ctx, "control.obstacle_gap", g, OBSTACLE_GAP)?;
+        params.obstacle_gap = g;
     }
     if let Some(s) = c.max_step {
         positive(ctx, "control.max_step".into(), Some("max_step".into()), s)?;

@@ -2,7 +2,7 @@
 //! the solver `Model`. Every error names the file, the line where it could be located, the
 //! field and the node, element or body concerned. Never panics on user input.
 //! `parse.rs` reads a scene; `sections.rs`, `geometry.rs` (nodes and bodies),
-//! `conditions.rs` (supports, loads, prescribed), `contacts.rs` and `control.rs` check one
+//! `conditions.rs` (supports, loads, prescribed), `contacts.rs`, `obstacles.rs` and `control.rs` check one
 //! part each; `errors.rs` locates what is wrong.
 
 mod conditions;
@@ -11,6 +11,7 @@ mod control;
 mod distributed;
 mod errors;
 mod geometry;
+mod obstacles;
 mod parse;
 mod sections;
 

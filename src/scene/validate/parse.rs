@@ -9,6 +9,7 @@ use super::contacts::contacts;
 use super::control::control;
 use super::errors::{Ctx, SceneError};
 use super::geometry::geometry;
+use super::obstacles::obstacles;
 use super::sections::sections;
 use crate::scene::format::SceneFile;
 use crate::solver::{Model, SolveError, Solver, SolverParams};
@@ -105,6 +106,7 @@ fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
     let g = geometry(&ctx, &sf, &sections)?;
     let c = conditions(&ctx, &sf, &g)?;
     let contacts = contacts(&ctx, &sf, &g)?;
+    let obstacles = obstacles(&ctx, &sf, &g, (&c.supports, &c.prescribed))?;
     let run = control(&ctx, &sf, &c)?;
     if g.beams.is_empty() {
         return Err(ctx.err("bodies", None, "the scene has no beam elements"));
@@ -120,6 +122,7 @@ fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
         load_per_step: run.load_per_step,
         formulation: sf.formulation,
         contacts,
+        obstacles,
     };
     let scene = Scene {
         file: sf,

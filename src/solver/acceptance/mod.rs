@@ -7,12 +7,16 @@
 //!   (`IncrementStatus::of`).
 //! - **Geometry** (`CrossingCheck`, `crossing.rs`): no contact-candidate node passed through an
 //!   element of a candidate body it is not in contact with, tested on node positions and
-//!   rotations alone; `chord.rs` holds the swept chord, `grid.rs` the grid of the long bodies.
+//!   rotations alone; `chord.rs` holds the swept chord, `grid.rs` the grid of the long bodies;
+//!   and no candidate node inside a rigid obstacle beyond the obstacle tolerance
+//!   (`obstacle.rs`).
 
 mod chord;
 mod crossing;
 mod grid;
+mod obstacle;
 mod range;
 
 pub use crossing::{Crossing, CrossingCheck, CrossingMemory};
+pub use obstacle::{inside_obstacle, ObstacleCrossing};
 pub use range::{out_of_range, OutOfRange, MAX_STRAIN_STEP, MAX_TURN_STEP};

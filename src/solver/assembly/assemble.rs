@@ -5,6 +5,7 @@
 use super::dofs::{relative, DofMap, Ordering};
 use super::follower::follower_response;
 use super::internal::{add_element, add_plain_beam, Internal};
+use super::obstacles::{add_obstacles, ObstacleLink};
 use super::packed::PackedBeam;
 use crate::solver::element::beam::BeamElement;
 use crate::solver::element::contact_element::{contact_response, ContactOptions};
@@ -20,6 +21,8 @@ pub struct ElementResults {
     pub beam_forces: Vec<[f64; 3]>,
     /// For every contact link, in the order given: (Yc, li/l from the current chord).
     pub contact_forces: Vec<(f64, f64)>,
+    /// For every obstacle link, in the order given: the normal force F_N (N).
+    pub obstacle_forces: Vec<f64>,
 }
 
 /// The assembled global quantities at one state.
@@ -84,6 +87,10 @@ pub struct AssemblyContext<'a> {
     /// The load factor the follower loads are assembled at (`None`: the model has none, or
     /// they are left out).
     pub follower: Option<f64>,
+    /// The nodes resting on rigid obstacles.
+    pub obstacles: &'a [ObstacleLink],
+    /// The penalty of the obstacle contacts (N/m).
+    pub obstacle_penalty: f64,
 }
 
 /// Assemble internal forces (and the tangent) at displacements `d`.
@@ -154,7 +161,7 @@ pub(super) fn assemble_kernel(
     if with_tangent {
         // Beam tangents are exactly symmetric (entry by entry); contact elements' are not.
         let t = tangent.get_or_insert_with(|| BandMatrix::zeros(0, 0, 0));
-        if ord.links.is_empty() && ctx.follower.is_none() {
+        if ord.links.is_empty() && ctx.follower.is_none() && ctx.obstacles.is_empty() {
             t.reset_symmetric_lazily(ord.n_eq, ord.band);
         } else {
             t.reset(ord.n_eq, ord.band, ord.band);
@@ -168,6 +175,29 @@ pub(super) fn assemble_kernel(
     results.contact_forces.resize(ord.links.len(), (0.0, 0.0));
     let held = (&dofs.held[..], &mut out.held_internal[..]);
     let coupling = &mut out.coupling;
+    if !ctx.obstacles.is_empty() {
+        let sink = (
+            &mut internal,
+            (held.0, &mut *held.1),
+            tangent.as_mut(),
+            &mut *coupling,
+        );
+        let (penalty, forces) = (ctx.obstacle_penalty, &mut results.obstacle_forces);
+        add_obstacles(
+            model,
+            dofs,
+            ord,
+            ctx.obstacles,
+            penalty,
+            d,
+            with_tangent,
+            dp,
+            forces,
+            sink,
+        );
+    } else {
+        results.obstacle_forces.clear();
+    }
     let mut gdofs: Vec<usize> = Vec::with_capacity(12);
     let mut k6 = [[0.0; 6]; 6];
     let mut contact_beams = ord.contact_beams.iter().copied().peekable();

@@ -1,13 +1,15 @@
 //! Assembly of the global equations at one state: the dof map and the equation ordering
 //! (`dofs.rs`), the external force at a load factor (`loads.rs`), and the unbalanced force and
 //! band tangent summed from the beam and contact elements (`assemble.rs`, with the per-element
-//! adds in `internal.rs`) and the distributed loads that follow the deformation (`follower.rs`).
+//! adds in `internal.rs`) the distributed loads that follow the deformation (`follower.rs`) and the contacts with rigid
+//! obstacles (`obstacles.rs`).
 
 mod assemble;
 mod dofs;
 mod follower;
 mod internal;
 mod loads;
+mod obstacles;
 mod packed;
 #[cfg(test)]
 mod tests;
@@ -16,4 +18,5 @@ pub use assemble::{assemble, assemble_into, Assembled, AssemblyContext, ElementR
 pub use dofs::{current, relative, ContactLink, DofKind, DofMap, Ordering};
 pub use follower::follower_response;
 pub use loads::ExternalForce;
+pub use obstacles::{obstacle_gap, obstacle_offset, ObstacleLink};
 pub use packed::PackedBeam;

@@ -20,6 +20,7 @@ impl ContactSet {
     pub(crate) fn begin_attempt(&mut self) {
         self.seen.clear();
         self.one_at_a_time = false;
+        self.multiplier_updates = 0;
     }
 
     /// At a converged pass: transfers, releases of tensile contacts and activation of crossing

@@ -5,14 +5,17 @@
 //! `broad_phase.rs` culls node-body pairs and elements; `probe.rs` finds where a node lies
 //! relative to a body's deformed shape; `sides.rs` remembers sides and detects crossings;
 //! `transfer.rs` moves contacts between elements and off free ends; `active_set.rs` decides
-//! activation and release at a converged pass.
+//! activation and release at a converged pass; `obstacles.rs` the contacts with rigid
+//! obstacles.
 
 mod active_set;
 mod broad_phase;
+mod obstacles;
 mod probe;
 mod set;
 mod sides;
 mod transfer;
 
+pub use obstacles::ObstaclePass;
 pub use probe::Probe;
 pub use set::{ActiveContact, ContactSet, ContactView};

@@ -2,13 +2,13 @@
 //! candidate node was last seen on relative to each candidate body, and what the assembly and
 //! the records read of it. Probing a node against a body's deformed shape is `probe.rs`, sides
 //! and crossings `sides.rs`, transfers and slide-off `transfer.rs`, activation and release at a
-//! converged pass `active_set.rs`. The contact stage reads the solver through a `ContactView`:
+//! converged pass `active_set.rs`, the contacts with rigid obstacles `obstacles.rs`. The contact stage reads the solver through a `ContactView`:
 //! the structure, and the last converged displacements and contact set, nothing more.
 
 use std::collections::HashSet;
 use std::ops::Deref;
 
-use crate::solver::assembly::{Assembled, ContactLink};
+use crate::solver::assembly::{Assembled, ContactLink, ObstacleLink};
 use crate::solver::index_map::IndexMap;
 use crate::solver::report::ContactState;
 use crate::solver::structure::Structure;
@@ -47,6 +47,13 @@ pub struct ContactSet {
     /// Set once an active set repeats within an attempt: from then on each converged pass fixes
     /// one violation only (see `after_convergence`).
     pub(crate) one_at_a_time: bool,
+    /// The nodes resting on rigid obstacles, with their multipliers.
+    pub obstacle: Vec<ObstacleLink>,
+    /// Set by `obstacle_pass` when a node was found deeper inside an obstacle than
+    /// `max_penetration` lengths of its elements: (node, obstacle, depth in m).
+    pub(crate) obstacle_too_deep: Option<(usize, usize, f64)>,
+    /// Updates of the multipliers in the current attempt.
+    pub(crate) multiplier_updates: usize,
 }
 
 /// Whether node `n` is a node of body `body`.

@@ -3,7 +3,7 @@
 //! becomes a cut-back reason or, once the cut-backs are spent, a typed `SolveError`.
 
 use super::solver::Solver;
-use crate::solver::acceptance::{out_of_range, MAX_STRAIN_STEP, MAX_TURN_STEP};
+use crate::solver::acceptance::{inside_obstacle, out_of_range, MAX_STRAIN_STEP, MAX_TURN_STEP};
 use crate::solver::newton::{AttemptError, Converged};
 use crate::solver::report::{IncrementStatus, NodeState, SolveError};
 
@@ -28,6 +28,10 @@ impl Solver {
         let before = self.node_states(&self.state.d);
         if let Some(x) = out_of_range(&self.model, &self.elements, &before, &states) {
             return Err(AttemptError::OutOfRange(x));
+        }
+        let tol = self.obstacle_tolerance();
+        if let Some(x) = inside_obstacle(&self.model, self.origin, &states, tol) {
+            return Err(AttemptError::InsideObstacle(x));
         }
         match self
             .crossing
@@ -63,6 +67,13 @@ impl Solver {
                 element: (self.model.bodies[x.body].elements.iter())
                     .position(|&e| e == x.element)
                     .map_or(x.element, |k| k + 1),
+                depth: x.depth,
+            },
+            AttemptError::InsideObstacle(x) => SolveError::ObstacleCrossing {
+                increment,
+                cutbacks,
+                node: self.model.nodes[x.node].id,
+                obstacle: self.model.obstacles[x.obstacle].name.clone(),
                 depth: x.depth,
             },
             AttemptError::OutOfRange(x) => {

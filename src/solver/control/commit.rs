@@ -51,6 +51,8 @@ impl Solver {
             })
             .collect();
         let contacts = self.state.contacts.states(&self.view(), &c.assembled);
+        let obstacle_contacts =
+            (self.state.contacts).obstacle_states(&self.view(), &self.state.d, &c.assembled);
         let Assembled {
             unbalanced,
             unbalanced_norm2,
@@ -88,6 +90,7 @@ impl Solver {
             element_forces: elements.beam_forces,
             reactions,
             contacts,
+            obstacle_contacts,
             max_penetration,
             events: c.events,
             seconds,

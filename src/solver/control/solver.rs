@@ -55,11 +55,16 @@ impl Solver {
         let ord = work.ordering_for(&structure, &state.contacts);
         // Rigid motions left free by the supports, from geometry; then what the tangent has no
         // stiffness for (inner mechanisms, and lone nodes).
-        let free = free_parts(&structure.model);
+        // Nodes resting on obstacles at rest start in contact: the obstacles hold them.
+        let resting = structure.resting_at_start();
+        let normals: Vec<(usize, [f64; 2])> = resting.iter().map(|(l, n)| (l.node, *n)).collect();
+        let mut state = state;
+        state.contacts.obstacle = resting.into_iter().map(|(l, _)| l).collect();
+        let free = free_parts(&structure.model, &normals);
         if !free.is_empty() {
             return Err(structure.rigid_motion(&free));
         }
-        let (free, complete) = structure.mechanism_dofs(&ord, &state.d);
+        let (free, complete) = structure.mechanism_dofs(&ord, &state.d, &state.contacts.obstacle);
         if !free.is_empty() {
             return Err(structure.mechanism(&free, complete));
         }
@@ -122,6 +127,7 @@ impl Solver {
             .ordering_for(&self.structure, &self.state.contacts);
         let ctx = AssemblyContext {
             follower: (self.model.has_followers()).then_some(self.state.load_factor),
+            obstacles: &self.state.contacts.obstacle,
             ..self.context(&ord)
         };
         let asm = assemble(&ctx, d, true, None);

@@ -65,9 +65,11 @@ impl Newton<'_> {
         // right-hand side.
         let mut asm = Assembled::default();
         // The predictor's assembly is the last converged one when nothing differs: no contact
-        // element and no prescribed increment (which would need the coupling K_fp dp).
+        // element or obstacle contact and no prescribed increment (which would need the
+        // coupling K_fp dp).
         let mut reuse = false;
         if ordering.links.is_empty()
+            && contacts.obstacle.is_empty()
             && path.starts_at_the_converged_state()
             && !self.model.has_followers()
         {
@@ -87,6 +89,7 @@ impl Newton<'_> {
                 contact: p.contact_options(pass_iter + 1),
                 loads: &loads,
                 follower: self.model.has_followers().then(|| path.load_factor()),
+                obstacles: &contacts.obstacle,
                 ..self.context(&ordering)
             };
             if std::mem::take(&mut reuse) {
@@ -142,7 +145,7 @@ impl Newton<'_> {
                 // tolerance itself is out of reach for this contact set.
                 let settled = rel <= STAGNATION * floor;
                 if accepted || settled {
-                    let changed = contacts.after_convergence(
+                    let mut changed = contacts.after_convergence(
                         &self.view(),
                         &d,
                         &asm,
@@ -150,8 +153,20 @@ impl Newton<'_> {
                         iterations,
                         &mut events,
                     );
+                    let mut updated = 0;
+                    if changed == 0 {
+                        let pass = contacts.obstacle_pass(
+                            &self.view(),
+                            &d,
+                            &asm,
+                            increment,
+                            iterations,
+                            &mut events,
+                        );
+                        (changed, updated) = (pass.changes, pass.updated);
+                    }
                     self.too_deep(&contacts)?;
-                    if changed == 0 && accepted {
+                    if changed == 0 && updated == 0 && accepted {
                         let max_penetration = contacts.max_penetration(&self.view(), &d);
                         // Unfactored: the next increment's predictor may start from it.
                         asm.tangent = Some(tangent);
@@ -179,6 +194,13 @@ impl Newton<'_> {
                         });
                         changes = self.count_changes(changes, changed)?;
                         ordering = self.ordering_for(&contacts);
+                        pass_iter = 0;
+                        stall = Stall::new();
+                        continue;
+                    }
+                    if updated > 0 {
+                        // The same contacts with new multipliers: another pass closes the gaps.
+                        self.gaps_closing(&contacts)?;
                         pass_iter = 0;
                         stall = Stall::new();
                         continue;

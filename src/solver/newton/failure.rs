@@ -1,7 +1,9 @@
 //! Why a Newton attempt failed, as a type: each failure the increment control can answer
 //! (a smaller increment, a slide-off, a located error) is told apart by its variant.
 
-use crate::solver::acceptance::{Crossing, OutOfRange, MAX_STRAIN_STEP, MAX_TURN_STEP};
+use crate::solver::acceptance::{
+    Crossing, ObstacleCrossing, OutOfRange, MAX_STRAIN_STEP, MAX_TURN_STEP,
+};
 use crate::solver::contact::ContactSet;
 use crate::solver::model::Model;
 
@@ -49,6 +51,24 @@ pub enum AttemptError {
         /// Depth, in element lengths.
         depth: f64,
     },
+    /// A node was found deeper inside a rigid obstacle than `SolverParams::max_penetration`
+    /// lengths of its elements before its contact was made.
+    ObstacleTooDeep {
+        /// Node index.
+        node: usize,
+        /// Obstacle index.
+        obstacle: usize,
+        /// Depth (m).
+        depth: f64,
+    },
+    /// The multipliers of the obstacle contacts were updated too often without closing every
+    /// gap to the tolerance.
+    GapsOpen {
+        /// Updates made.
+        updates: usize,
+    },
+    /// The acceptance check found a node inside a rigid obstacle.
+    InsideObstacle(ObstacleCrossing),
     /// Arc length: the reference load does no work on the free dofs.
     NoLoadPath,
     /// Arc length: the constraint has no real root.
@@ -98,6 +118,24 @@ impl AttemptError {
                 "{} went {depth:.2} element lengths through {} before contact was detected",
                 model.node_label(*node),
                 model.bodies[*body].name
+            ),
+            AttemptError::ObstacleTooDeep {
+                node,
+                obstacle,
+                depth,
+            } => format!(
+                "{} went {depth:.2e} m into obstacle {} before contact was made",
+                model.node_label(*node),
+                model.obstacles[*obstacle].name
+            ),
+            AttemptError::GapsOpen { updates } => format!(
+                "the obstacle gaps stay open after {updates} updates of the multipliers"
+            ),
+            AttemptError::InsideObstacle(x) => format!(
+                "{} ends {:.2e} m inside obstacle {}",
+                model.node_label(x.node),
+                x.depth,
+                model.obstacles[x.obstacle].name
             ),
             AttemptError::NoLoadPath => {
                 "arc length: the reference load does no work on the free dofs".into()

@@ -15,6 +15,11 @@ use crate::solver::params::StretchCorrection;
 use crate::solver::state::State;
 use crate::solver::structure::Structure;
 
+/// Updates of the obstacle multipliers an attempt may make, per obstacle contact on average,
+/// before it fails (`AttemptError::GapsOpen`). A penalty of the order of the elements' axial
+/// stiffness closes a gap by orders of magnitude an update.
+const MAX_MULTIPLIER_UPDATES: usize = 20;
+
 /// What a Newton attempt reads: the structure (through `Deref`), the last converged state, and
 /// the scratch space it borrows buffers from.
 #[derive(Clone, Copy)]
@@ -97,10 +102,29 @@ impl<'a> Newton<'a> {
     /// The error for a node found deeper through a body than `max_penetration` at a converged
     /// pass (the increment is then cut back), if there is one.
     pub(super) fn too_deep(&self, contacts: &ContactSet) -> Result<(), AttemptError> {
-        match contacts.too_deep {
-            Some((node, body, depth)) => Err(AttemptError::TooDeep { node, body, depth }),
+        if let Some((node, body, depth)) = contacts.too_deep {
+            return Err(AttemptError::TooDeep { node, body, depth });
+        }
+        match contacts.obstacle_too_deep {
+            Some((node, obstacle, depth)) => Err(AttemptError::ObstacleTooDeep {
+                node,
+                obstacle,
+                depth,
+            }),
             None => Ok(()),
         }
+    }
+
+    /// Whether the obstacle contacts' multipliers may be updated once more in this attempt
+    /// (`MAX_MULTIPLIER_UPDATES` per contact on average).
+    pub(super) fn gaps_closing(&self, contacts: &ContactSet) -> Result<(), AttemptError> {
+        let allowed = MAX_MULTIPLIER_UPDATES * contacts.obstacle.len().max(1);
+        if contacts.multiplier_updates > allowed {
+            return Err(AttemptError::GapsOpen {
+                updates: contacts.multiplier_updates,
+            });
+        }
+        Ok(())
     }
 
     /// Whether a pass at relative residual `rel` (round-off floor `floor`; `at_floor`: Newton
@@ -155,7 +179,8 @@ impl<'a> Newton<'a> {
         let total = so_far + more;
         // Every candidate node may touch, let go and touch again (one change per pass once an
         // active set repeats); beyond that, the allowance is for chattering.
-        if total > self.params.max_active_set_changes + 4 * self.candidate_nodes {
+        let candidates = self.candidate_nodes + self.obstacle_candidates.len();
+        if total > self.params.max_active_set_changes + 4 * candidates {
             return Err(AttemptError::Chattering { changes: total });
         }
         Ok(total)

@@ -1,0 +1,87 @@
+//! The contacts of nodes with rigid obstacles in the assembly: where a node lies against an
+//! obstacle that its pilot node has moved (`obstacle_gap`), and the adds of every active
+//! contact's force and tangent (`add_obstacles`), made before the elements' so that no
+//! equation is settled before they reach it.
+
+use super::dofs::{DofMap, Ordering};
+use super::internal::{add_element, Sink};
+use crate::solver::element::obstacle::{obstacle_response, Gap};
+use crate::solver::model::Model;
+
+/// A node resting on a rigid obstacle, with the multiplier of its augmented Lagrangian (the
+/// normal force it carries at a closed gap).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ObstacleLink {
+    /// Node index.
+    pub node: usize,
+    /// Obstacle index.
+    pub obstacle: usize,
+    /// Multiplier (N).
+    pub multiplier: f64,
+}
+
+/// How far obstacle `o`'s pilot node has moved it at displacements `d`.
+pub fn obstacle_offset(model: &Model, dofs: &DofMap, d: &[f64], o: usize) -> [f64; 2] {
+    match model.obstacles[o].pilot {
+        Some(p) => {
+            let f = dofs.first[p];
+            [d[f], d[f + 1]]
+        }
+        None => [0.0, 0.0],
+    }
+}
+
+/// Where node `n` lies against obstacle `o` at displacements `d` (`None`: out of its reach),
+/// with the nearest point and the normal in the model's coordinates.
+pub fn obstacle_gap(model: &Model, dofs: &DofMap, d: &[f64], n: usize, o: usize) -> Option<Gap> {
+    let t = obstacle_offset(model, dofs, d, o);
+    let f = dofs.first[n];
+    // The node's motion relative to the obstacle, apart from where it starts (`Shape::gap_at`).
+    let w = [d[f] - t[0], d[f + 1] - t[1]];
+    let x0 = model.position(n);
+    let mut gap = model.obstacles[o].shape.gap_at(x0, w)?;
+    gap.point = [gap.point[0] + t[0], gap.point[1] + t[1]];
+    Some(gap)
+}
+
+/// Add the forces and tangents of the obstacle contacts `links` at penalty `penalty` (N/m)
+/// and displacements `d`; returns each one's normal force. A contact out of its obstacle's
+/// reach (an arc's node that has left its angle range) carries nothing.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn add_obstacles(
+    model: &Model,
+    dofs: &DofMap,
+    ord: &Ordering,
+    links: &[ObstacleLink],
+    penalty: f64,
+    d: &[f64],
+    with_tangent: bool,
+    dp: Option<&[f64]>,
+    forces: &mut Vec<f64>,
+    (internal, held, mut band, coupling): Sink,
+) {
+    forces.clear();
+    let mut gdofs = Vec::with_capacity(4);
+    for link in links {
+        let Some(gap) = obstacle_gap(model, dofs, d, link.node, link.obstacle) else {
+            forces.push(0.0);
+            continue;
+        };
+        let (f, nodal, k) = obstacle_response(&gap, link.multiplier, penalty);
+        forces.push(f);
+        gdofs.clear();
+        gdofs.extend((0..2).map(|o| dofs.dof(link.node, o)));
+        let pilot = model.obstacles[link.obstacle].pilot;
+        if let Some(p) = pilot {
+            gdofs.extend((0..2).map(|o| dofs.dof(p, o)));
+        }
+        let k = with_tangent.then_some(move |a: usize, b: usize| k[a][b]);
+        let sink = (
+            &mut *internal,
+            (held.0, &mut *held.1),
+            band.as_deref_mut(),
+            &mut *coupling,
+        );
+        add_element(&gdofs, &nodal[..gdofs.len()], k, ord, dofs, dp, sink);
+    }
+}
