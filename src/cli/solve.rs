@@ -73,7 +73,7 @@ impl Observer for Printer {
             r.relative_residual,
             mark,
             r.cutbacks,
-            r.contacts.len(),
+            r.contacts.len() + r.obstacle_contacts.len(),
             r.seconds * 1e3
         );
         let t = &mut self.tally;

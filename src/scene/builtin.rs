@@ -39,6 +39,15 @@ pub const BUILTIN: &[(&str, &str)] = &[
         "heavy_strip.ron",
         include_str!("../../assets/scenes/heavy_strip.ron"),
     ),
+    ("roller.ron", include_str!("../../assets/scenes/roller.ron")),
+    (
+        "cylinder_wrap.ron",
+        include_str!("../../assets/scenes/cylinder_wrap.ron"),
+    ),
+    (
+        "table_lift.ron",
+        include_str!("../../assets/scenes/table_lift.ron"),
+    ),
 ];
 
 /// The RON text of a built-in scene by file name (with or without `.ron`).

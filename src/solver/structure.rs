@@ -5,8 +5,8 @@
 //! and the dofs of a mechanism.
 
 use super::assembly::{
-    assemble, current, obstacle_gap, AssemblyContext, DofKind, DofMap, ExternalForce, ObstacleLink,
-    Ordering, PackedBeam,
+    assemble, current, AssemblyContext, DofKind, DofMap, ExternalForce, ObstacleLink, Ordering,
+    PackedBeam,
 };
 use super::element::beam::BeamElement;
 use super::model::Model;
@@ -110,25 +110,6 @@ impl Structure {
     /// The larger side of the model's bounding box at rest (m).
     pub fn model_size(&self) -> f64 {
         self.size
-    }
-
-    /// The obstacle contacts of the structure at rest: every candidate node within the obstacle
-    /// tolerance of its obstacle (a strip lying on a table starts resting on it), with a
-    /// multiplier of 0, and the obstacle's normal there.
-    pub(crate) fn resting_at_start(&self) -> Vec<(ObstacleLink, [f64; 2])> {
-        let d = vec![0.0; self.dofs.len()];
-        let tol = self.obstacle_tolerance();
-        (self.obstacle_candidates.iter())
-            .filter_map(|&(node, obstacle)| {
-                let gap = obstacle_gap(&self.model, &self.dofs, &d, node, obstacle)?;
-                let link = ObstacleLink {
-                    node,
-                    obstacle,
-                    multiplier: 0.0,
-                };
-                (gap.g.abs() <= tol).then_some((link, gap.n))
-            })
-            .collect()
     }
 
     /// The largest gap (either way) of an accepted obstacle contact (m):

@@ -1,12 +1,12 @@
-//! The viewed state as a figure for papers, independent of the window: the undeformed shape
-//! as a grey ghost, each body's deformed curve (the curve the viewport draws), the force
+//! The viewed state as a figure for papers, independent of the window: the rigid obstacles, the
+//! undeformed shape as a grey ghost, each body's deformed curve (the curve the viewport draws), the force
 //! diagram if one is chosen, pins as open circles and contact nodes as red dots, all in world
 //! coordinates. `svg.rs` writes it as SVG; `raster` draws it as a PNG of any size.
 
 use std::path::Path;
 
 use super::diagrams::{value_at, Diagram};
-use super::shapes::{chord_frame, deformed_bodies, undeformed_bodies};
+use super::shapes::{chord_frame, deformed_bodies, obstacle_outlines, undeformed_bodies};
 use crate::solver::{IncrementRecord, Model};
 use crate::worker::Loaded;
 
@@ -25,6 +25,8 @@ pub enum Kind {
     Body,
     /// A force diagram's outline.
     Diagram,
+    /// A rigid obstacle's outline.
+    Obstacle,
 }
 
 impl Kind {
@@ -34,6 +36,7 @@ impl Kind {
             Kind::Ghost => ([175, 178, 186], 1.5),
             Kind::Body => ([0, 0, 0], 2.0),
             Kind::Diagram => ([40, 90, 200], 1.2),
+            Kind::Obstacle => ([90, 90, 96], 3.0),
         }
     }
 }
@@ -63,7 +66,7 @@ pub struct Dot {
 /// The figure of one increment.
 #[derive(Clone, Debug, Default)]
 pub struct Figure {
-    /// The lines, ghost first, then bodies, then diagrams.
+    /// The lines: obstacles, ghost, bodies, then diagrams.
     pub lines: Vec<Line>,
     /// The marked nodes.
     pub dots: Vec<Dot>,
@@ -132,6 +135,13 @@ impl Figure {
 pub fn figure(loaded: &Loaded, r: &IncrementRecord, diagram: Option<Diagram>) -> Figure {
     let model = &loaded.scene.model;
     let mut f = Figure::default();
+    for points in obstacle_outlines(model, r) {
+        f.lines.push(Line {
+            kind: Kind::Obstacle,
+            name: String::new(),
+            points,
+        });
+    }
     for points in undeformed_bodies(model) {
         f.lines.push(Line {
             kind: Kind::Ghost,

@@ -14,7 +14,7 @@ use crate::app::view::handle_world;
 
 /// Lines and text.
 pub const INK: Color32 = Color32::from_rgb(40, 44, 52);
-const ACTIVE: Color32 = Color32::from_rgb(245, 130, 20);
+pub(crate) const ACTIVE: Color32 = Color32::from_rgb(245, 130, 20);
 const HANDLE: Color32 = Color32::from_rgb(20, 150, 90);
 
 /// Clamps at nodes with u, v and phi held; small triangles at other supported nodes.

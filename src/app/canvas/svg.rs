@@ -38,13 +38,13 @@ pub fn svg(loaded: &Loaded, r: &IncrementRecord, diagram: Option<Diagram>, width
                 xml_escape(&line.name),
                 pts.join(" L")
             ),
-            Kind::Ghost | Kind::Diagram => writeln!(
+            Kind::Ghost | Kind::Diagram | Kind::Obstacle => writeln!(
                 out,
                 "<polyline class=\"{}\" points=\"{}\" {stroke}/>",
-                if line.kind == Kind::Ghost {
-                    "undeformed"
-                } else {
-                    "diagram"
+                match line.kind {
+                    Kind::Ghost => "undeformed",
+                    Kind::Obstacle => "obstacle",
+                    _ => "diagram",
                 },
                 pts.join(" ")
             ),

@@ -6,7 +6,7 @@
 
 use std::sync::Arc;
 
-use egui::{Align2, Color32, FontId, Pos2, Rect, Sense, Vec2};
+use egui::{Align2, Color32, FontId, Pos2, Rect, Sense, Stroke, Vec2};
 
 use crate::solver::Dof;
 
@@ -14,12 +14,16 @@ use super::beams_gpu::{self, Built, Strip};
 use super::diagrams::{self, Diagram};
 use super::overlays::{self, INK};
 use super::query::{describe, pick};
-use super::shapes::{deformed_bodies, max_moment, moment_color, undeformed_bodies, BodyCurve};
+use super::shapes::{
+    deformed_bodies, max_moment, moment_color, obstacle_outlines, undeformed_bodies, BodyCurve,
+};
 use super::strips::Polyline;
 use crate::app::state::TsmApp;
 use crate::app::view::{bounds, handle_world, Drag};
 
 const GHOST: Color32 = Color32::from_rgb(175, 178, 186);
+/// The outline of a rigid obstacle (as the figure draws it, `figure::Kind::Obstacle`).
+const OBSTACLE: Color32 = Color32::from_rgb(90, 90, 96);
 
 /// What the cached curves were built for: the scene load, and the increment (its number and
 /// wall time, which tell records apart).
@@ -119,7 +123,12 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui, gpu: Option<&egui_wgpu::RenderS
             b
         }
     };
+    for outline in obstacle_outlines(model, r) {
+        let points: Vec<Pos2> = outline.into_iter().map(to_screen).collect();
+        painter.add(egui::Shape::line(points, Stroke::new(3.0, OBSTACLE)));
+    }
     beams_gpu::paint(&painter, rect, &built, gpu);
+    obstacle_contacts(&painter, model, r, &to_screen);
 
     overlays::supports(&painter, model, r, &to_screen);
     overlays::contacts(&painter, model, r, &to_screen);
@@ -273,4 +282,30 @@ fn fit(app: &mut TsmApp, rect: Rect) {
     app.view.fit(below, b);
     // `fit` centred the bounds in `below`; the view is anchored at the centre of `rect`.
     app.view.center[1] += f64::from(room / 2.0) / app.view.scale;
+}
+
+/// The nodes resting on obstacles: a disc at the node and an arrow of the obstacle's push
+/// along its normal, 14 to 50 points long by the force (the largest the longest).
+fn obstacle_contacts(
+    p: &egui::Painter,
+    model: &crate::solver::Model,
+    r: &crate::solver::IncrementRecord,
+    s: &dyn Fn([f64; 2]) -> Pos2,
+) {
+    let fmax = (r.obstacle_contacts.iter()).fold(1e-30f64, |a, c| a.max(c.force.abs()));
+    for c in &r.obstacle_contacts {
+        let Some(n) = model.nodes.iter().position(|x| x.id == c.node) else {
+            continue;
+        };
+        let at = s([r.nodes[n][0], r.nodes[n][1]]);
+        // The push on the node, along the normal (screen y points down).
+        let dir = Vec2::new(c.normal[0] as f32, -c.normal[1] as f32);
+        let len = 14.0 + 36.0 * (c.force.abs() / fmax) as f32;
+        p.arrow(
+            at - dir * (len + 6.0),
+            dir * len,
+            Stroke::new(2.5, overlays::ACTIVE),
+        );
+        p.circle(at, 5.0, overlays::ACTIVE, Stroke::new(1.5, INK));
+    }
 }

@@ -96,7 +96,7 @@ pub fn csv(loaded: &Loaded, records: &[IncrementRecord], nodes: &[usize]) -> Str
                 IncrementStatus::RoundOff { .. } => "roundoff",
             },
             r.cutbacks,
-            r.contacts.len()
+            r.contacts.len() + r.obstacle_contacts.len()
         );
         for (n, d) in &reactions {
             let v = r

@@ -77,6 +77,29 @@ pub fn show(app: &TsmApp, ui: &mut egui::Ui) {
                 ui.end_row();
             }
         });
+    if !r.obstacle_contacts.is_empty() {
+        ui.separator();
+        let count = r.obstacle_contacts.len();
+        ui.label(RichText::new(format!("On obstacles: {count}")).strong());
+        egui::Grid::new("obstacle contacts")
+            .striped(true)
+            .num_columns(4)
+            .show(ui, |ui| {
+                let force = format!("F ({})", units.force());
+                let gap = format!("gap ({})", units.length());
+                for h in ["node", "on", force.as_str(), gap.as_str()] {
+                    ui.label(RichText::new(h).small());
+                }
+                ui.end_row();
+                for c in &r.obstacle_contacts {
+                    ui.label(c.node.to_string());
+                    ui.label(&c.obstacle);
+                    ui.label(num(c.force));
+                    ui.label(format!("{:.1e}", c.gap));
+                    ui.end_row();
+                }
+            });
+    }
     let events: Vec<_> = r.events.iter().map(|e| e.describe(model)).collect();
     if !events.is_empty() {
         ui.separator();

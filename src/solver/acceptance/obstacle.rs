@@ -35,10 +35,15 @@ pub fn inside_obstacle(
             ],
             None => origin,
         };
+        // Beyond the tolerance by more than the round-off of the positions and the shape's
+        // coordinates (64 units of the largest), which the contact code's gap and this
+        // check's depth may each be off by.
+        let scale = shape_scale(&ob.shape, t);
         for &n in &ob.nodes {
             let x = [states[n][0] - t[0], states[n][1] - t[1]];
             let depth = depth_inside(&ob.shape, x);
-            if depth > tol {
+            let slack = 64.0 * f64::EPSILON * (scale + x[0].abs().max(x[1].abs()));
+            if depth > tol + slack {
                 return Some(ObstacleCrossing {
                     node: n,
                     obstacle: o,
@@ -48,6 +53,19 @@ pub fn inside_obstacle(
         }
     }
     None
+}
+
+/// The largest coordinate of the shape, moved by `t` (m).
+fn shape_scale(shape: &Shape, t: [f64; 2]) -> f64 {
+    let big = |p: &[f64; 2]| (p[0] + t[0]).abs().max((p[1] + t[1]).abs());
+    match shape {
+        Shape::Line { from, to } => big(from).max(big(to)),
+        Shape::Polyline { points } => points.iter().map(big).fold(0.0, f64::max),
+        Shape::Circle { centre, radius, .. } | Shape::Arc { centre, radius, .. } => {
+            big(centre) + radius
+        }
+    }
+    .max(f64::MIN_POSITIVE)
 }
 
 fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {

@@ -1,15 +1,15 @@
 //! The contacts of nodes with rigid obstacles in the assembly: where a node lies against an
-//! obstacle that its pilot node has moved (`obstacle_gap`), and the adds of every active
-//! contact's force and tangent (`add_obstacles`), made before the elements' so that no
-//! equation is settled before they reach it.
+//! obstacle that its pilot node has moved (`obstacle_gap`), and the adds of the force and
+//! tangent of every active candidate pair (`add_obstacles`), made before the elements' so that
+//! no equation is settled before they reach it.
 
 use super::dofs::{DofMap, Ordering};
 use super::internal::{add_element, Sink};
 use crate::solver::element::obstacle::{obstacle_response, Gap};
 use crate::solver::model::Model;
 
-/// A node resting on a rigid obstacle, with the multiplier of its augmented Lagrangian (the
-/// normal force it carries at a closed gap).
+/// A node that may touch a rigid obstacle, with the multiplier of its augmented Lagrangian
+/// (the normal force it carries at a closed gap; 0 while it does not touch).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ObstacleLink {
     /// Node index.
@@ -18,6 +18,8 @@ pub struct ObstacleLink {
     pub obstacle: usize,
     /// Multiplier (N).
     pub multiplier: f64,
+    /// Whether the pair is in contact in the current pass (its force and tangent assembled).
+    pub active: bool,
 }
 
 /// How far obstacle `o`'s pilot node has moved it at displacements `d`.
@@ -44,9 +46,10 @@ pub fn obstacle_gap(model: &Model, dofs: &DofMap, d: &[f64], n: usize, o: usize)
     Some(gap)
 }
 
-/// Add the forces and tangents of the obstacle contacts `links` at penalty `penalty` (N/m)
-/// and displacements `d`; returns each one's normal force. A contact out of its obstacle's
-/// reach (an arc's node that has left its angle range) carries nothing.
+/// Add the forces and tangents of the active pairs of `links` at penalty `penalty` (N/m) and
+/// displacements `d`; returns each pair's normal force `multiplier - penalty g` (negative:
+/// tensile), 0 for an inactive pair and minus infinity for an active one out of its obstacle's
+/// reach (an arc's node outside its angle range), which adds nothing.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn add_obstacles(
     model: &Model,
@@ -63,8 +66,12 @@ pub(super) fn add_obstacles(
     forces.clear();
     let mut gdofs = Vec::with_capacity(4);
     for link in links {
-        let Some(gap) = obstacle_gap(model, dofs, d, link.node, link.obstacle) else {
+        if !link.active {
             forces.push(0.0);
+            continue;
+        }
+        let Some(gap) = obstacle_gap(model, dofs, d, link.node, link.obstacle) else {
+            forces.push(f64::NEG_INFINITY);
             continue;
         };
         let (f, nodal, k) = obstacle_response(&gap, link.multiplier, penalty);

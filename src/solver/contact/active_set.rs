@@ -21,6 +21,8 @@ impl ContactSet {
         self.seen.clear();
         self.one_at_a_time = false;
         self.multiplier_updates = 0;
+        self.obstacle_seen.clear();
+        self.obstacle_one_at_a_time = false;
     }
 
     /// At a converged pass: transfers, releases of tensile contacts and activation of crossing

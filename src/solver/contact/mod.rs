@@ -16,6 +16,5 @@ mod set;
 mod sides;
 mod transfer;
 
-pub use obstacles::ObstaclePass;
 pub use probe::Probe;
 pub use set::{ActiveContact, ContactSet, ContactView};

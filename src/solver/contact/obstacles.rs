@@ -1,101 +1,161 @@
-//! Contacts of nodes with rigid obstacles at a converged pass (`ContactSet::obstacle_pass`):
-//! a candidate node found inside an obstacle by more than `Structure::obstacle_tolerance`
-//! becomes a contact (within it, the node is as good as touching, and its force would be
-//! round-off: no contact is made that the next pass would let go); a contact whose normal force
-//! turns tensile, or whose node leaves the obstacle's reach, lets go; and the multiplier of a
-//! contact whose gap is still open either way by more than `Structure::obstacle_tolerance`
-//! takes the force it carries (the augmented Lagrangian update), so that the next pass closes
-//! the gap further. The gap at an accepted state is within the tolerance: exact geometry, no
-//! penetration beyond it.
+//! Contacts of nodes with rigid obstacles. Every candidate (node, obstacle) pair carries a
+//! multiplier and whether it is in contact in the current pass (`ContactSet::obstacle`). Within
+//! a Newton pass the contacts are fixed; at a converged pass (`ContactSet::obstacle_pass`)
+//! contacts whose force `multiplier - penalty g` turned tensile let go and nodes found inside
+//! an obstacle by more than `Structure::obstacle_tolerance` touch it; once the contacts hold,
+//! the multiplier of every contact whose gap is still open either way by more than the
+//! tolerance takes the force it carries (the augmented Lagrangian update), and the next pass
+//! closes the gap further. Should a set of contacts come back within an attempt, each pass
+//! makes one change, the least (node, obstacle) pair first, which cannot cycle. At the
+//! accepted pass (`ContactSet::obstacle_settle`) the contacts are compared with the last
+//! accepted ones: the nodes that touched and let go are the events, not the passes between.
 
 use super::set::{ContactSet, ContactView};
 use crate::solver::assembly::{obstacle_gap, Assembled, ObstacleLink};
 use crate::solver::report::{ContactChange, Event, ObstacleEvent, ObstacleState};
 
-/// What a converged pass did to the obstacle contacts.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct ObstaclePass {
-    /// Contacts made or let go (active-set changes).
-    pub changes: usize,
-    /// Multipliers updated (the same active set, another pass to close its gaps).
-    pub updated: usize,
-}
-
 impl ContactSet {
-    /// At a converged pass at displacements `d` with assembly `asm` (made with these obstacle
-    /// contacts): releases, activations and multiplier updates, with their events.
+    /// The candidate pairs of the structure at rest, each with its multiplier, and whether it
+    /// rests on its obstacle: a node within the obstacle tolerance of it (a strip lying on a
+    /// table) starts in contact, its multiplier taking up a gap of round-off so that it presses
+    /// from the start.
+    pub(crate) fn obstacles_at_rest(&mut self, cv: &ContactView<'_>) {
+        let (m, k, tol) = (&cv.model, cv.obstacle_penalty, cv.obstacle_tolerance());
+        self.obstacle.clear();
+        self.obstacle_resting.clear();
+        for &(node, obstacle) in &cv.obstacle_candidates {
+            let gap = obstacle_gap(m, &cv.dofs, cv.d, node, obstacle);
+            let resting = gap.is_some_and(|g| g.g.abs() <= tol);
+            let multiplier = gap.filter(|_| resting).map_or(0.0, |g| k * g.g.max(0.0));
+            self.obstacle.push(ObstacleLink {
+                node,
+                obstacle,
+                multiplier,
+                active: resting,
+            });
+            self.obstacle_resting.push(resting);
+        }
+    }
+
+    /// The nodes resting on obstacles at the last accepted state and their obstacles' unit
+    /// normals there (what holds a body up before it is loaded).
+    pub(crate) fn resting_normals(&self, cv: &ContactView<'_>) -> Vec<(usize, [f64; 2])> {
+        (self.obstacle.iter().zip(&self.obstacle_resting))
+            .filter(|(_, &r)| r)
+            .filter_map(|(l, _)| {
+                let gap = obstacle_gap(&cv.model, &cv.dofs, cv.d, l.node, l.obstacle)?;
+                Some((l.node, gap.n))
+            })
+            .collect()
+    }
+
+    /// At a converged pass at displacements `d` with assembly `asm` (made with these
+    /// contacts): releases and activations, else the augmented Lagrangian update. Returns the
+    /// contacts made or let go, and the multipliers moved (both 0: every gap is closed). A node
+    /// that did not rest on its obstacle at the last accepted state and is found deeper inside
+    /// it than `max_penetration` lengths of its elements makes the attempt fail
+    /// (`obstacle_too_deep`): the increment is cut back so that the touch is caught where it
+    /// happens.
     pub fn obstacle_pass(
         &mut self,
         cv: &ContactView<'_>,
         d: &[f64],
         asm: &Assembled,
+    ) -> (usize, usize) {
+        let tol = cv.obstacle_tolerance();
+        let forces = &asm.elements.obstacle_forces;
+        // The violations, in the order of the pairs: (pair, activate).
+        let mut violations = Vec::new();
+        for (k, link) in self.obstacle.iter().enumerate() {
+            if link.active {
+                if forces[k] < 0.0 {
+                    violations.push((k, false));
+                }
+                continue;
+            }
+            let Some(gap) = obstacle_gap(&cv.model, &cv.dofs, d, link.node, link.obstacle) else {
+                continue;
+            };
+            if gap.g < -tol {
+                violations.push((k, true));
+                let reach = cv.params.max_penetration * node_length(cv, link.node);
+                if !self.obstacle_resting[k] && -gap.g > reach && self.obstacle_too_deep.is_none() {
+                    self.obstacle_too_deep = Some((link.node, link.obstacle, -gap.g));
+                }
+            }
+        }
+        if !violations.is_empty() {
+            if self.obstacle_one_at_a_time {
+                violations.truncate(1);
+            }
+            for &(k, activate) in &violations {
+                let link = &mut self.obstacle[k];
+                link.active = activate;
+                link.multiplier = 0.0;
+                if !activate {
+                    self.obstacle_let_go.insert(k, forces[k]);
+                }
+            }
+            let set: Vec<bool> = self.obstacle.iter().map(|l| l.active).collect();
+            if !self.obstacle_seen.insert(set) {
+                self.obstacle_one_at_a_time = true;
+            }
+            return (violations.len(), 0);
+        }
+        let mut updated = 0;
+        for (k, link) in self.obstacle.iter_mut().enumerate() {
+            if !link.active {
+                continue;
+            }
+            let Some(gap) = obstacle_gap(&cv.model, &cv.dofs, d, link.node, link.obstacle) else {
+                continue;
+            };
+            if gap.g.abs() > tol {
+                link.multiplier = forces[k];
+                updated += 1;
+            }
+        }
+        self.multiplier_updates += updated;
+        (0, updated)
+    }
+
+    /// At the accepted pass: which nodes rest on their obstacles now, and the
+    /// events of those that touched (`Activated`) or let go (`Released`) since the last accepted
+    /// state.
+    pub fn obstacle_settle(
+        &mut self,
+        cv: &ContactView<'_>,
         increment: usize,
         iteration: usize,
         events: &mut Vec<Event>,
-    ) -> ObstaclePass {
-        let mut pass = ObstaclePass::default();
-        if cv.obstacle_candidates.is_empty() {
-            return pass;
-        }
+    ) {
         let m = &cv.model;
-        let tol = cv.obstacle_tolerance();
-        let event = |link: &ObstacleLink, change, force| {
-            Event::Obstacle(ObstacleEvent {
+        for (k, link) in self.obstacle.iter().enumerate() {
+            let now = link.active;
+            if now == self.obstacle_resting[k] {
+                continue;
+            }
+            // A release carries the tensile force it was let go with.
+            let (change, force) = if now {
+                (ContactChange::Activated, 0.0)
+            } else {
+                let f = self.obstacle_let_go.get(&k).copied().unwrap_or(0.0);
+                (ContactChange::Released, f.max(-f64::MAX))
+            };
+            events.push(Event::Obstacle(ObstacleEvent {
                 change,
                 increment,
                 iteration,
                 node: m.nodes[link.node].id,
                 obstacle: m.obstacles[link.obstacle].name.clone(),
                 force,
-            })
-        };
-        let forces = &asm.elements.obstacle_forces;
-        let mut kept = Vec::with_capacity(self.obstacle.len());
-        for (k, link) in self.obstacle.iter().enumerate() {
-            let f = forces[k];
-            match obstacle_gap(m, &cv.dofs, d, link.node, link.obstacle) {
-                Some(gap) if f >= 0.0 => {
-                    let mut link = *link;
-                    if gap.g.abs() > tol {
-                        link.multiplier = f;
-                        pass.updated += 1;
-                    }
-                    kept.push(link);
-                }
-                _ => {
-                    events.push(event(link, ContactChange::Released, f));
-                    pass.changes += 1;
-                }
-            }
+            }));
+            self.obstacle_resting[k] = now;
         }
-        self.obstacle = kept;
-        for &(n, o) in &cv.obstacle_candidates {
-            if self.obstacle.iter().any(|l| l.node == n && l.obstacle == o) {
-                continue;
-            }
-            let Some(gap) = obstacle_gap(m, &cv.dofs, d, n, o) else {
-                continue;
-            };
-            if gap.g < -tol {
-                let link = ObstacleLink {
-                    node: n,
-                    obstacle: o,
-                    multiplier: 0.0,
-                };
-                events.push(event(&link, ContactChange::Activated, 0.0));
-                self.obstacle.push(link);
-                pass.changes += 1;
-                let reach = cv.params.max_penetration * node_length(cv, n);
-                if -gap.g > reach && self.obstacle_too_deep.is_none() {
-                    self.obstacle_too_deep = Some((n, o, -gap.g));
-                }
-            }
-        }
-        self.multiplier_updates += pass.updated;
-        pass
+        self.obstacle_let_go.clear();
     }
 
-    /// Report states of the obstacle contacts from a converged assembly at displacements `d`.
+    /// Report states of the pairs that press, from a converged assembly at displacements `d`.
     pub fn obstacle_states(
         &self,
         cv: &ContactView<'_>,
@@ -105,6 +165,7 @@ impl ContactSet {
         let m = &cv.model;
         let o = cv.origin;
         (self.obstacle.iter().zip(&asm.elements.obstacle_forces))
+            .filter(|(link, _)| link.active)
             .filter_map(|(link, &force)| {
                 let gap = obstacle_gap(m, &cv.dofs, d, link.node, link.obstacle)?;
                 Some(ObstacleState {
@@ -117,6 +178,11 @@ impl ContactSet {
                 })
             })
             .collect()
+    }
+
+    /// How many nodes rest on obstacles at the last accepted state.
+    pub fn obstacles_resting(&self) -> usize {
+        self.obstacle_resting.iter().filter(|&&r| r).count()
     }
 }
 

@@ -2,8 +2,9 @@
 //! candidate node was last seen on relative to each candidate body, and what the assembly and
 //! the records read of it. Probing a node against a body's deformed shape is `probe.rs`, sides
 //! and crossings `sides.rs`, transfers and slide-off `transfer.rs`, activation and release at a
-//! converged pass `active_set.rs`, the contacts with rigid obstacles `obstacles.rs`. The contact stage reads the solver through a `ContactView`:
-//! the structure, and the last converged displacements and contact set, nothing more.
+//! converged pass `active_set.rs`, the contacts with rigid obstacles `obstacles.rs`. The
+//! contact stage reads the solver through a `ContactView`: the structure, and the last
+//! converged displacements and contact set, nothing more.
 
 use std::collections::HashSet;
 use std::ops::Deref;
@@ -47,8 +48,18 @@ pub struct ContactSet {
     /// Set once an active set repeats within an attempt: from then on each converged pass fixes
     /// one violation only (see `after_convergence`).
     pub(crate) one_at_a_time: bool,
-    /// The nodes resting on rigid obstacles, with their multipliers.
+    /// Every candidate (node, obstacle) pair of the structure, in its order, with its
+    /// multiplier (`obstacles.rs`).
     pub obstacle: Vec<ObstacleLink>,
+    /// Whether each pair of `obstacle` was in contact at the last accepted state.
+    pub(crate) obstacle_resting: Vec<bool>,
+    /// The force each obstacle pair last let go with in the current attempt (by pair).
+    pub(super) obstacle_let_go: IndexMap<usize, f64>,
+    /// The obstacle contacts met at the converged passes of the current attempt.
+    pub(super) obstacle_seen: HashSet<Vec<bool>>,
+    /// Set once a set of obstacle contacts repeats within an attempt: from then on each pass
+    /// makes one change.
+    pub(crate) obstacle_one_at_a_time: bool,
     /// Set by `obstacle_pass` when a node was found deeper inside an obstacle than
     /// `max_penetration` lengths of its elements: (node, obstacle, depth in m).
     pub(crate) obstacle_too_deep: Option<(usize, usize, f64)>,

@@ -56,10 +56,16 @@ impl Solver {
         // Rigid motions left free by the supports, from geometry; then what the tangent has no
         // stiffness for (inner mechanisms, and lone nodes).
         // Nodes resting on obstacles at rest start in contact: the obstacles hold them.
-        let resting = structure.resting_at_start();
-        let normals: Vec<(usize, [f64; 2])> = resting.iter().map(|(l, n)| (l.node, *n)).collect();
         let mut state = state;
-        state.contacts.obstacle = resting.into_iter().map(|(l, _)| l).collect();
+        let mut contacts = std::mem::take(&mut state.contacts);
+        let view = ContactView {
+            structure: &structure,
+            d: &state.d,
+            contacts: &ContactSet::default(),
+        };
+        contacts.obstacles_at_rest(&view);
+        let normals = contacts.resting_normals(&view);
+        state.contacts = contacts;
         let free = free_parts(&structure.model, &normals);
         if !free.is_empty() {
             return Err(structure.rigid_motion(&free));

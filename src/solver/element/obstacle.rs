@@ -207,11 +207,15 @@ fn polyline_gap(points: &[[f64; 2]], x: [f64; 2]) -> Gap {
     }
 }
 
-/// The internal forces and tangent of one active obstacle contact with gap `gap`, multiplier
+/// The internal forces and tangent of one obstacle contact with gap `gap`, multiplier
 /// `multiplier` (N) and penalty `penalty` (N/m): over (u, v) of the node, then (u, v) of the
 /// obstacle's pilot node (the gap depends on their difference). The contact force on the
 /// node is `F_N n` with `F_N = multiplier - penalty g`; its internal force is minus that, and
-/// the tangent `penalty n n^T - F_N curvature (I - n n^T)`. Returns (F_N, forces, tangent).
+/// the tangent `penalty n n^T - multiplier curvature (I - n n^T)`: the derivative at a closed
+/// gap, where `F_N` is the multiplier and where the augmented Lagrangian ends. (With `F_N`
+/// itself, a node deep inside a curved obstacle during the iterations would bring a large
+/// negative stiffness across the normal, and Newton would leave the solution.) Returns
+/// (F_N, forces, tangent).
 pub fn obstacle_response(
     gap: &Gap,
     multiplier: f64,
@@ -224,7 +228,7 @@ pub fn obstacle_response(
     for (a, row) in k2.iter_mut().enumerate() {
         for (b, k) in row.iter_mut().enumerate() {
             let id = if a == b { 1.0 } else { 0.0 };
-            *k = penalty * n[a] * n[b] - f * gap.curvature * (id - n[a] * n[b]);
+            *k = penalty * n[a] * n[b] - multiplier * gap.curvature * (id - n[a] * n[b]);
         }
     }
     let mut k = [[0.0; 4]; 4];
@@ -302,12 +306,18 @@ mod tests {
         }
     }
 
-    /// The tangent is the derivative of the internal forces (central differences over the
-    /// node's and the pilot's positions), on a curved shape with a force and a gap.
+    /// At a closed gap the tangent is the derivative of the internal forces (central
+    /// differences over the node's and the pilot's positions), on a curved shape with a force.
     #[test]
-    fn the_tangent_is_the_derivative_of_the_forces() {
+    fn the_tangent_is_the_derivative_of_the_forces_at_a_closed_gap() {
         let shape = &shapes()[2];
-        let (x, pilot) = ([0.55, -0.25], [0.01, -0.02]);
+        // A point of the circle (centre (0.2, -0.9), radius 0.7), the pilot moved off it.
+        let pilot = [0.01, -0.02];
+        let angle: f64 = 0.7;
+        let x = [
+            0.2 + 0.7 * angle.cos() + pilot[0],
+            -0.9 + 0.7 * angle.sin() + pilot[1],
+        ];
         let (lambda, k) = (3.0, 40.0);
         let at = |x: [f64; 2], t: [f64; 2]| {
             let g = shape.gap(sub(x, t)).unwrap();

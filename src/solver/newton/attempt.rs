@@ -155,18 +155,12 @@ impl Newton<'_> {
                     );
                     let mut updated = 0;
                     if changed == 0 {
-                        let pass = contacts.obstacle_pass(
-                            &self.view(),
-                            &d,
-                            &asm,
-                            increment,
-                            iterations,
-                            &mut events,
-                        );
-                        (changed, updated) = (pass.changes, pass.updated);
+                        (changed, updated) = contacts.obstacle_pass(&self.view(), &d, &asm);
                     }
                     self.too_deep(&contacts)?;
                     if changed == 0 && updated == 0 && accepted {
+                        let view = self.view();
+                        contacts.obstacle_settle(&view, increment, iterations, &mut events);
                         let max_penetration = contacts.max_penetration(&self.view(), &d);
                         // Unfactored: the next increment's predictor may start from it.
                         asm.tangent = Some(tangent);
