@@ -32,6 +32,12 @@ fn run(n: usize, extra: &str, steps: usize) -> Vec<IncrementRecord> {
     out
 }
 
+/// Errors as a row of a table in `docs/validation.md`.
+fn row(errors: &[f64]) -> String {
+    let cells: Vec<String> = errors.iter().map(|e| format!("{e:.1e}")).collect();
+    format!("| {} |", cells.join(" | "))
+}
+
 /// A cantilever tangent at its clamp to a rigid cylinder of radius `r` below it, pushed
 /// down by a tip load `p`: linear theory (small deflection). The beam wraps the cylinder
 /// over a = L - EI / (p r) with constant moment EI / r, the cylinder pushes back with p at
@@ -130,6 +136,16 @@ fn a_cantilever_pushed_onto_a_cylinder_wraps_it_as_linear_theory_says() {
         );
         errors.push(((tip - w).abs() / w, (xa - a).abs() / L));
     }
+    let tips: Vec<f64> = errors.iter().map(|e| e.0).collect();
+    let ends: Vec<f64> = errors.iter().map(|e| e.1).collect();
+    eprintln!(
+        "cylinder, linear theory (30, 90, 270 elements): tip {}",
+        row(&tips)
+    );
+    eprintln!(
+        "cylinder, linear theory (30, 90, 270 elements): end of wrap {}",
+        row(&ends)
+    );
     for k in 1..errors.len() {
         let (e0, e1) = (errors[k - 1], errors[k]);
         assert!(
@@ -164,8 +180,27 @@ fn a_cantilever_pressed_hard_onto_a_cylinder_follows_the_elastica() {
             "n {n}: wrap to {far}, elastica {a}"
         );
     }
+    eprintln!(
+        "cylinder, elastica (10, 20, 40, 80 elements): tip {}",
+        row(&errors)
+    );
     assert!(errors[3] < errors[0] / 30.0, "not h^2: {errors:?}");
     assert!(errors[3] < 1e-5 * L, "{errors:?}");
+    // The built-in scene is the 40-element case.
+    let scene = tsm_contact::scene::open("cylinder_wrap").expect("built in");
+    let steps = scene.steps;
+    let mut solver = scene.solver().unwrap();
+    let mut last = None;
+    for _ in 0..steps {
+        last = solver.step(&mut Silent).expect("converges").pop().or(last);
+    }
+    let tip = last.expect("a record").nodes[40];
+    let err = (tip[0] - x).hypot(tip[1] - y);
+    assert!(
+        (err - errors[2]).abs() < 1e-9,
+        "built-in scene {err:e}, test {:e}",
+        errors[2]
+    );
 }
 
 /// A strip of weight `w` per length lying on a table (a line obstacle along y = 0), its end
@@ -220,6 +255,10 @@ fn a_heavy_strip_lifted_off_a_table_leaves_it_where_linear_theory_says() {
                 "clamped {clamped}, n {n}: last node on the table at {last_on}, a = {a}"
             );
         }
+        eprintln!(
+            "table, clamped {clamped} (10, 30, 90, 270 elements): lift {}",
+            row(&errors)
+        );
         for k in 1..errors.len() {
             assert!(
                 errors[k] < errors[k - 1] / 6.5,
@@ -227,5 +266,135 @@ fn a_heavy_strip_lifted_off_a_table_leaves_it_where_linear_theory_says() {
             );
         }
         assert!(errors[3] < 1e-4, "clamped {clamped}: {errors:?}");
+    }
+}
+
+/// The built-in roller, driven by its pilot node along the cantilever: at every accepted
+/// increment the pilot's reaction is the force of the strip on the roller (minus the sum of
+/// the contact forces along their normals, to the residual tolerance of the reactions), and
+/// no node of the strip lies inside the roller by more than the obstacle gap, measured here
+/// from the node positions and the pilot's displacement alone.
+#[test]
+fn a_roller_driven_by_its_pilot_never_lets_a_node_inside_and_feels_the_contact_forces() {
+    let scene = tsm_contact::scene::open("roller").expect("built in");
+    let (centre, radius) = match &scene.model.obstacles[0].shape {
+        tsm_contact::solver::Shape::Circle { centre, radius, .. } => (*centre, *radius),
+        other => panic!("the roller is a circle, not {other:?}"),
+    };
+    let pilot = scene.model.obstacles[0].pilot.expect("driven");
+    let pilot_id = scene.model.nodes[pilot].id;
+    let steps = scene.steps;
+    let mut solver = scene.solver().unwrap();
+    let tol = solver.obstacle_tolerance();
+    let mut touched = 0;
+    for _ in 0..steps {
+        for r in solver.step(&mut Silent).expect("converges") {
+            let at = r.nodes[pilot];
+            let c = [
+                centre[0] + at[0] - scene.model.nodes[pilot].x,
+                centre[1] + at[1] - scene.model.nodes[pilot].y,
+            ];
+            for (n, x) in r.nodes.iter().enumerate().filter(|&(n, _)| n != pilot) {
+                let gap = (x[0] - c[0]).hypot(x[1] - c[1]) - radius;
+                assert!(
+                    gap > -tol,
+                    "increment {}: node {n} inside by {gap:e}",
+                    r.increment
+                );
+            }
+            let reaction = |dof: &str| {
+                (r.reactions.iter())
+                    .find(|q| q.node == pilot_id && q.dof == dof)
+                    .map_or(0.0, |q| q.value)
+            };
+            let push: [f64; 2] = std::array::from_fn(|k| {
+                (r.obstacle_contacts.iter())
+                    .map(|c| c.force * c.normal[k])
+                    .sum()
+            });
+            // The roller pushes the nodes with `push`; they push it back, and its pilot holds it
+            // with `push` (a reaction is the force of the support on what it holds).
+            let scale = r.reference * r.relative_residual.max(1e-8) * 10.0;
+            for (k, dof) in ["u", "v"].into_iter().enumerate() {
+                assert!(
+                    (reaction(dof) - push[k]).abs() <= scale,
+                    "increment {}: pilot {dof} reaction {} against contact force {}",
+                    r.increment,
+                    reaction(dof),
+                    push[k]
+                );
+            }
+            touched = touched.max(r.obstacle_contacts.len());
+        }
+    }
+    assert!(touched > 0, "the roller never touched the strip");
+}
+
+/// A strip scene with `obstacles` (and, before them, `extra`) for the error tests.
+fn strip_with(extra: &str, obstacles: &str) -> String {
+    format!(
+        r#"(
+    name: "strip",
+    sections: [(name: "s", E: 2.0e5, A: 1.0e2, I: 1.0e-5)],
+    nodes: [(id: 100, x: 0.5, y: 0.5, rotation: false)],
+    bodies: [(name: "strip", section: "s", path: [(0.0, 0.0), (1.0, 0.0)], elements: 10, first_node: 1)],
+    supports: [(node: 1, u: true, v: true, phi: true)],
+    {extra}
+    obstacles: [
+        {obstacles}
+    ],
+)"#
+    )
+}
+
+/// Bad obstacles are refused with the file, the line of the obstacle and what is wrong: a
+/// node that starts inside, a pilot left free, a shape without size, an unknown body.
+#[test]
+fn bad_obstacles_are_refused_with_their_line_and_reason() {
+    let cases = [
+        (
+            strip_with(
+                "",
+                r#"(name: "floor", shape: Line(from: (0.0, 0.01), to: (1.0, 0.01)), bodies: ["strip"]),"#,
+            ),
+            "node 1 starts 1.000e-2 inside it",
+        ),
+        (
+            strip_with(
+                "prescribed: [(node: 100, dof: U, per_step: 0.01)],",
+                r#"(name: "roller", shape: Circle(centre: (0.5, 0.5), radius: 0.1), bodies: ["strip"], pilot: 100),"#,
+            ),
+            "node 100 moves the obstacle, so its u and v must be supported or prescribed",
+        ),
+        (
+            strip_with(
+                "",
+                r#"(name: "drum", shape: Circle(centre: (0.5, -1.0), radius: 0.0), bodies: ["strip"]),"#,
+            ),
+            "a circle needs a finite centre and a positive radius",
+        ),
+        (
+            strip_with(
+                "",
+                r#"(name: "wall", shape: Polyline(points: [(2.0, 0.0), (2.0, 0.0)]), bodies: ["strip"]),"#,
+            ),
+            "a polyline needs at least two finite points",
+        ),
+        (
+            strip_with(
+                "",
+                r#"(name: "floor", shape: Line(from: (0.0, -1.0), to: (1.0, -1.0)), bodies: ["rod"]),"#,
+            ),
+            "rod",
+        ),
+    ];
+    for (text, reason) in cases {
+        let e = parse(&text, "bad.ron").expect_err("refused");
+        let shown = e.to_string();
+        assert!(shown.contains(reason), "{shown}");
+        assert!(
+            shown.starts_with("bad.ron:9:"),
+            "located at the obstacle's line: {shown}"
+        );
     }
 }

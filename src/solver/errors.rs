@@ -54,10 +54,10 @@ pub enum SolveError {
         /// How far beyond, in element lengths.
         depth: f64,
     },
-    /// A node ends inside a rigid obstacle in every attempt, even after the allowed cut-backs
-    /// (the acceptance check's test of the obstacles).
+    /// A node ends inside a rigid obstacle, or passes through one, in every attempt, even after
+    /// the allowed cut-backs (the acceptance check's test of the obstacles).
     #[error(
-        "increment {increment}: node {node} ends {depth:.2e} m inside obstacle {obstacle} after {cutbacks} cut-backs"
+        "increment {increment}: node {node} ends inside obstacle {obstacle}, or passes through it, {depth:.2e} m deep, after {cutbacks} cut-backs"
     )]
     ObstacleCrossing {
         /// Increment number.
@@ -68,7 +68,7 @@ pub enum SolveError {
         node: u32,
         /// Name of the obstacle.
         obstacle: String,
-        /// How far inside (m).
+        /// How far inside (m): at its end, or the deepest of its path.
         depth: f64,
     },
     /// Every attempt converges to a state where an element has turned against its chord, or

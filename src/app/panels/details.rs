@@ -56,27 +56,30 @@ pub fn show(app: &TsmApp, ui: &mut egui::Ui) {
         }
         ui.label(format!("time {:.2} ms", r.seconds * 1e3));
     }
-    ui.separator();
-    ui.label(RichText::new(format!("Active contacts: {}", r.contacts.len())).strong());
-    egui::Grid::new("contacts")
-        .striped(true)
-        .num_columns(4)
-        .show(ui, |ui| {
-            if !r.contacts.is_empty() {
-                let yc = format!("Yc ({})", units.force());
-                for h in ["node", "on", "li/l", yc.as_str()] {
-                    ui.label(RichText::new(h).small());
+    // Node-to-beam contacts where the scene has candidates for them.
+    if !model.contacts.is_empty() {
+        ui.separator();
+        ui.label(RichText::new(format!("Active contacts: {}", r.contacts.len())).strong());
+        egui::Grid::new("contacts")
+            .striped(true)
+            .num_columns(4)
+            .show(ui, |ui| {
+                if !r.contacts.is_empty() {
+                    let yc = format!("Yc ({})", units.force());
+                    for h in ["node", "on", "li/l", yc.as_str()] {
+                        ui.label(RichText::new(h).small());
+                    }
+                    ui.end_row();
                 }
-                ui.end_row();
-            }
-            for c in &r.contacts {
-                ui.label(c.node.to_string());
-                ui.label(model.element_label(c.element));
-                ui.label(format!("{:.4}", c.xi));
-                ui.label(num(c.force));
-                ui.end_row();
-            }
-        });
+                for c in &r.contacts {
+                    ui.label(c.node.to_string());
+                    ui.label(model.element_label(c.element));
+                    ui.label(format!("{:.4}", c.xi));
+                    ui.label(num(c.force));
+                    ui.end_row();
+                }
+            });
+    }
     if !r.obstacle_contacts.is_empty() {
         ui.separator();
         let count = r.obstacle_contacts.len();

@@ -1,6 +1,6 @@
 //! The obstacle half of the acceptance check (`inside_obstacle`): no candidate node ends
 //! inside a rigid obstacle by more than the obstacle tolerance, whether it is in contact or
-//! not. It works on node positions alone and finds the side of a polyline by counting where a
+//! not, nor passed through one on its way from a clear place to a clear place. It works on node positions alone and finds the side of a polyline by counting where a
 //! ray crosses it (not by the nearest point, as the contact code does), so that neither a bug
 //! in the active set nor one in the gap can hide itself.
 
@@ -19,30 +19,43 @@ pub struct ObstacleCrossing {
 }
 
 /// The first candidate (node, obstacle) pair of `model` whose node ends more than `tol` inside
-/// the obstacle at node states `states` (in the scene's coordinates; `origin` is where the
-/// model's own coordinates are measured from), with the obstacle moved by its pilot node.
+/// the obstacle at node states `after`, or passed through it since `before` (the path of the
+/// node relative to the obstacle, a straight segment, runs inside it deeper than `tol` between
+/// two free ends: a node that jumped across a small roller in one increment). States are in the
+/// scene's coordinates; `origin` is where the model's own coordinates are measured from; each
+/// obstacle moves with its pilot node.
 pub fn inside_obstacle(
     model: &Model,
     origin: [f64; 2],
-    states: &[NodeState],
+    (before, after): (&[NodeState], &[NodeState]),
     tol: f64,
 ) -> Option<ObstacleCrossing> {
     for (o, ob) in model.obstacles.iter().enumerate() {
-        let t = match ob.pilot {
+        let offset = |states: &[NodeState]| match ob.pilot {
             Some(p) => [
                 states[p][0] - model.nodes[p].x,
                 states[p][1] - model.nodes[p].y,
             ],
             None => origin,
         };
+        let (t0, t1) = (offset(before), offset(after));
         // Beyond the tolerance by more than the round-off of the positions and the shape's
         // coordinates (64 units of the largest), which the contact code's gap and this
         // check's depth may each be off by.
-        let scale = shape_scale(&ob.shape, t);
+        let scale = shape_scale(&ob.shape, t1);
         for &n in &ob.nodes {
-            let x = [states[n][0] - t[0], states[n][1] - t[1]];
-            let depth = depth_inside(&ob.shape, x);
+            let x = [after[n][0] - t1[0], after[n][1] - t1[1]];
+            let x0 = [before[n][0] - t0[0], before[n][1] - t0[1]];
             let slack = 64.0 * f64::EPSILON * (scale + x[0].abs().max(x[1].abs()));
+            let end = depth_inside(&ob.shape, x);
+            // A node touching at either end may have slid along the obstacle, its straight
+            // path a chord through it: only a path between two clear ends is looked at.
+            let clear = |p: [f64; 2]| clearance(&ob.shape, p) > tol + slack;
+            let depth = if clear(x0) && clear(x) {
+                end.max(depth_on_path(&ob.shape, x0, x))
+            } else {
+                end
+            };
             if depth > tol + slack {
                 return Some(ObstacleCrossing {
                     node: n,
@@ -53,6 +66,74 @@ pub fn inside_obstacle(
         }
     }
     None
+}
+
+/// How far outside the shape point `x` lies (m; 0 or less where it is inside or on it): the
+/// distance to the curve on the free side (an arc's nodes outside its angles are clear).
+fn clearance(shape: &Shape, x: [f64; 2]) -> f64 {
+    match shape {
+        Shape::Line { .. } => -depth_inside(shape, x),
+        Shape::Circle { .. } => -depth_inside(shape, x),
+        Shape::Arc {
+            centre, from, to, ..
+        } => {
+            let r = sub(x, *centre);
+            let tau = std::f64::consts::TAU;
+            let past = (r[1].atan2(r[0]) - from).rem_euclid(tau);
+            if past <= (to - from).rem_euclid(tau) {
+                -depth_inside(shape, x)
+            } else {
+                f64::INFINITY
+            }
+        }
+        Shape::Polyline { points } => {
+            if polyline_depth(points, x) > 0.0 {
+                return 0.0;
+            }
+            (points.windows(2))
+                .map(|w| segment_distance(w[0], w[1], x))
+                .fold(f64::INFINITY, f64::min)
+        }
+    }
+}
+
+/// The distance from point `x` to the segment from `a` to `b`.
+fn segment_distance(a: [f64; 2], b: [f64; 2], x: [f64; 2]) -> f64 {
+    let ab = sub(b, a);
+    let len2 = ab[0] * ab[0] + ab[1] * ab[1];
+    let t = (((x[0] - a[0]) * ab[0] + (x[1] - a[1]) * ab[1]) / len2).clamp(0.0, 1.0);
+    (x[0] - a[0] - t * ab[0]).hypot(x[1] - a[1] - t * ab[1])
+}
+
+/// Points along a path at which a polyline's depth is looked at (`depth_on_path`).
+const PATH_SAMPLES: usize = 32;
+
+/// How deep inside the shape the straight path from `a` to `b` runs: about a circle or an
+/// arc, the radius less the path's distance from the centre where the nearest point lies
+/// within the path (and, for an arc, within its angles); for a polyline, the deepest of points
+/// along the path; a line's solid side is a half-plane, which a straight path between free ends
+/// cannot enter.
+fn depth_on_path(shape: &Shape, a: [f64; 2], b: [f64; 2]) -> f64 {
+    match shape {
+        Shape::Line { .. } => 0.0,
+        Shape::Circle { hollow: true, .. } | Shape::Arc { hollow: true, .. } => 0.0,
+        Shape::Circle { centre, .. } | Shape::Arc { centre, .. } => {
+            let ab = sub(b, a);
+            let len2 = ab[0] * ab[0] + ab[1] * ab[1];
+            if len2 == 0.0 {
+                return 0.0;
+            }
+            let t =
+                (((centre[0] - a[0]) * ab[0] + (centre[1] - a[1]) * ab[1]) / len2).clamp(0.0, 1.0);
+            depth_inside(shape, [a[0] + t * ab[0], a[1] + t * ab[1]])
+        }
+        Shape::Polyline { .. } => (1..PATH_SAMPLES)
+            .map(|k| {
+                let t = k as f64 / PATH_SAMPLES as f64;
+                depth_inside(shape, [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])])
+            })
+            .fold(0.0, f64::max),
+    }
 }
 
 /// The largest coordinate of the shape, moved by `t` (m).

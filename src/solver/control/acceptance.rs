@@ -30,7 +30,7 @@ impl Solver {
             return Err(AttemptError::OutOfRange(x));
         }
         let tol = self.obstacle_tolerance();
-        if let Some(x) = inside_obstacle(&self.model, self.origin, &states, tol) {
+        if let Some(x) = inside_obstacle(&self.model, self.origin, (&before, &states), tol) {
             return Err(AttemptError::InsideObstacle(x));
         }
         match self

@@ -132,10 +132,10 @@ impl AttemptError {
                 "the obstacle gaps stay open after {updates} updates of the multipliers"
             ),
             AttemptError::InsideObstacle(x) => format!(
-                "{} ends {:.2e} m inside obstacle {}",
+                "{} ends inside obstacle {}, or passed through it, {:.2e} m deep",
                 model.node_label(x.node),
-                x.depth,
-                model.obstacles[x.obstacle].name
+                model.obstacles[x.obstacle].name,
+                x.depth
             ),
             AttemptError::NoLoadPath => {
                 "arc length: the reference load does no work on the free dofs".into()
