@@ -48,6 +48,10 @@ pub const BUILTIN: &[(&str, &str)] = &[
         "table_lift.ron",
         include_str!("../../assets/scenes/table_lift.ron"),
     ),
+    (
+        "rolled_past_a_turn.ron",
+        include_str!("../../assets/scenes/rolled_past_a_turn.ron"),
+    ),
 ];
 
 /// The RON text of a built-in scene by file name (with or without `.ron`).

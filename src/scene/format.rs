@@ -200,6 +200,10 @@ pub struct ContactDef {
     pub node_bodies: Vec<String>,
     /// Bodies the candidates may touch.
     pub bodies: Vec<String>,
+    /// Whether a candidate may touch its own body too (self-contact), away from its own and
+    /// the two neighbouring elements on either side (default false).
+    #[serde(default)]
+    pub own: bool,
 }
 
 /// A rigid obstacle: its curve, the nodes that may touch it, and the node that moves it.

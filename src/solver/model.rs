@@ -155,7 +155,15 @@ pub struct ContactPair {
     pub nodes: Vec<usize>,
     /// Body indices the nodes may touch.
     pub bodies: Vec<usize>,
+    /// Whether a node may touch its own body too (self-contact), away from its own elements and
+    /// the `SELF_CONTACT_WINDOW` elements on either side of them.
+    #[serde(default)]
+    pub own: bool,
 }
+
+/// The elements on either side of a node's own elements that its self-contact leaves out: a
+/// node cannot press on the elements it bends with.
+pub const SELF_CONTACT_WINDOW: usize = 2;
 
 /// The curve of a rigid obstacle, in the scene's coordinates. Each shape has a free side, where
 /// the nodes stay, and a solid side they may not enter.
@@ -285,8 +293,8 @@ pub struct Model {
 }
 
 impl Model {
-    /// Contact candidate (node, body) pairs (a node never touches its own body), in the
-    /// order the scene lists them, each once.
+    /// Contact candidate (node, body) pairs (a node touches its own body only where its pair
+    /// allows self-contact), in the order the scene lists them, each once.
     pub fn contact_candidates(&self) -> Vec<(usize, usize)> {
         let m = self;
         let mut out = Vec::new();
@@ -303,13 +311,28 @@ impl Model {
                         .elements
                         .iter()
                         .any(|&e| m.beams[e].i == n || m.beams[e].j == n);
-                    if own[n] != b && !on_body && seen.insert((n, b)) {
+                    let allowed = pair.own || (own[n] != b && !on_body);
+                    if allowed && seen.insert((n, b)) {
                         out.push((n, b));
                     }
                 }
             }
         }
         out
+    }
+
+    /// For a node `n` of body `b`, the positions in the body (first, last) of the elements its
+    /// self-contact leaves out: its own, and `SELF_CONTACT_WINDOW` on either side (`None` for a
+    /// node not on the body).
+    pub fn self_window(&self, n: usize, b: usize) -> Option<(usize, usize)> {
+        let els = &self.bodies[b].elements;
+        let at = |k: &usize| self.beams[els[*k]].i == n || self.beams[els[*k]].j == n;
+        let places: Vec<usize> = (0..els.len()).filter(at).collect();
+        let (lo, hi) = (*places.first()?, *places.last()?);
+        Some((
+            lo.saturating_sub(SELF_CONTACT_WINDOW),
+            hi + SELF_CONTACT_WINDOW,
+        ))
     }
 
     /// The beam elements at each node (indices into `beams`).

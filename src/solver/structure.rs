@@ -9,6 +9,7 @@ use super::assembly::{
     PackedBeam,
 };
 use super::element::beam::BeamElement;
+use super::index_map::IndexMap;
 use super::model::Model;
 use super::params::SolverParams;
 use super::report::{NodeState, SolveError};
@@ -48,6 +49,11 @@ pub struct Structure {
     pub(crate) position_roundoff: f64,
     /// The larger side of the model's bounding box at rest.
     pub(crate) size: f64,
+    /// For every self-contact candidate pair (node, own body), the positions in the body
+    /// (first, last) of the elements it leaves out (`Model::self_window`).
+    pub(crate) self_windows: IndexMap<(usize, usize), (usize, usize)>,
+    /// The position of every element in its body.
+    pub(crate) place: Vec<usize>,
     /// The (node, obstacle) pairs that may touch.
     pub(crate) obstacle_candidates: Vec<(usize, usize)>,
     /// The penalty of the obstacle contacts (N/m): `SolverParams::obstacle_penalty` times the
@@ -80,7 +86,21 @@ impl Structure {
         let axial = (0..model.beams.len())
             .map(|e| model.beams[e].section.ea / model.beam_length(e))
             .fold(0.0, f64::max);
+        let mut self_windows = IndexMap::default();
+        for &(n, b) in &candidates {
+            if let Some(w) = model.self_window(n, b) {
+                self_windows.insert((n, b), w);
+            }
+        }
+        let mut place = vec![0; model.beams.len()];
+        for body in &model.bodies {
+            for (k, &e) in body.elements.iter().enumerate() {
+                place[e] = k;
+            }
+        }
         Structure {
+            self_windows,
+            place,
             obstacle_candidates: model.obstacle_candidates(),
             obstacle_penalty: params.obstacle_penalty * axial,
             force_floor: params.force_floor * max_ea.max(f64::MIN_POSITIVE),
@@ -105,6 +125,15 @@ impl Structure {
     /// largest initial coordinate), so that a translated scene decides alike.
     pub(crate) fn touching(&self, fraction: f64, length: f64) -> f64 {
         fraction * length + self.position_roundoff
+    }
+
+    /// Whether node `n` may touch element `e` of body `b`: always, unless `e` lies in the
+    /// node's own window on its own body (self-contact).
+    pub(crate) fn reaches(&self, n: usize, b: usize, e: usize) -> bool {
+        match self.self_windows.get(&(n, b)) {
+            Some(&(lo, hi)) => !(lo..=hi).contains(&self.place[e]),
+            None => true,
+        }
     }
 
     /// The larger side of the model's bounding box at rest (m).

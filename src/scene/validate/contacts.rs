@@ -54,6 +54,7 @@ pub(super) fn contacts(
         contacts.push(ContactPair {
             nodes: cn,
             bodies: cb,
+            own: c.own,
         });
     }
     Ok(contacts)

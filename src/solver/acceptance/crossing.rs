@@ -71,6 +71,9 @@ pub struct CrossingCheck {
     ends: Vec<Vec<usize>>,
     /// The last accepted state.
     last: Vec<NodeState>,
+    /// For each self-contact pair (a node and its own body), the positions in the body of the
+    /// elements it may not touch: those at the node and two more on either side.
+    windows: IndexMap<(usize, usize), (usize, usize)>,
     /// The sweep to the state last checked (`sweep`).
     cache: RefCell<Option<(Vec<NodeState>, Arc<Sweep>)>>,
 }
@@ -137,6 +140,21 @@ impl CrossingCheck {
                 els.filter(|&e| free[e].0 || free[e].1).collect()
             })
             .collect();
+        // A node's own elements in its own body, and two more on either side: the pairs of a
+        // node and its own body never look at them.
+        let mut windows = IndexMap::default();
+        for &(n, b) in &pairs {
+            if !own[n].contains(&b) {
+                continue;
+            }
+            let at: Vec<usize> = (model.bodies[b].elements.iter().enumerate())
+                .filter(|(_, &e)| model.beams[e].i == n || model.beams[e].j == n)
+                .map(|(k, _)| k)
+                .collect();
+            if let (Some(&lo), Some(&hi)) = (at.first(), at.last()) {
+                windows.insert((n, b), (lo.saturating_sub(2), hi + 2));
+            }
+        }
         let mut bodies: Vec<usize> = pairs.iter().map(|p| p.1).collect();
         bodies.sort_unstable();
         bodies.dedup();
@@ -150,6 +168,7 @@ impl CrossingCheck {
             free,
             ends,
             last: Vec::new(),
+            windows,
             cache: RefCell::new(None),
         };
         check.last = start.clone();
@@ -163,8 +182,10 @@ impl CrossingCheck {
     /// slid off that end in the increment, and the body may have sprung back past it: the
     /// straight-line sweep of a body springing back says nothing about which side of it the
     /// node went.
-    fn past_free_end(&self, model: &Model, b: usize, c: [f64; 2]) -> bool {
-        self.ends[b].iter().any(|&e| {
+    fn past_free_end(&self, model: &Model, (n, b): (usize, usize), c: [f64; 2]) -> bool {
+        // A free end in the node's own window (its own tip) is not one it can go round.
+        let ends = self.ends[b].iter().filter(|&&e| self.reaches(n, b, e));
+        ends.into_iter().any(|&e| {
             let (free_i, free_j) = self.free[e];
             let k = Chord::at(model, self.angle0[e], e, &self.last);
             let (s, _) = k.locate(c);
@@ -211,23 +232,40 @@ impl CrossingCheck {
     /// The elements of body `b` whose chords' boxes over both states, grown by an element
     /// length, meet the box of node `n`'s path.
     /// A short body's elements are tried one by one; a long one's through the grid.
-    fn near(&self, model: &Model, grid: &SweptGrid, b: usize, path: [[f64; 2]; 2]) -> Vec<usize> {
+    fn near(
+        &self,
+        model: &Model,
+        grid: &SweptGrid,
+        (n, b): (usize, usize),
+        path: [[f64; 2]; 2],
+    ) -> Vec<usize> {
         let lo = [path[0][0].min(path[1][0]), path[0][1].min(path[1][1])];
         let hi = [path[0][0].max(path[1][0]), path[0][1].max(path[1][1])];
         if !grid.meets_body(b, lo, hi) {
             return Vec::new();
         }
         let els = &model.bodies[b].elements;
-        if els.len() <= GRID_MIN_ELEMENTS {
-            return els
-                .iter()
+        let mut out: Vec<usize> = if els.len() <= GRID_MIN_ELEMENTS {
+            els.iter()
                 .copied()
                 .filter(|&e| grid.meets_element(e, lo, hi))
-                .collect();
-        }
-        let mut out = grid.query(lo, hi);
-        out.retain(|&e| self.place[e].0 == b);
+                .collect()
+        } else {
+            let mut out = grid.query(lo, hi);
+            out.retain(|&e| self.place[e].0 == b);
+            out
+        };
+        out.retain(|&e| self.reaches(n, b, e));
         out
+    }
+
+    /// Whether node `n` may touch element `e` of body `b` (not one of its own window on its
+    /// own body).
+    fn reaches(&self, n: usize, b: usize, e: usize) -> bool {
+        match self.windows.get(&(n, b)) {
+            Some(&(lo, hi)) => !(lo..=hi).contains(&self.place[e].1),
+            None => true,
+        }
     }
 
     /// The candidate pairs (n, b) not in contact (`active` lists those that are) with the
@@ -303,8 +341,8 @@ impl CrossingCheck {
         let (chords, grid) = (&sweep.chords, &sweep.grid);
         let round = ROUNDOFF_ULPS * f64::EPSILON * Self::scale(&self.last, after);
         for (n, b, c0, c1) in self.paths_out_of_contact(after, active) {
-            let near = self.near(model, grid, b, [c0, c1]);
-            if near.is_empty() || self.past_free_end(model, b, c1) {
+            let near = self.near(model, grid, (n, b), [c0, c1]);
+            if near.is_empty() || self.past_free_end(model, (n, b), c1) {
                 continue;
             }
             for e in near {
@@ -355,13 +393,13 @@ impl CrossingCheck {
             let same = f == e || fi == ej || fj == ei;
             let side_f = if same { side } else { -side };
             let depth = -side_f * h - chord.bulge() - TOUCH * chord.l - round;
-            ((0.0..=1.0).contains(&s) && depth > 0.0 && !self.excused(model, active, n, b, f))
-                .then_some(Crossing {
-                    node: n,
-                    body: b,
-                    element: f,
-                    depth: depth / chord.l,
-                })
+            let counts = self.reaches(n, b, f) && !self.excused(model, active, n, b, f);
+            ((0.0..=1.0).contains(&s) && depth > 0.0 && counts).then_some(Crossing {
+                node: n,
+                body: b,
+                element: f,
+                depth: depth / chord.l,
+            })
         })
     }
 
@@ -392,7 +430,7 @@ impl CrossingCheck {
             for (n, b, c0, c1) in paths {
                 // The element the node projects onto that is closest along its normal.
                 let closest = self
-                    .near(model, grid, b, [c0, c1])
+                    .near(model, grid, (n, b), [c0, c1])
                     .into_iter()
                     .filter_map(|e| {
                         let (k0, k1) = chords[e]?;

@@ -126,14 +126,17 @@ impl ContactSet {
                 .as_ref()
                 .map(|g| (g, v))
         });
+        // A node on its own body (self-contact) never probes its own window.
+        let reaches = |e: &usize| cv.reaches(n, b, *e);
         if let Some((g, v)) = grid {
-            let near = g.near(p).filter(|&e| m.beams[e].body == b);
+            let near = g.near(p).filter(|&e| m.beams[e].body == b).filter(reaches);
             let best = self.closest(cv, d, p, near, Some(v));
             if best.is_some_and(|bp| bp.gap.abs() <= g.reach) {
                 return best;
             }
         }
-        self.closest(cv, d, p, m.bodies[b].elements.iter().copied(), view)
+        let all = m.bodies[b].elements.iter().copied().filter(reaches);
+        self.closest(cv, d, p, all, view)
     }
 
     /// The element among `elements` whose deformed shape is closest to point `p` along the

@@ -43,7 +43,11 @@ impl ContactSet {
         let m = &cv.model;
         let at = |dd: &[f64], k: usize| current(m, &cv.dofs, dd, k).0;
         let (c0, c1) = (at(cv.d, n), at(d, n));
-        m.bodies[b].elements.iter().copied().find(|&e| {
+        let mut elements = m.bodies[b].elements.iter().copied();
+        elements.find(|&e| {
+            if !cv.reaches(n, b, e) {
+                return false;
+            }
             let (i, j) = (m.beams[e].i, m.beams[e].j);
             let (p0, p1, q0, q1) = (at(cv.d, i), at(d, i), at(cv.d, j), at(d, j));
             // u(t) = q - p, v(t) = c - p, both linear in t: u = u0 + t du, v = v0 + t dv.
