@@ -152,10 +152,13 @@ fn series(history: &[IncrementRecord], live: &[IterationRecord], selected: usize
             s.roundoff.push([x, lg(r.relative_residual)]);
         }
         for e in &r.events {
-            if let Event::Contact(c) = e {
-                let i = c.iteration.max(1);
-                s.contacts.push([start + i as f64, y_at(i)]);
-            }
+            let iteration = match e {
+                Event::Contact(c) => c.iteration,
+                Event::Obstacle(o) => o.iteration,
+                _ => continue,
+            };
+            let i = iteration.max(1);
+            s.contacts.push([start + i as f64, y_at(i)]);
         }
     }
     for it in live {

@@ -103,6 +103,7 @@ impl ContactSet {
             return (violations.len(), 0);
         }
         let mut updated = 0;
+        self.widest_gap = None;
         for (k, link) in self.obstacle.iter_mut().enumerate() {
             if !link.active {
                 continue;
@@ -113,9 +114,12 @@ impl ContactSet {
             if gap.g.abs() > tol {
                 link.multiplier = forces[k];
                 updated += 1;
+                if self.widest_gap.is_none_or(|w| gap.g.abs() > w.2.abs()) {
+                    self.widest_gap = Some((link.node, link.obstacle, gap.g));
+                }
             }
         }
-        self.multiplier_updates += updated;
+        self.multiplier_updates += usize::from(updated > 0);
         (0, updated)
     }
 

@@ -63,8 +63,10 @@ pub struct ContactSet {
     /// Set by `obstacle_pass` when a node was found deeper inside an obstacle than
     /// `max_penetration` lengths of its elements: (node, obstacle, depth in m).
     pub(crate) obstacle_too_deep: Option<(usize, usize, f64)>,
-    /// Updates of the multipliers in the current attempt.
+    /// Passes of the current attempt that updated multipliers.
     pub(crate) multiplier_updates: usize,
+    /// The contact whose gap the last update found widest: (node, obstacle, gap in m).
+    pub(crate) widest_gap: Option<(usize, usize, f64)>,
 }
 
 /// Whether node `n` is a node of body `body`.

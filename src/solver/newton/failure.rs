@@ -61,11 +61,17 @@ pub enum AttemptError {
         /// Depth (m).
         depth: f64,
     },
-    /// The multipliers of the obstacle contacts were updated too often without closing every
-    /// gap to the tolerance.
+    /// The multipliers of the obstacle contacts were updated in too many passes without
+    /// closing every gap to the tolerance.
     GapsOpen {
-        /// Updates made.
+        /// Passes that updated them.
         updates: usize,
+        /// Node index of the widest gap at the last pass.
+        node: usize,
+        /// Its obstacle's index.
+        obstacle: usize,
+        /// The gap (m; negative: inside).
+        gap: f64,
     },
     /// The acceptance check found a node inside a rigid obstacle.
     InsideObstacle(ObstacleCrossing),
@@ -128,8 +134,17 @@ impl AttemptError {
                 model.node_label(*node),
                 model.obstacles[*obstacle].name
             ),
-            AttemptError::GapsOpen { updates } => format!(
-                "the obstacle gaps stay open after {updates} updates of the multipliers"
+            AttemptError::GapsOpen {
+                updates,
+                node,
+                obstacle,
+                gap,
+            } => format!(
+                "{} stays {:.2e} m {} obstacle {} after {updates} updates of the multipliers (a support or a prescribed displacement may hold it there)",
+                model.node_label(*node),
+                gap.abs(),
+                if *gap < 0.0 { "inside" } else { "clear of, yet pressing on," },
+                model.obstacles[*obstacle].name
             ),
             AttemptError::InsideObstacle(x) => format!(
                 "{} ends inside obstacle {}, or passed through it, {:.2e} m deep",

@@ -15,10 +15,11 @@ use crate::solver::params::StretchCorrection;
 use crate::solver::state::State;
 use crate::solver::structure::Structure;
 
-/// Updates of the obstacle multipliers an attempt may make, per obstacle contact on average,
-/// before it fails (`AttemptError::GapsOpen`). A penalty of the order of the elements' axial
-/// stiffness closes a gap by orders of magnitude an update.
-const MAX_MULTIPLIER_UPDATES: usize = 20;
+/// Passes that update the obstacle multipliers an attempt may make before it fails
+/// (`AttemptError::GapsOpen`). A penalty of the order of the elements' axial stiffness closes
+/// a gap by at least half, and mostly by orders of magnitude, a pass; a gap that stays open is
+/// held there (a prescribed displacement driving a node into an obstacle).
+const MAX_MULTIPLIER_UPDATES: usize = 50;
 
 /// What a Newton attempt reads: the structure (through `Deref`), the last converged state, and
 /// the scratch space it borrows buffers from.
@@ -116,15 +117,19 @@ impl<'a> Newton<'a> {
     }
 
     /// Whether the obstacle contacts' multipliers may be updated once more in this attempt
-    /// (`MAX_MULTIPLIER_UPDATES` per contact on average).
+    /// (`MAX_MULTIPLIER_UPDATES` passes).
     pub(super) fn gaps_closing(&self, contacts: &ContactSet) -> Result<(), AttemptError> {
-        let allowed = MAX_MULTIPLIER_UPDATES * contacts.obstacle.len().max(1);
-        if contacts.multiplier_updates > allowed {
-            return Err(AttemptError::GapsOpen {
-                updates: contacts.multiplier_updates,
-            });
+        match contacts.widest_gap {
+            Some((node, obstacle, gap)) if contacts.multiplier_updates > MAX_MULTIPLIER_UPDATES => {
+                Err(AttemptError::GapsOpen {
+                    updates: contacts.multiplier_updates,
+                    node,
+                    obstacle,
+                    gap,
+                })
+            }
+            _ => Ok(()),
         }
-        Ok(())
     }
 
     /// Whether a pass at relative residual `rel` (round-off floor `floor`; `at_floor`: Newton
