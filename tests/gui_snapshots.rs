@@ -1,6 +1,7 @@
 //! Snapshot images of the main views (egui_kittest rendering the real `TsmApp` on wgpu; Mesa's
 //! lavapipe in CI): Example 3.2 at increment 12 with its moment diagram, Example 3.1 as it
-//! opens (fitted), and the table of a cantilever's elements. Each is compared with its image in
+//! opens (fitted), the table of a cantilever's elements, and the roller driven along a
+//! cantilever (an obstacle, its contact and the nodes-on-obstacles list). Each is compared with its image in
 //! `tests/snapshots/` pixel by pixel; up to 0.25% of the pixels may differ (the iteration
 //! times the details panel prints, and the rasteriser's anti-aliasing). `UPDATE_SNAPSHOTS=1`
 //! writes new references; a failing comparison leaves `.new.png` and `.diff.png` beside them.
@@ -52,6 +53,20 @@ fn example_3_2_at_increment_12_with_its_moment_diagram() {
     });
     fit(&mut h);
     h.snapshot_options("example_3_2_moment", &options());
+}
+
+#[test]
+fn the_roller_pressing_on_a_cantilever() {
+    let mut h = harness(Startup {
+        steps: Some(16),
+        ..Startup::scene("roller")
+    });
+    wait(&mut h, "16 increments", Duration::from_secs(60), |h| {
+        h.state().increments() >= 16 && !solving(h)
+    });
+    fit(&mut h);
+    assert!(h.query_by_label_contains("On obstacles: ").is_some());
+    h.snapshot_options("roller", &options());
 }
 
 #[test]

@@ -154,14 +154,6 @@ impl Event {
                 c.xi,
                 c.iteration
             ),
-            Event::Obstacle(o) if o.change == ContactChange::Released => format!(
-                "node {} {} obstacle {} (F = {:+.4e}) at iteration {}",
-                o.node,
-                o.change.verb(),
-                o.obstacle,
-                o.force,
-                o.iteration
-            ),
             Event::Obstacle(o) => format!(
                 "node {} {} obstacle {} at iteration {}",
                 o.node,
@@ -186,7 +178,9 @@ pub struct ObstacleEvent {
     pub node: u32,
     /// Name of the obstacle.
     pub obstacle: String,
-    /// The normal force at the release (N; negative: it pulled), 0 at an activation.
+    /// The normal force at the pass where the contact was let go (N; negative: it pulled, by
+    /// as much as the penalty makes of the gap opening there, which says that it let go, not
+    /// what it carried), 0 at an activation.
     pub force: f64,
 }
 
