@@ -86,8 +86,12 @@ impl Structure {
         let axial = (0..model.beams.len())
             .map(|e| model.beams[e].section.ea / model.beam_length(e))
             .fold(0.0, f64::max);
+        let node_beams = model.node_beams();
         let mut self_windows = IndexMap::default();
-        for &(n, b) in &candidates {
+        // Only a node on its own body has a window (a look at its own elements first, so that
+        // the other pairs cost nothing).
+        let on_own = |n: usize, b: usize| node_beams[n].iter().any(|&e| model.beams[e].body == b);
+        for &(n, b) in candidates.iter().filter(|&&(n, b)| on_own(n, b)) {
             if let Some(w) = model.self_window(n, b) {
                 self_windows.insert((n, b), w);
             }
@@ -106,7 +110,7 @@ impl Structure {
             force_floor: params.force_floor * max_ea.max(f64::MIN_POSITIVE),
             candidates,
             candidate_nodes: nodes.len(),
-            node_beams: model.node_beams(),
+            node_beams,
             origin,
             size: (hi[0] - lo[0]).max(hi[1] - lo[1]).max(0.0),
             position_roundoff: 64.0
@@ -127,13 +131,14 @@ impl Structure {
         fraction * length + self.position_roundoff
     }
 
-    /// Whether node `n` may touch element `e` of body `b`: always, unless `e` lies in the
-    /// node's own window on its own body (self-contact).
-    pub(crate) fn reaches(&self, n: usize, b: usize, e: usize) -> bool {
-        match self.self_windows.get(&(n, b)) {
-            Some(&(lo, hi)) => !(lo..=hi).contains(&self.place[e]),
-            None => true,
+    /// The window of element positions (first, last) that node `n` leaves out of its own body
+    /// `b` (`Model::self_window`), for a self-contact pair; `None` for any other pair.
+    #[inline]
+    pub(crate) fn self_window_of(&self, n: usize, b: usize) -> Option<(usize, usize)> {
+        if self.self_windows.is_empty() {
+            return None;
         }
+        self.self_windows.get(&(n, b)).copied()
     }
 
     /// The larger side of the model's bounding box at rest (m).

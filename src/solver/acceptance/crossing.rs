@@ -255,13 +255,18 @@ impl CrossingCheck {
             out.retain(|&e| self.place[e].0 == b);
             out
         };
-        out.retain(|&e| self.reaches(n, b, e));
+        if !self.windows.is_empty() {
+            out.retain(|&e| self.reaches(n, b, e));
+        }
         out
     }
 
     /// Whether node `n` may touch element `e` of body `b` (not one of its own window on its
     /// own body).
     fn reaches(&self, n: usize, b: usize, e: usize) -> bool {
+        if self.windows.is_empty() {
+            return true;
+        }
         match self.windows.get(&(n, b)) {
             Some(&(lo, hi)) => !(lo..=hi).contains(&self.place[e].1),
             None => true,

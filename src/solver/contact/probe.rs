@@ -126,17 +126,27 @@ impl ContactSet {
                 .as_ref()
                 .map(|g| (g, v))
         });
-        // A node on its own body (self-contact) never probes its own window.
-        let reaches = |e: &usize| cv.reaches(n, b, *e);
+        // A node on its own body (self-contact) never probes its own window; the other pairs
+        // (all of them in most scenes) take the unfiltered path.
+        let window = cv.self_window_of(n, b);
+        let place = &cv.place;
+        let reaches =
+            move |e: &usize| window.is_none_or(|(lo, hi)| !(lo..=hi).contains(&place[*e]));
         if let Some((g, v)) = grid {
-            let near = g.near(p).filter(|&e| m.beams[e].body == b).filter(reaches);
-            let best = self.closest(cv, d, p, near, Some(v));
+            let near = g.near(p).filter(|&e| m.beams[e].body == b);
+            let best = match window {
+                None => self.closest(cv, d, p, near, Some(v)),
+                Some(_) => self.closest(cv, d, p, near.filter(reaches), Some(v)),
+            };
             if best.is_some_and(|bp| bp.gap.abs() <= g.reach) {
                 return best;
             }
         }
-        let all = m.bodies[b].elements.iter().copied().filter(reaches);
-        self.closest(cv, d, p, all, view)
+        let all = m.bodies[b].elements.iter().copied();
+        match window {
+            None => self.closest(cv, d, p, all, view),
+            Some(_) => self.closest(cv, d, p, all.filter(reaches), view),
+        }
     }
 
     /// The element among `elements` whose deformed shape is closest to point `p` along the

@@ -43,9 +43,10 @@ impl ContactSet {
         let m = &cv.model;
         let at = |dd: &[f64], k: usize| current(m, &cv.dofs, dd, k).0;
         let (c0, c1) = (at(cv.d, n), at(d, n));
+        let window = cv.self_window_of(n, b);
         let mut elements = m.bodies[b].elements.iter().copied();
         elements.find(|&e| {
-            if !cv.reaches(n, b, e) {
+            if window.is_some_and(|(lo, hi)| (lo..=hi).contains(&cv.place[e])) {
                 return false;
             }
             let (i, j) = (m.beams[e].i, m.beams[e].j);
