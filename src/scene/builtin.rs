@@ -52,6 +52,10 @@ pub const BUILTIN: &[(&str, &str)] = &[
         "rolled_past_a_turn.ron",
         include_str!("../../assets/scenes/rolled_past_a_turn.ron"),
     ),
+    (
+        "channel.ron",
+        include_str!("../../assets/scenes/channel.ron"),
+    ),
 ];
 
 /// The RON text of a built-in scene by file name (with or without `.ron`).

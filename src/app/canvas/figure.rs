@@ -172,6 +172,15 @@ pub fn figure(loaded: &Loaded, r: &IncrementRecord, diagram: Option<Diagram>) ->
             });
         }
     }
+    for c in &r.obstacle_contacts {
+        if let Some(n) = model.nodes.iter().position(|x| x.id == c.node) {
+            f.dots.push(Dot {
+                node: c.node,
+                at: [r.nodes[n][0], r.nodes[n][1]],
+                contact: true,
+            });
+        }
+    }
     if let Some(d) = diagram {
         let b = f.bounds();
         let reach = DIAGRAM_REACH * (b[2] - b[0]).max(b[3] - b[1]);

@@ -213,8 +213,12 @@ pub fn obstacle_outlines(model: &Model, r: &IncrementRecord) -> Vec<Vec<[f64; 2]
         });
         let line = match ob.shape.translated(t) {
             Shape::Line { from, to } => {
+                // Both ways from the point of the line nearest the model's centre.
                 let d = [to[0] - from[0], to[1] - from[1]];
-                vec![ray(from, [-d[0], -d[1]]), ray(from, d)]
+                let t = ((centre[0] - from[0]) * d[0] + (centre[1] - from[1]) * d[1])
+                    / (d[0] * d[0] + d[1] * d[1]);
+                let foot = [from[0] + t * d[0], from[1] + t * d[1]];
+                vec![ray(foot, [-d[0], -d[1]]), ray(foot, d)]
             }
             Shape::Polyline { points } => {
                 let m = points.len();
