@@ -313,3 +313,72 @@ fn an_error_is_located_in_its_own_section() {
         "{e}"
     );
 }
+
+/// A strip scene with `obstacles` (and, before them, `extra`) for the error tests.
+fn strip_with(extra: &str, obstacles: &str) -> String {
+    format!(
+        r#"(
+    name: "strip",
+    sections: [(name: "s", E: 2.0e5, A: 1.0e2, I: 1.0e-5)],
+    nodes: [(id: 100, x: 0.5, y: 0.5, rotation: false)],
+    bodies: [(name: "strip", section: "s", path: [(0.0, 0.0), (1.0, 0.0)], elements: 10, first_node: 1)],
+    supports: [(node: 1, u: true, v: true, phi: true)],
+    {extra}
+    obstacles: [
+        {obstacles}
+    ],
+)"#
+    )
+}
+
+/// Bad obstacles are refused with the file, the line of the obstacle and what is wrong: a
+/// node that starts inside, a pilot left free, a shape without size, an unknown body.
+#[test]
+fn bad_obstacles_are_refused_with_their_line_and_reason() {
+    let cases = [
+        (
+            strip_with(
+                "",
+                r#"(name: "floor", shape: Line(from: (0.0, 0.01), to: (1.0, 0.01)), bodies: ["strip"]),"#,
+            ),
+            "node 1 starts 1.000e-2 inside it",
+        ),
+        (
+            strip_with(
+                "prescribed: [(node: 100, dof: U, per_step: 0.01)],",
+                r#"(name: "roller", shape: Circle(centre: (0.5, 0.5), radius: 0.1), bodies: ["strip"], pilot: 100),"#,
+            ),
+            "node 100 moves the obstacle, so its u and v must be supported or prescribed",
+        ),
+        (
+            strip_with(
+                "",
+                r#"(name: "drum", shape: Circle(centre: (0.5, -1.0), radius: 0.0), bodies: ["strip"]),"#,
+            ),
+            "a circle needs a finite centre and a positive radius",
+        ),
+        (
+            strip_with(
+                "",
+                r#"(name: "wall", shape: Polyline(points: [(2.0, 0.0), (2.0, 0.0)]), bodies: ["strip"]),"#,
+            ),
+            "a polyline needs at least two finite points",
+        ),
+        (
+            strip_with(
+                "",
+                r#"(name: "floor", shape: Line(from: (0.0, -1.0), to: (1.0, -1.0)), bodies: ["rod"]),"#,
+            ),
+            "rod",
+        ),
+    ];
+    for (text, reason) in cases {
+        let e = parse(&text, "bad.ron").expect_err("refused");
+        let shown = e.to_string();
+        assert!(shown.contains(reason), "{shown}");
+        assert!(
+            shown.starts_with("bad.ron:9:"),
+            "located at the obstacle's line: {shown}"
+        );
+    }
+}
