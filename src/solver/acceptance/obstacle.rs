@@ -72,20 +72,10 @@ pub fn inside_obstacle(
 /// distance to the curve on the free side (an arc's nodes outside its angles are clear).
 fn clearance(shape: &Shape, x: [f64; 2]) -> f64 {
     match shape {
-        Shape::Line { .. } => -depth_inside(shape, x),
-        Shape::Circle { .. } => -depth_inside(shape, x),
         Shape::Arc {
             centre, from, to, ..
-        } => {
-            let r = sub(x, *centre);
-            let tau = std::f64::consts::TAU;
-            let past = (r[1].atan2(r[0]) - from).rem_euclid(tau);
-            if past <= (to - from).rem_euclid(tau) {
-                -depth_inside(shape, x)
-            } else {
-                f64::INFINITY
-            }
-        }
+        } if !within_angles(*centre, *from, *to, x) => f64::INFINITY,
+        Shape::Line { .. } | Shape::Circle { .. } | Shape::Arc { .. } => -depth_inside(shape, x),
         Shape::Polyline { points } => {
             if polyline_depth(points, x) > 0.0 {
                 return 0.0;
@@ -176,10 +166,7 @@ fn depth_inside(shape: &Shape, x: [f64; 2]) -> f64 {
             to,
             hollow,
         } => {
-            let r = sub(x, *centre);
-            let tau = std::f64::consts::TAU;
-            let past = (r[1].atan2(r[0]) - from).rem_euclid(tau);
-            if past <= (to - from).rem_euclid(tau) {
+            if within_angles(*centre, *from, *to, x) {
                 radial_depth(*centre, *radius, *hollow, x)
             } else {
                 0.0
@@ -187,6 +174,13 @@ fn depth_inside(shape: &Shape, x: [f64; 2]) -> f64 {
         }
         Shape::Polyline { points } => polyline_depth(points, x),
     }
+}
+
+/// Whether point `x`'s polar angle about `centre` lies from `from` counter-clockwise to `to`.
+fn within_angles(centre: [f64; 2], from: f64, to: f64, x: [f64; 2]) -> bool {
+    let r = sub(x, centre);
+    let tau = std::f64::consts::TAU;
+    (r[1].atan2(r[0]) - from).rem_euclid(tau) <= (to - from).rem_euclid(tau)
 }
 
 /// How far inside a disk (or outside a hole) point `x` lies.

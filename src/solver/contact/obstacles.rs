@@ -183,11 +183,6 @@ impl ContactSet {
             })
             .collect()
     }
-
-    /// How many nodes rest on obstacles at the last accepted state.
-    pub fn obstacles_resting(&self) -> usize {
-        self.obstacle_resting.iter().filter(|&&r| r).count()
-    }
 }
 
 /// The length a node's penetration is measured in: the mean length of its elements (the

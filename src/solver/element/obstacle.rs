@@ -39,7 +39,7 @@ fn left(t: [f64; 2]) -> [f64; 2] {
 }
 
 /// Where the polar angle `theta` lies past `from`, counter-clockwise, in [0, 2 pi).
-pub fn angle_past(theta: f64, from: f64) -> f64 {
+fn angle_past(theta: f64, from: f64) -> f64 {
     (theta - from).rem_euclid(std::f64::consts::TAU)
 }
 
