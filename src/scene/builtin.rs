@@ -11,6 +11,10 @@ pub const BUILTIN: &[(&str, &str)] = &[
         include_str!("../../assets/scenes/example_3_2.ron"),
     ),
     (
+        "example_3_2_friction.ron",
+        include_str!("../../assets/scenes/example_3_2_friction.ron"),
+    ),
+    (
         "example_3_1.ron",
         include_str!("../../assets/scenes/example_3_1.ron"),
     ),

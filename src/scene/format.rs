@@ -204,6 +204,10 @@ pub struct ContactDef {
     /// the two neighbouring elements on either side (default false).
     #[serde(default)]
     pub own: bool,
+    /// Coulomb friction coefficient between the candidates and the bodies (default 0:
+    /// frictionless).
+    #[serde(default)]
+    pub mu: f64,
 }
 
 /// A rigid obstacle: its curve, the nodes that may touch it, and the node that moves it.

@@ -71,6 +71,26 @@ pub enum SolveError {
         /// How far inside (m): at its end, or the deepest of its path.
         depth: f64,
     },
+    /// Every attempt converges to a state where a frictional contact breaks the friction law
+    /// (a friction force beyond mu times its pressure, or a slip not resisted by mu times its
+    /// pressure), even after the allowed cut-backs.
+    #[error(
+        "increment {increment}: node {node} on body {body} breaks the friction law (friction force {ratio:.6} times mu N, stick point moved {slipped:.2e} m) after {cutbacks} cut-backs"
+    )]
+    FrictionLaw {
+        /// Increment number.
+        increment: usize,
+        /// Cut-backs tried.
+        cutbacks: usize,
+        /// User id of the node.
+        node: u32,
+        /// Name of the body.
+        body: String,
+        /// |T| / (mu N).
+        ratio: f64,
+        /// How far the stick point moved in the increment (m).
+        slipped: f64,
+    },
     /// Every attempt converges to a state where an element has turned against its chord, or
     /// changed its strain, by more than one increment may take (`acceptance::MAX_TURN_STEP`,
     /// `acceptance::MAX_STRAIN_STEP`), even after the allowed cut-backs: the equilibrium Newton

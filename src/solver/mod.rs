@@ -33,7 +33,7 @@ pub use model::{
 };
 pub use params::{SolverParams, StretchCorrection};
 pub use report::{
-    ContactChange, Event, Flow, IncrementRecord, IncrementStatus, IterationRecord, NodeState,
-    Observer, ObstacleEvent, ObstacleState, Silent, SolveError,
+    ContactChange, Event, Flow, Friction, IncrementRecord, IncrementStatus, IterationRecord,
+    NodeState, Observer, ObstacleEvent, ObstacleState, Silent, SolveError,
 };
 pub use structure::Structure;

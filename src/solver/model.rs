@@ -159,6 +159,9 @@ pub struct ContactPair {
     /// the `SELF_CONTACT_WINDOW` elements on either side of them.
     #[serde(default)]
     pub own: bool,
+    /// Coulomb friction coefficient mu of these contacts (0: frictionless).
+    #[serde(default)]
+    pub mu: f64,
 }
 
 /// The elements on either side of a node's own elements that its self-contact leaves out: a

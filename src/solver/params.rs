@@ -70,6 +70,11 @@ pub struct SolverParams {
     /// fraction of the model's size (`Structure::model_size`): the multipliers are updated
     /// until every gap is within it, and no node may end further inside an obstacle.
     pub obstacle_gap: f64,
+    /// The stiffness of the spring that holds a sticking contact node to its point on the beam,
+    /// in units of the smallest axial stiffness EA/l of that element and the node's own
+    /// elements: while it sticks, the node moves along the beam by its friction force over this
+    /// stiffness (`element::friction`).
+    pub friction_penalty: f64,
     /// Arc-length control: the length of one increment along the equilibrium path, measured as
     /// the root-mean-square change of the free dofs (m, rad). `None`: load and prescribed displacements advance in equal
     /// steps (Newton with cut-backs). Only for load-driven scenes.
@@ -100,6 +105,7 @@ impl Default for SolverParams {
             max_penetration: 0.25,
             obstacle_penalty: 1.0,
             obstacle_gap: 1e-9,
+            friction_penalty: 10.0,
             arc_length: None,
             broad_phase: true,
         }

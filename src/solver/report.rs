@@ -96,6 +96,10 @@ pub enum ContactChange {
     Released,
     /// The node slid off a free end of the beam.
     SlidOff,
+    /// A frictional contact began to slip: its friction force reached mu times its pressure.
+    Slips,
+    /// A slipping frictional contact stuck again.
+    Sticks,
 }
 
 impl ContactChange {
@@ -106,6 +110,8 @@ impl ContactChange {
             ContactChange::Transferred => "moves onto",
             ContactChange::Released => "releases from",
             ContactChange::SlidOff => "slides off",
+            ContactChange::Slips => "slips on",
+            ContactChange::Sticks => "sticks on",
         }
     }
 }
@@ -242,6 +248,30 @@ pub struct ContactState {
     pub force: f64,
     /// Compressive contact pressure (N): positive when the bodies push on each other.
     pub pressure: f64,
+    /// The friction force on the contact node along the element's chord, from its end i to
+    /// its end j (N); 0 where the contact is frictionless.
+    #[serde(default)]
+    pub tangential: f64,
+    /// Whether the contact sticks or slips.
+    #[serde(default)]
+    pub friction: Friction,
+    /// The stick point: the length along the body (undeformed, from its first node) of the
+    /// material point the node is held to (m); `None` where the contact is frictionless.
+    #[serde(default)]
+    pub stick: Option<f64>,
+}
+
+/// The frictional state of a contact.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Friction {
+    /// No friction between the node and the body.
+    #[default]
+    Frictionless,
+    /// The node is held to its stick point: its friction force is below mu times the pressure.
+    Sticking,
+    /// The node slides along the body with a friction force of mu times the pressure,
+    /// against the slip.
+    Slipping,
 }
 
 /// A reaction at a supported or prescribed dof.

@@ -59,6 +59,51 @@ pub struct Structure {
     /// The penalty of the obstacle contacts (N/m): `SolverParams::obstacle_penalty` times the
     /// largest EA/l.
     pub(crate) obstacle_penalty: f64,
+    /// The friction coefficient of every frictional candidate pair (node, body); empty where
+    /// every contact is frictionless.
+    pub(crate) friction: IndexMap<(usize, usize), f64>,
+    /// For every beam, the length along its body (undeformed, from the body's first node) at
+    /// its ends i and j: where a contact's stick point lies, whichever element it rests on.
+    pub(crate) body_length_at: Vec<[f64; 2]>,
+}
+
+/// The friction coefficient of every candidate pair (node, body) of a frictional contact pair.
+fn friction_pairs(model: &Model) -> IndexMap<(usize, usize), f64> {
+    let mut out = IndexMap::default();
+    for pair in model.contacts.iter().filter(|p| p.mu > 0.0) {
+        for &n in &pair.nodes {
+            for &b in &pair.bodies {
+                out.insert((n, b), pair.mu);
+            }
+        }
+    }
+    out
+}
+
+/// For every beam, the undeformed length along its body at ends i and j, from the body's
+/// first node: an element's entry end is the node it shares with the element before it (the
+/// first element's is the end it does not share with the second).
+fn body_length_at(model: &Model, elements: &[BeamElement]) -> Vec<[f64; 2]> {
+    let mut out = vec![[0.0, 0.0]; model.beams.len()];
+    for body in &model.bodies {
+        let mut s = 0.0;
+        let mut entry = None;
+        for (k, &e) in body.elements.iter().enumerate() {
+            let b = &model.beams[e];
+            let from_i = match entry {
+                Some(n) => n == b.i,
+                None => body.elements.get(k + 1).is_none_or(|&f| {
+                    let next = &model.beams[f];
+                    b.j == next.i || b.j == next.j
+                }),
+            };
+            let l = elements[e].length;
+            out[e] = if from_i { [s, s + l] } else { [s + l, s] };
+            entry = Some(if from_i { b.j } else { b.i });
+            s += l;
+        }
+    }
+    out
 }
 
 impl Structure {
@@ -103,6 +148,8 @@ impl Structure {
             }
         }
         Structure {
+            friction: friction_pairs(&model),
+            body_length_at: body_length_at(&model, &elements),
             self_windows,
             place,
             obstacle_candidates: model.obstacle_candidates(),
@@ -196,6 +243,7 @@ impl Structure {
             follower: None,
             obstacles: &[],
             obstacle_penalty: self.obstacle_penalty,
+            grips: &[],
         }
     }
 

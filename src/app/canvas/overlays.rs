@@ -1,11 +1,12 @@
 //! The viewport's egui overlays (egui's own feathering): clamps, pins and rollers, contact nodes
-//! with force arrows scaled by Yc, body names, the handle of each prescribed dof, the bending
+//! with force arrows scaled by Yc (and their friction, coloured by stick or slip), body names, the handle of each prescribed dof, the bending
 //! moment legend, a scale bar, and the nodal and the distributed loads.
 
 use egui::{Align2, Color32, FontId, Pos2, Rect, Shape, Stroke, Vec2};
 
 use crate::scene::units::Units;
-use crate::solver::{Dof, IncrementRecord, Model};
+use crate::solver::report::ContactState;
+use crate::solver::{Dof, Friction, IncrementRecord, Model};
 
 use super::shapes::moment_color;
 use crate::app::state::TsmApp;
@@ -16,6 +17,10 @@ use crate::app::view::handle_world;
 pub const INK: Color32 = Color32::from_rgb(40, 44, 52);
 pub(crate) const ACTIVE: Color32 = Color32::from_rgb(245, 130, 20);
 const HANDLE: Color32 = Color32::from_rgb(20, 150, 90);
+/// A frictional contact that sticks.
+pub(crate) const STICK: Color32 = Color32::from_rgb(30, 110, 220);
+/// A frictional contact that slips.
+pub(crate) const SLIP: Color32 = Color32::from_rgb(215, 35, 60);
 
 /// Clamps at nodes with u, v and phi held; small triangles at other supported nodes.
 pub(crate) fn supports(
@@ -157,6 +162,9 @@ pub(crate) fn contacts(
         let tail = at - dir * (len + 6.0);
         p.arrow(tail, dir * len, Stroke::new(2.5, ACTIVE));
         p.circle(at, 6.0, ACTIVE, Stroke::new(1.5, INK));
+        if c.friction != Friction::Frictionless {
+            friction_arrow(p, at, chord, c, fmax);
+        }
         let label = format!("{} N", num(c.force.abs()));
         let centre = tail - dir * 4.0;
         let rect = Rect::from_center_size(centre, Vec2::new(6.5 * label.len() as f32, 13.0));
@@ -172,6 +180,23 @@ pub(crate) fn contacts(
             INK,
         );
     }
+}
+
+/// The friction force on contact node `c` (at `at`) along the chord direction `chord`, on the
+/// scale of the normal forces (`fmax`), and a ring round the node: blue where it sticks, red
+/// where it slips.
+fn friction_arrow(p: &egui::Painter, at: Pos2, chord: Vec2, c: &ContactState, fmax: f64) {
+    let colour = if c.friction == Friction::Slipping {
+        SLIP
+    } else {
+        STICK
+    };
+    if c.tangential != 0.0 {
+        let dir = chord * c.tangential.signum() as f32;
+        let len = 4.0 + 36.0 * (c.tangential.abs() / fmax).min(1.0) as f32;
+        p.arrow(at - dir * (len + 6.0), dir * len, Stroke::new(2.5, colour));
+    }
+    p.circle_stroke(at, 8.5, Stroke::new(2.0, colour));
 }
 
 /// Body names beside the start of each deformed curve.

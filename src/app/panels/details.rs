@@ -1,16 +1,18 @@
 //! The details panel for the selected increment: the scene's units, the node or element picked
 //! in the viewport and the diagram's extreme, "Increment k / n", prescribed values,
 //! iterations, "residual 3.2e-11 (converged)" or its acceptance at the round-off floor, the
-//! active contacts (li/l, Yc), the events and the reactions.
+//! active contacts (li/l, Yc, and their friction force and stick or slip), the events and the
+//! reactions.
 
 use egui::RichText;
 
 use super::plots::ROUNDOFF;
 use crate::app::canvas::diagrams::extreme;
+use crate::app::canvas::overlays::{SLIP, STICK};
 use crate::app::canvas::query::describe;
 use crate::app::state::TsmApp;
 use crate::app::units::num;
-use crate::solver::{Dof, IncrementStatus};
+use crate::solver::{Dof, Friction, IncrementStatus};
 
 /// Show the details of the selected increment.
 pub fn show(app: &TsmApp, ui: &mut egui::Ui) {
@@ -60,14 +62,17 @@ pub fn show(app: &TsmApp, ui: &mut egui::Ui) {
     if !model.contacts.is_empty() {
         ui.separator();
         ui.label(RichText::new(format!("Active contacts: {}", r.contacts.len())).strong());
+        let frictional = model.contacts.iter().any(|c| c.mu > 0.0);
         egui::Grid::new("contacts")
             .striped(true)
-            .num_columns(4)
+            .num_columns(if frictional { 6 } else { 4 })
             .show(ui, |ui| {
                 if !r.contacts.is_empty() {
                     let yc = format!("Yc ({})", units.force());
-                    for h in ["node", "on", "li/l", yc.as_str()] {
-                        ui.label(RichText::new(h).small());
+                    let t = format!("T ({})", units.force());
+                    let heads = ["node", "on", "li/l", yc.as_str(), t.as_str(), "grip"];
+                    for h in &heads[..if frictional { 6 } else { 4 }] {
+                        ui.label(RichText::new(*h).small());
                     }
                     ui.end_row();
                 }
@@ -76,6 +81,10 @@ pub fn show(app: &TsmApp, ui: &mut egui::Ui) {
                     ui.label(model.element_label(c.element));
                     ui.label(format!("{:.4}", c.xi));
                     ui.label(num(c.force));
+                    if frictional {
+                        ui.label(num(c.tangential));
+                        ui.label(grip_label(c.friction));
+                    }
                     ui.end_row();
                 }
             });
@@ -163,5 +172,14 @@ fn selected(app: &TsmApp, ui: &mut egui::Ui) {
         for line in describe(model, r, p, units, app.angles) {
             ui.label(line);
         }
+    }
+}
+
+/// "sticks" or "slips" in the colour the viewport rings the node with.
+fn grip_label(f: Friction) -> RichText {
+    match f {
+        Friction::Sticking => RichText::new("sticks").color(STICK),
+        Friction::Slipping => RichText::new("slips").color(SLIP),
+        Friction::Frictionless => RichText::new("none"),
     }
 }

@@ -171,6 +171,7 @@ pub fn run_scene(case: &str, sc: &Scene, path: &Path) -> Run {
                     ContactChange::Transferred => row.transfers += 1,
                     ContactChange::Activated => row.activations += 1,
                     ContactChange::Released | ContactChange::SlidOff => row.releases += 1,
+                    ContactChange::Slips | ContactChange::Sticks => {}
                 }
             }
         }

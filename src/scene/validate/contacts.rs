@@ -29,6 +29,16 @@ pub(super) fn contacts(
                 }
             }
         }
+        if !(c.mu.is_finite() && c.mu >= 0.0) {
+            return Err(ctx.err(
+                format!("contacts[{k}].mu"),
+                None,
+                format!(
+                    "the friction coefficient is {}: it must be a finite number >= 0",
+                    c.mu
+                ),
+            ));
+        }
         let mut cb = Vec::new();
         for (m, name) in c.bodies.iter().enumerate() {
             cb.push(g.body_of(ctx, format!("contacts[{k}].bodies[{m}]"), name)?);
@@ -55,6 +65,7 @@ pub(super) fn contacts(
             nodes: cn,
             bodies: cb,
             own: c.own,
+            mu: c.mu,
         });
     }
     Ok(contacts)

@@ -10,13 +10,17 @@
 //!   rotations alone; `chord.rs` holds the swept chord, `grid.rs` the grid of the long bodies;
 //!   and no candidate node inside a rigid obstacle beyond the obstacle tolerance
 //!   (`obstacle.rs`).
+//! - **Friction** (`friction.rs`): no friction force beyond mu times the pressure, and exactly
+//!   that, against the slip, where a contact slipped.
 
 mod chord;
 mod crossing;
+mod friction;
 mod grid;
 mod obstacle;
 mod range;
 
 pub use crossing::{Crossing, CrossingCheck, CrossingMemory};
+pub use friction::{friction_law, FrictionRecord, FrictionViolation, FRICTION_LAW_TOLERANCE};
 pub use obstacle::{inside_obstacle, ObstacleCrossing};
 pub use range::{out_of_range, OutOfRange, MAX_STRAIN_STEP, MAX_TURN_STEP};

@@ -9,6 +9,7 @@ use super::obstacles::{add_obstacles, ObstacleLink};
 use super::packed::PackedBeam;
 use crate::solver::element::beam::BeamElement;
 use crate::solver::element::contact_element::{contact_response, ContactOptions};
+use crate::solver::element::friction::{add_friction, Grip, Traction};
 use crate::solver::linear::reduce::sum_squares;
 use crate::solver::linear::simd::{dispatch_wide, Avx2};
 use crate::solver::linear::BandMatrix;
@@ -23,6 +24,9 @@ pub struct ElementResults {
     pub contact_forces: Vec<(f64, f64)>,
     /// For every obstacle link, in the order given: the normal force F_N (N).
     pub obstacle_forces: Vec<f64>,
+    /// For every contact link, in the order given: its friction (`None`: frictionless); empty
+    /// where the assembly had no grips.
+    pub contact_friction: Vec<Option<Traction>>,
 }
 
 /// The assembled global quantities at one state.
@@ -91,6 +95,8 @@ pub struct AssemblyContext<'a> {
     pub obstacles: &'a [ObstacleLink],
     /// The penalty of the obstacle contacts (N/m).
     pub obstacle_penalty: f64,
+    /// The friction of every contact link (`ContactSet::grips`); empty: all frictionless.
+    pub grips: &'a [Option<Grip>],
 }
 
 /// Assemble internal forces (and the tangent) at displacements `d`.
@@ -173,6 +179,8 @@ pub(super) fn assemble_kernel(
     // Every beam and every contact link writes its entry below: resized, not cleared.
     results.beam_forces.resize(model.beams.len(), [0.0; 3]);
     results.contact_forces.resize(ord.links.len(), (0.0, 0.0));
+    results.contact_friction.clear();
+    results.contact_friction.resize(ctx.grips.len(), None);
     let held = (&dofs.held[..], &mut out.held_internal[..]);
     let coupling = &mut out.coupling;
     if !ctx.obstacles.is_empty() {
@@ -286,7 +294,7 @@ pub(super) fn assemble_kernel(
                 gdofs.push(dofs.dof(c, 0));
                 gdofs.push(dofs.dof(c, 1));
             }
-            let r = contact_response(
+            let mut r = contact_response(
                 &ctx.elements[e],
                 xi,
                 xj,
@@ -295,6 +303,16 @@ pub(super) fn assemble_kernel(
                 ctx.contact,
                 with_tangent,
             );
+            if !ctx.grips.is_empty() {
+                let grips: Vec<Option<Grip>> = on_this.iter().map(|&k| ctx.grips[k]).collect();
+                if grips.iter().any(Option::is_some) {
+                    let length = ctx.elements[e].length;
+                    let t = add_friction(&mut r, length, (xi, xj), &xc, &grips);
+                    for (&k, t) in on_this.iter().zip(t) {
+                        results.contact_friction[k] = t;
+                    }
+                }
+            }
             results.beam_forces[e] = [r.forces[0], r.forces[1], r.forces[2]];
             for (m, &k) in on_this.iter().enumerate() {
                 results.contact_forces[k] = (r.forces[3 + m], r.xi[m]);

@@ -23,6 +23,8 @@ impl ContactSet {
         self.multiplier_updates = 0;
         self.obstacle_seen.clear();
         self.obstacle_one_at_a_time = false;
+        self.friction_seen.clear();
+        self.friction_one_at_a_time = false;
     }
 
     /// At a converged pass: transfers, releases of tensile contacts and activation of crossing
@@ -131,6 +133,7 @@ impl ContactSet {
                 beam: p.beam,
                 body: b,
                 side,
+                stick: Self::stick_at(cv, n, b, p.beam, p.xi),
             };
             events.push(Self::event(
                 cv,

@@ -6,10 +6,11 @@
 //! relative to a body's deformed shape; `sides.rs` remembers sides and detects crossings;
 //! `transfer.rs` moves contacts between elements and off free ends; `active_set.rs` decides
 //! activation and release at a converged pass; `obstacles.rs` the contacts with rigid
-//! obstacles.
+//! obstacles; `friction.rs` the stick points of frictional contacts.
 
 mod active_set;
 mod broad_phase;
+mod friction;
 mod obstacles;
 mod probe;
 mod set;
@@ -17,4 +18,4 @@ mod sides;
 mod transfer;
 
 pub use probe::Probe;
-pub use set::{ActiveContact, ContactSet, ContactView};
+pub use set::{ActiveContact, ContactSet, ContactView, Stick};

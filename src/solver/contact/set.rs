@@ -11,7 +11,7 @@ use std::ops::Deref;
 
 use crate::solver::assembly::{Assembled, ContactLink, ObstacleLink};
 use crate::solver::index_map::IndexMap;
-use crate::solver::report::ContactState;
+use crate::solver::report::{ContactState, Friction};
 use crate::solver::structure::Structure;
 
 /// A contact node resting on a beam element.
@@ -25,6 +25,20 @@ pub struct ActiveContact {
     pub body: usize,
     /// Side of the beam (along its chord normal n) the node came from: +1 or -1.
     pub side: f64,
+    /// Where a frictional contact sticks, at the last accepted state (`None`: frictionless).
+    pub stick: Option<Stick>,
+}
+
+/// The stick point of a frictional contact and whether it slipped, at an accepted state.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Stick {
+    /// The stick point: the length along the beam's body (undeformed, from its first node) of
+    /// the material point the node is held to.
+    pub at: f64,
+    /// `Some(sigma)`: the contact slips, its body coordinate moving away from the stick point
+    /// in direction sigma (+1 or -1); `None`: it sticks. At an accepted state, how it got
+    /// there; within an attempt, the mode the passes try.
+    pub slip: Option<f64>,
 }
 
 /// The active contacts and the remembered sides of every candidate pair.
@@ -67,6 +81,11 @@ pub struct ContactSet {
     pub(crate) multiplier_updates: usize,
     /// The contact whose gap the last update found widest: (node, obstacle, gap in m).
     pub(crate) widest_gap: Option<(usize, usize, f64)>,
+    /// The stick and slip modes met at the converged passes of the current attempt.
+    pub(super) friction_seen: HashSet<Vec<i8>>,
+    /// Set once a set of modes repeats within an attempt: from then on each pass changes the
+    /// mode of one contact.
+    pub(super) friction_one_at_a_time: bool,
 }
 
 /// Whether node `n` is a node of body `body`.
@@ -107,10 +126,12 @@ impl ContactSet {
     /// Report states of the active contacts from a converged assembly.
     pub fn states(&self, cv: &ContactView<'_>, asm: &Assembled) -> Vec<ContactState> {
         let m = &cv.model;
+        let friction = |k: usize| asm.elements.contact_friction.get(k).copied().flatten();
         self.active
             .iter()
             .zip(&asm.elements.contact_forces)
-            .map(|(a, &(yc, xi))| ContactState {
+            .enumerate()
+            .map(|(k, (a, &(yc, xi)))| ContactState {
                 node: m.nodes[a.node].id,
                 element: a.beam,
                 place: (m.bodies[a.body].elements.iter())
@@ -120,6 +141,13 @@ impl ContactSet {
                 xi,
                 force: yc,
                 pressure: -a.side * yc,
+                tangential: friction(k).map_or(0.0, |t| t.tangential),
+                friction: match a.stick {
+                    Some(Stick { slip: Some(_), .. }) => Friction::Slipping,
+                    Some(_) => Friction::Sticking,
+                    None => Friction::Frictionless,
+                },
+                stick: a.stick.map(|s| s.at),
             })
             .collect()
     }

@@ -148,13 +148,14 @@ impl ContactSet {
                     .copied();
                 if let Some(u) = under {
                     if !self.is_active(a.node, u.body) {
+                        let xi_there = Self::chord_fraction(cv, d, a.node, u.beam);
                         let h = ActiveContact {
                             node: a.node,
                             beam: u.beam,
                             body: u.body,
                             side: u.side,
+                            stick: Self::stick_at(cv, a.node, u.body, u.beam, xi_there),
                         };
-                        let xi_there = Self::chord_fraction(cv, d, a.node, u.beam);
                         events.push(Self::event(
                             cv,
                             &h,

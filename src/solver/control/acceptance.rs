@@ -3,9 +3,11 @@
 //! becomes a cut-back reason or, once the cut-backs are spent, a typed `SolveError`.
 
 use super::solver::Solver;
-use crate::solver::acceptance::{inside_obstacle, out_of_range, MAX_STRAIN_STEP, MAX_TURN_STEP};
+use crate::solver::acceptance::{
+    friction_law, inside_obstacle, out_of_range, FrictionRecord, MAX_STRAIN_STEP, MAX_TURN_STEP,
+};
 use crate::solver::newton::{AttemptError, Converged};
-use crate::solver::report::{IncrementStatus, NodeState, SolveError};
+use crate::solver::report::{ContactChange, Event, IncrementStatus, NodeState, SolveError};
 
 impl Solver {
     /// The acceptance check (`acceptance`) of a converged attempt, before it is committed: its
@@ -33,6 +35,9 @@ impl Solver {
         if let Some(x) = inside_obstacle(&self.model, self.origin, (&before, &states), tol) {
             return Err(AttemptError::InsideObstacle(x));
         }
+        if let Some(x) = friction_law(&self.friction_records(c)) {
+            return Err(AttemptError::FrictionLaw(x));
+        }
         match self
             .crossing
             .find(&self.model, &states, &c.contacts.pairs())
@@ -40,6 +45,42 @@ impl Solver {
             Some(x) => Err(AttemptError::Crossed(x)),
             None => Ok((status, states)),
         }
+    }
+
+    /// The frictional contacts of a converged attempt as the friction law's check reads them:
+    /// pressure, friction force along the body, and the stick points before and after (none
+    /// before for a contact that began in the increment).
+    fn friction_records(&self, c: &Converged) -> Vec<FrictionRecord> {
+        if self.friction.is_empty() {
+            return Vec::new();
+        }
+        let tractions = &c.assembled.elements.contact_friction;
+        let began = |node: usize, body: usize| {
+            c.events.iter().any(|e| {
+                matches!(e, Event::Contact(x) if x.change == ContactChange::Activated
+                    && x.node == self.model.nodes[node].id
+                    && x.body == self.model.bodies[body].name)
+            })
+        };
+        (c.contacts.active.iter().enumerate())
+            .filter_map(|(k, a)| {
+                let stick = a.stick?;
+                let t = tractions.get(k).copied().flatten()?;
+                let [si, sj] = self.body_length_at[a.beam];
+                let before = (self.state.contacts.active.iter())
+                    .find(|b| b.node == a.node && b.body == a.body && !began(a.node, a.body))
+                    .and_then(|b| b.stick);
+                Some(FrictionRecord {
+                    node: a.node,
+                    body: a.body,
+                    mu: *self.friction.get(&(a.node, a.body))?,
+                    pressure: t.normal,
+                    tangential: t.tangential * (sj - si).signum(),
+                    stick_before: before.map(|b| b.at),
+                    stick_after: stick.at,
+                })
+            })
+            .collect()
     }
 
     /// The text of a failed attempt, for cut-back events.
@@ -75,6 +116,14 @@ impl Solver {
                 node: self.model.nodes[x.node].id,
                 obstacle: self.model.obstacles[x.obstacle].name.clone(),
                 depth: x.depth,
+            },
+            AttemptError::FrictionLaw(x) => SolveError::FrictionLaw {
+                increment,
+                cutbacks,
+                node: self.model.nodes[x.node].id,
+                body: self.model.bodies[x.body].name.clone(),
+                ratio: x.ratio,
+                slipped: x.slipped,
             },
             AttemptError::OutOfRange(x) => {
                 let body = self.model.beams[x.element].body;

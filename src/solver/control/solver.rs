@@ -131,9 +131,11 @@ impl Solver {
         let ord = self
             .work
             .ordering_for(&self.structure, &self.state.contacts);
+        let grips = self.state.contacts.grips(&self.view());
         let ctx = AssemblyContext {
             follower: (self.model.has_followers()).then_some(self.state.load_factor),
             obstacles: &self.state.contacts.obstacle,
+            grips: &grips,
             ..self.context(&ord)
         };
         let asm = assemble(&ctx, d, true, None);

@@ -85,11 +85,13 @@ impl Newton<'_> {
         loop {
             let (fext, ext2) = path.external_force();
             let loads = Self::loads_at_equations(fext, &ordering);
+            let grips = contacts.grips(&self.view());
             let ctx = AssemblyContext {
                 contact: p.contact_options(pass_iter + 1),
                 loads: &loads,
                 follower: self.model.has_followers().then(|| path.load_factor()),
                 obstacles: &contacts.obstacle,
+                grips: &grips,
                 ..self.context(&ordering)
             };
             if std::mem::take(&mut reuse) {
@@ -155,12 +157,16 @@ impl Newton<'_> {
                     );
                     let mut updated = 0;
                     if changed == 0 {
+                        changed = contacts.friction_pass(&asm);
+                    }
+                    if changed == 0 {
                         (changed, updated) = contacts.obstacle_pass(&self.view(), &d, &asm);
                     }
                     self.too_deep(&contacts)?;
                     if changed == 0 && updated == 0 && accepted {
                         let view = self.view();
                         contacts.obstacle_settle(&view, increment, iterations, &mut events);
+                        contacts.settle_friction(&view, &asm, increment, iterations, &mut events);
                         let max_penetration = contacts.max_penetration(&self.view(), &d);
                         // Unfactored: the next increment's predictor may start from it.
                         asm.tangent = Some(tangent);

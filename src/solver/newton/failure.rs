@@ -2,7 +2,7 @@
 //! (a smaller increment, a slide-off, a located error) is told apart by its variant.
 
 use crate::solver::acceptance::{
-    Crossing, ObstacleCrossing, OutOfRange, MAX_STRAIN_STEP, MAX_TURN_STEP,
+    Crossing, FrictionViolation, ObstacleCrossing, OutOfRange, MAX_STRAIN_STEP, MAX_TURN_STEP,
 };
 use crate::solver::contact::ContactSet;
 use crate::solver::model::Model;
@@ -75,6 +75,8 @@ pub enum AttemptError {
     },
     /// The acceptance check found a node inside a rigid obstacle.
     InsideObstacle(ObstacleCrossing),
+    /// The acceptance check found a contact breaking the friction law.
+    FrictionLaw(FrictionViolation),
     /// Arc length: the reference load does no work on the free dofs.
     NoLoadPath,
     /// Arc length: the constraint has no real root.
@@ -151,6 +153,13 @@ impl AttemptError {
                 model.node_label(x.node),
                 model.obstacles[x.obstacle].name,
                 x.depth
+            ),
+            AttemptError::FrictionLaw(x) => format!(
+                "{} on {} breaks the friction law: friction force {:.6} times mu N, stick point moved {:.2e} m",
+                model.node_label(x.node),
+                model.bodies[x.body].name,
+                x.ratio,
+                x.slipped
             ),
             AttemptError::NoLoadPath => {
                 "arc length: the reference load does no work on the free dofs".into()

@@ -1,0 +1,64 @@
+//! The friction law at an accepted state, checked from the forces and stick points alone:
+//! no contact carries a friction force beyond mu times its pressure, and a contact whose stick
+//! point moved during the increment (it slipped) carries exactly mu times its pressure,
+//! against the slip.
+
+/// How far the friction force may lie from the Coulomb limit, relative to it: far above the
+/// round-off of a converged state, far below any error a user would see.
+pub const FRICTION_LAW_TOLERANCE: f64 = 1e-6;
+
+/// One frictional contact as the check reads it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrictionRecord {
+    /// Node index.
+    pub node: usize,
+    /// Body index.
+    pub body: usize,
+    /// Friction coefficient.
+    pub mu: f64,
+    /// Normal pressure N (N, compressive positive).
+    pub pressure: f64,
+    /// The friction force on the node along the body's direction (N).
+    pub tangential: f64,
+    /// The stick point at the start of the increment (length along the body, m); `None` for
+    /// a contact that began during it.
+    pub stick_before: Option<f64>,
+    /// The stick point at the end of the increment.
+    pub stick_after: f64,
+}
+
+/// A contact that breaks the friction law.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrictionViolation {
+    /// Node index.
+    pub node: usize,
+    /// Body index.
+    pub body: usize,
+    /// |T| / (mu N).
+    pub ratio: f64,
+    /// How far its stick point moved in the increment (m).
+    pub slipped: f64,
+}
+
+/// The first contact of `records` that breaks the friction law, if any.
+pub fn friction_law(records: &[FrictionRecord]) -> Option<FrictionViolation> {
+    records.iter().find_map(|r| {
+        let limit = r.mu * r.pressure.max(0.0);
+        let t = r.tangential.abs();
+        let slipped = r.stick_before.map_or(0.0, |b| r.stick_after - b);
+        let over = t > limit * (1.0 + FRICTION_LAW_TOLERANCE);
+        let moved = slipped != 0.0;
+        let short = moved && t < limit * (1.0 - FRICTION_LAW_TOLERANCE);
+        let along = moved && r.tangential * slipped > 0.0;
+        (over || short || along).then_some(FrictionViolation {
+            node: r.node,
+            body: r.body,
+            ratio: if limit > 0.0 {
+                t / limit
+            } else {
+                f64::INFINITY
+            },
+            slipped,
+        })
+    })
+}

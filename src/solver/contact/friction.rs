@@ -1,0 +1,147 @@
+//! The stick points of frictional contacts: where a new contact sticks, the `Grip` each
+//! contact element is evaluated with (its stick point from the last accepted state, so that
+//! every pass of an increment maps back from there, and the mode the pass tries), the return
+//! mapping at a converged pass (each contact whose trial force asks for the other mode
+//! changes, and the pass is repeated), and, once an increment is accepted, the stick points the
+//! slip moved and the changes between stick and slip as events.
+//!
+//! A stick point is a length along the body, not a place on an element: a contact that moves
+//! onto the neighbouring element keeps it.
+
+use super::set::{ActiveContact, ContactSet, ContactView, Stick};
+use crate::solver::assembly::Assembled;
+use crate::solver::element::friction::Grip;
+use crate::solver::report::{ContactChange, Event};
+
+/// The stiffness kt that holds sticking node `node` to beam `beam` (N/m): `friction_penalty`
+/// times the smallest axial stiffness EA / L0 of that element and the node's own elements, so
+/// that a stiff floor does not make the spring stiffer than what rests on it.
+fn stick_stiffness(cv: &ContactView<'_>, node: usize, beam: usize) -> f64 {
+    let axial = |e: usize| cv.elements[e].section.ea / cv.elements[e].length;
+    let own = cv.node_beams[node].iter().map(|&e| axial(e));
+    cv.params.friction_penalty * own.fold(axial(beam), f64::min)
+}
+
+/// A mode as a small integer (0 stick, +1 or -1 slip), for telling a repeated set of modes.
+fn mode_code(slip: Option<f64>) -> i8 {
+    slip.map_or(0, |s| if s < 0.0 { -1 } else { 1 })
+}
+
+impl ContactSet {
+    /// The stick point of a new contact of node `n` on body `body` at fraction `xi` of `beam`:
+    /// there, sticking; `None` for a frictionless pair.
+    pub(super) fn stick_at(
+        cv: &ContactView<'_>,
+        n: usize,
+        body: usize,
+        beam: usize,
+        xi: f64,
+    ) -> Option<Stick> {
+        if cv.friction.is_empty() || !cv.friction.contains_key(&(n, body)) {
+            return None;
+        }
+        let [si, sj] = cv.body_length_at[beam];
+        Some(Stick {
+            at: si + xi * (sj - si),
+            slip: None,
+        })
+    }
+
+    /// The grip of every active contact, in their order, for the assembly: empty where no
+    /// contact has friction.
+    pub fn grips(&self, cv: &ContactView<'_>) -> Vec<Option<Grip>> {
+        if cv.friction.is_empty() || self.active.iter().all(|a| a.stick.is_none()) {
+            return Vec::new();
+        }
+        self.active.iter().map(|a| Self::grip(cv, a)).collect()
+    }
+
+    fn grip(cv: &ContactView<'_>, a: &ActiveContact) -> Option<Grip> {
+        let stick = a.stick?;
+        let mu = *cv.friction.get(&(a.node, a.body))?;
+        let [si, sj] = cv.body_length_at[a.beam];
+        let span = sj - si;
+        Some(Grip {
+            mu,
+            stiffness: stick_stiffness(cv, a.node, a.beam),
+            stick: (stick.at - si) / span,
+            span,
+            side: a.side,
+            slip: stick.slip,
+        })
+    }
+
+    /// The return mapping at a converged pass (assembled in `asm`): every frictional contact
+    /// whose trial force asks for the other mode (`Traction::mode`) changes to it. Returns the
+    /// number of changes (0: the friction law holds). Once a set of modes comes back within the
+    /// attempt, one change a pass, the contact of least index.
+    pub(crate) fn friction_pass(&mut self, asm: &Assembled) -> usize {
+        let tractions = &asm.elements.contact_friction;
+        let mut changes = Vec::new();
+        for (k, a) in self.active.iter().enumerate() {
+            let (Some(stick), Some(Some(t))) = (a.stick, tractions.get(k)) else {
+                continue;
+            };
+            let want = t.mode(stick.slip);
+            if want != stick.slip {
+                changes.push((k, want));
+            }
+        }
+        if self.friction_one_at_a_time {
+            changes.truncate(1);
+        }
+        for &(k, want) in &changes {
+            if let Some(stick) = self.active[k].stick.as_mut() {
+                stick.slip = want;
+            }
+        }
+        if !changes.is_empty() {
+            let modes = (self.active.iter())
+                .map(|a| a.stick.map_or(0, |s| mode_code(s.slip)))
+                .collect();
+            if !self.friction_seen.insert(modes) {
+                self.friction_one_at_a_time = true;
+            }
+        }
+        changes.len()
+    }
+
+    /// At the accepted pass of an increment (assembled in `asm`): the stick point of every
+    /// slipping contact moves to where its spring carries the Coulomb force, s - f / kt, and
+    /// every contact that changed between stick and slip since the last accepted state (`cv`)
+    /// is an event.
+    pub(crate) fn settle_friction(
+        &mut self,
+        cv: &ContactView<'_>,
+        asm: &Assembled,
+        increment: usize,
+        iteration: usize,
+        events: &mut Vec<Event>,
+    ) {
+        let tractions = &asm.elements.contact_friction;
+        for k in 0..self.active.len() {
+            let a = self.active[k];
+            let (Some(mut stick), Some(Some(t))) = (a.stick, tractions.get(k)) else {
+                continue;
+            };
+            if t.slipping {
+                stick.at += t.slip - t.force / stick_stiffness(cv, a.node, a.beam);
+            }
+            let before = (cv.contacts.active.iter())
+                .find(|b| b.node == a.node && b.body == a.body)
+                .and_then(|b| b.stick);
+            let slipped = before.is_some_and(|b| b.slip.is_some());
+            if t.slipping != slipped {
+                let change = if t.slipping {
+                    ContactChange::Slips
+                } else {
+                    ContactChange::Sticks
+                };
+                let xi = asm.elements.contact_forces[k].1;
+                let event = Self::event(cv, &a, change, increment, iteration, xi, t.tangential);
+                events.push(event);
+            }
+            self.active[k].stick = Some(stick);
+        }
+    }
+}

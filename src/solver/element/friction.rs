@@ -1,0 +1,205 @@
+//! Coulomb friction at the contacts of a contact element: the friction force of one contact
+//! in stick or in slip, and its nodal forces and exact tangent, added to a frictionless
+//! `ContactResponse`.
+//!
+//! The tangential coordinate of a contact is its place along the beam's body measured in
+//! undeformed length, s = s_i + xi Ls (xi = li / l from the current chord, Ls = s_j - s_i =
+//! +-L0): the node's material point on the beam. While it sticks, a spring of stiffness kt holds
+//! the node to the stick point s0: f = kt (s - s0). While it slips in direction sigma,
+//! f = sigma mu N l / L0. f is work-conjugate to s, so the nodal forces are f grad s and the
+//! tangent grad s (x) grad f + f hess s: unsymmetric where the contact slips, since f then
+//! follows the normal force N. The force on the contact node along the chord is -f Ls / l, so
+//! slip holds the physical tangential force at mu N exactly. Which of the two a contact is in
+//! is decided at each converged pass from the trial force kt (s - s0) (`Traction::mode`, the
+//! return mapping), and held through the pass, so that Newton's convergence stays quadratic.
+
+use nalgebra::{DMatrix, DVector, Matrix2, Vector2};
+
+use super::contact_element::ContactResponse;
+
+/// The friction of one contact, for one evaluation of its contact element.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Grip {
+    /// Friction coefficient mu (> 0).
+    pub mu: f64,
+    /// Stiffness kt of the spring that holds a sticking node to its stick point (N/m).
+    pub stiffness: f64,
+    /// The stick point s0 at the start of the increment, as a fraction of this element from
+    /// end i (outside [0, 1] where the contact came from a neighbouring element).
+    pub stick: f64,
+    /// Ls: the body length from end i to end j (+L0, or -L0 where the element runs against
+    /// its body's direction).
+    pub span: f64,
+    /// The side of the beam the node rests on (+1 or -1 along the chord normal).
+    pub side: f64,
+    /// `Some(sigma)`: the contact slips with s - s0 of sign sigma; `None`: it sticks.
+    pub slip: Option<f64>,
+}
+
+/// The frictional state of one contact, from the return mapping.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Traction {
+    /// f, the force conjugate to the tangential coordinate s (N).
+    pub force: f64,
+    /// s - s0: how far the node's material point lies from the stick point (m of body).
+    pub slip: f64,
+    /// Whether the contact slips (|f| at the Coulomb limit).
+    pub slipping: bool,
+    /// The trial force kt (s - s0) of the stick spring (N).
+    pub trial: f64,
+    /// The Coulomb limit of |f|: mu N l / L0 (N).
+    pub limit: f64,
+    /// The tangential force on the contact node along the chord, from i to j (N).
+    pub tangential: f64,
+    /// The normal pressure N (N, compressive positive).
+    pub normal: f64,
+}
+
+/// The gradient of xi = (a . d) / (d . d), with a = x_c - x_i and d = x_j - x_i, over the
+/// dofs (u_i, v_i, phi_i, u_j, v_j, phi_j, u_c1, v_c1, ...) for contact `m`.
+fn xi_gradient(a: Vector2<f64>, d: Vector2<f64>, nd: usize, m: usize) -> DVector<f64> {
+    let l2 = d.dot(&d);
+    let xi = a.dot(&d) / l2;
+    let ga = d / l2;
+    let gd = (a - d * (2.0 * xi)) / l2;
+    let mut g = DVector::zeros(nd);
+    for k in 0..2 {
+        g[k] = -ga[k] - gd[k];
+        g[3 + k] = gd[k];
+        g[6 + 2 * m + k] = ga[k];
+    }
+    g
+}
+
+/// The Hessian of xi over the same dofs.
+fn xi_hessian(a: Vector2<f64>, d: Vector2<f64>, nd: usize, m: usize) -> DMatrix<f64> {
+    let l2 = d.dot(&d);
+    let xi = a.dot(&d) / l2;
+    let gd = (a - d * (2.0 * xi)) / l2;
+    let h_ad = Matrix2::identity() / l2 - d * d.transpose() * (2.0 / (l2 * l2));
+    let h_dd = -(d * gd.transpose() + gd * d.transpose()) * (2.0 / l2)
+        - Matrix2::identity() * (2.0 * xi / l2);
+    // a = x_c - x_i, d = x_j - x_i: (offset, sign) of each.
+    let pa = [(0, -1.0), (6 + 2 * m, 1.0)];
+    let pd = [(0, -1.0), (3, 1.0)];
+    let mut h = DMatrix::zeros(nd, nd);
+    for &(p, cp) in &pa {
+        for &(q, cq) in &pd {
+            for r in 0..2 {
+                for c in 0..2 {
+                    h[(p + r, q + c)] += cp * cq * h_ad[(r, c)];
+                    h[(q + c, p + r)] += cp * cq * h_ad[(r, c)];
+                }
+            }
+        }
+    }
+    for &(p, cp) in &pd {
+        for &(q, cq) in &pd {
+            for r in 0..2 {
+                for c in 0..2 {
+                    h[(p + r, q + c)] += cp * cq * h_dd[(r, c)];
+                }
+            }
+        }
+    }
+    h
+}
+
+/// Add the friction of the contacts with a `Grip` (one entry per contact node of `r`, `None`
+/// for a frictionless one) to the frictionless response `r` of a contact element of undeformed
+/// length `length`, with its ends at `ends` and its contact nodes at `xc` (the positions `r`
+/// was evaluated at). Returns the traction of each contact.
+pub fn add_friction(
+    r: &mut ContactResponse,
+    length: f64,
+    ends: ([f64; 2], [f64; 2]),
+    xc: &[[f64; 2]],
+    grips: &[Option<Grip>],
+) -> Vec<Option<Traction>> {
+    let nd = r.nodal.len();
+    let xi_pos = Vector2::new(ends.0[0], ends.0[1]);
+    let d = Vector2::new(ends.1[0], ends.1[1]) - xi_pos;
+    let l = d.norm();
+    let e = d / l;
+    // Frictionless, the force on contact node m is Yc n: the gradient of Yc is n^T times the
+    // node's rows of the tangent (n . dn = 0), read before any friction goes in.
+    let n = Vector2::new(-e[1], e[0]);
+    let normal_gradients: Vec<Option<DVector<f64>>> = (0..xc.len())
+        .map(|m| {
+            let k = r.tangent.as_ref()?;
+            grips[m]?;
+            Some((k.row(6 + 2 * m) * n[0] + k.row(7 + 2 * m) * n[1]).transpose())
+        })
+        .collect();
+    let mut grad_l = DVector::zeros(nd);
+    for k in 0..2 {
+        grad_l[k] = -e[k];
+        grad_l[3 + k] = e[k];
+    }
+    let mut out = Vec::with_capacity(xc.len());
+    for (m, grip) in grips.iter().enumerate() {
+        let Some(g) = grip else {
+            out.push(None);
+            continue;
+        };
+        let a = Vector2::new(xc[m][0], xc[m][1]) - xi_pos;
+        let xi = a.dot(&d) / d.dot(&d);
+        let slip = g.span * (xi - g.stick);
+        let normal = -g.side * r.forces[3 + m];
+        // Not cut at zero: an iterate that pulls the contact keeps a smooth force (the pass
+        // releases a tensile contact before its friction is judged).
+        let limit = g.mu * normal * l / length;
+        let trial = g.stiffness * slip;
+        let slipping = g.slip.is_some();
+        let sign = g.slip.unwrap_or(0.0);
+        let force = if slipping { sign * limit } else { trial };
+        let grad = xi_gradient(a, d, nd, m);
+        r.nodal.axpy(force * g.span, &grad, 1.0);
+        if let Some(k) = r.tangent.as_mut() {
+            let grad_f = if !slipping {
+                &grad * (g.stiffness * g.span)
+            } else {
+                let grad_n = normal_gradients[m].as_ref().expect("tangent present") * -g.side;
+                (grad_n * l + &grad_l * normal) * (sign * g.mu / length)
+            };
+            *k += (&grad * g.span) * grad_f.transpose();
+            if force != 0.0 {
+                *k += xi_hessian(a, d, nd, m) * (force * g.span);
+            }
+        }
+        out.push(Some(Traction {
+            force,
+            slip,
+            slipping,
+            trial,
+            limit,
+            tangential: -force * g.span / l,
+            normal,
+        }));
+    }
+    out
+}
+
+/// How far past the Coulomb limit a trial force may lie, relative to the limit, and still
+/// stick (and how far below it a slipping contact's may lie and still slip): round-off of the
+/// converged state, far below the solver's tolerance on the forces.
+pub const COULOMB_TOLERANCE: f64 = 1e-9;
+
+impl Traction {
+    /// The return mapping: the mode (`None`: stick, `Some(sigma)`: slip in direction sigma)
+    /// this contact's trial force asks for, given the mode `now` it was evaluated in. A slip
+    /// goes on while the trial force stays beyond the limit in its direction, and sticks
+    /// otherwise; a stick slips once the trial force passes the limit.
+    pub fn mode(&self, now: Option<f64>) -> Option<f64> {
+        let (trial, limit) = (self.trial, self.limit);
+        let sign = if trial < 0.0 { -1.0 } else { 1.0 };
+        match now {
+            // A slip that turns back sticks first: the spring unloads through zero before it
+            // slips the other way.
+            Some(sigma) if sigma * trial >= limit * (1.0 - COULOMB_TOLERANCE) => Some(sigma),
+            Some(_) => None,
+            None if trial.abs() <= limit * (1.0 + COULOMB_TOLERANCE) => None,
+            None => Some(sign),
+        }
+    }
+}

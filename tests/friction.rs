@@ -1,0 +1,480 @@
+//! Coulomb friction at node-to-beam contacts, against independent references: the friction
+//! element's tangent against central differences of its nodal forces, in stick and in slip; a
+//! pin dragged to and fro along a bar against the hand calculation of its hysteresis loop; a
+//! strip pulled on a frictional floor against the closed form of a bar on a frictional
+//! support; Example 3.2 with mu = 0 against its frictionless history, bit for bit, and with
+//! mu = 0.3 against the friction law and the frictionless iteration count; and the acceptance
+//! check of the friction law against states made to break it.
+
+use nalgebra::DMatrix;
+use tsm_contact::scene::builtin::BUILTIN;
+use tsm_contact::scene::parse;
+use tsm_contact::solver::acceptance::{friction_law, FrictionRecord};
+use tsm_contact::solver::element::beam::BeamElement;
+use tsm_contact::solver::element::contact_element::{contact_response, ContactOptions};
+use tsm_contact::solver::element::friction::{add_friction, Grip};
+use tsm_contact::solver::report::ContactState;
+use tsm_contact::solver::{
+    ContactChange, Event, Friction, IncrementRecord, Section, Silent, SolverParams,
+};
+
+/// Nodal forces and tangent of a Timoshenko contact element with one frictional contact, at
+/// dofs `x` = (u_i, v_i, phi_i, u_j, v_j, phi_j, x_c, y_c) as positions and rotations.
+fn response(el: &BeamElement, x: &[f64; 8], grip: Grip) -> (Vec<f64>, DMatrix<f64>, bool) {
+    let (pi, pj, pc) = ([x[0], x[1]], [x[3], x[4]], [x[6], x[7]]);
+    let opts = ContactOptions::default();
+    let mut r = contact_response(el, pi, pj, [x[2], x[5]], &[pc], opts, true);
+    let t = add_friction(&mut r, el.length, (pi, pj), &[pc], &[Some(grip)]);
+    let t = t[0].expect("frictional");
+    // The mode evaluated is the one the return mapping asks for.
+    assert_eq!(t.mode(grip.slip), grip.slip);
+    let slipping = t.slipping;
+    (
+        r.nodal.iter().copied().collect(),
+        r.tangent.unwrap(),
+        slipping,
+    )
+}
+
+#[test]
+fn friction_tangent_matches_central_differences_in_stick_and_slip() {
+    let s = Section {
+        ea: 6.0e3,
+        ei: 4.4e-4,
+        gae: 2.1e3,
+    };
+    let len = 0.1;
+    let el = BeamElement::new([0.0, 0.0], [len, 0.0], s, s.ei / s.gae);
+    // A turned, bent and stretched element with the node pressed into it (side +1: the node
+    // came from above, so a downward deflection at c is compressive).
+    let (rot, t) = (0.6f64, [0.2, -0.1]);
+    let (c, sn) = (rot.cos(), rot.sin());
+    let map = |p: [f64; 2]| [t[0] + c * p[0] - sn * p[1], t[1] + sn * p[0] + c * p[1]];
+    let (pi, pj) = (map([0.0, 0.0]), map([len * 1.001, 0.0]));
+    let pc = map([0.4 * len, -5e-2 * len]);
+    let x = [
+        pi[0],
+        pi[1],
+        rot + 0.01,
+        pj[0],
+        pj[1],
+        rot - 0.02,
+        pc[0],
+        pc[1],
+    ];
+    // Stick: the stick point a little behind the node; slip: far behind it.
+    for (stick, expect_slip) in [(0.4002, false), (0.2, true)] {
+        let grip = Grip {
+            mu: 0.3,
+            stiffness: 0.01 * s.ea / len,
+            stick,
+            span: -len,
+            side: 1.0,
+            slip: expect_slip.then_some(-1.0),
+        };
+        let (f0, k, slipping) = response(&el, &x, grip);
+        assert_eq!(slipping, expect_slip, "stick point {stick}");
+        let h = 1e-7 * len;
+        let mut fd = DMatrix::zeros(8, 8);
+        for q in 0..8 {
+            let (mut xp, mut xm) = (x, x);
+            xp[q] += h;
+            xm[q] -= h;
+            let (fp, _, sp) = response(&el, &xp, grip);
+            let (fm, _, sm) = response(&el, &xm, grip);
+            assert_eq!((sp, sm), (slipping, slipping));
+            for p in 0..8 {
+                fd[(p, q)] = (fp[p] - fm[p]) / (2.0 * h);
+            }
+        }
+        let scale = k.abs().max();
+        let err = (&k - &fd).abs().max() / scale;
+        assert!(
+            err < 1e-6,
+            "stick point {stick}: tangent off by {err:e} of {scale:e}"
+        );
+        assert!(f0.iter().all(|v| v.is_finite()));
+    }
+}
+
+/// A pin pressed onto a clamped bar whose nodes are held along it, then dragged along the
+/// bar and back twice: the hand calculation of the loop. The stick spring kt is the only
+/// tangential compliance (the bar's nodes cannot move along it), so while the pin sticks its
+/// friction force changes by -kt per metre dragged; it slips at mu N, against the drag; after a
+/// reversal it sticks until it has been dragged 2 mu N / kt back; and the second loop retraces
+/// the first. The bar bends by a thousandth of its thickness-free length, so that the moment of
+/// the friction force about the bar's axis, which the hand calculation leaves out, stays below
+/// its tolerance.
+#[test]
+fn a_pin_dragged_along_a_bar_traces_the_hand_calculated_hysteresis_loop() {
+    let (mu, ea, le) = (0.3, 100.0, 0.25);
+    let kt = SolverParams::default().friction_penalty * ea / le;
+    let text = format!(
+        r#"(
+    name: "pin dragged along a bar",
+    sections: [(name: "bar", E: {ea}, A: 1.0, I: 1.0, G: 40000.0)],
+    nodes: [(id: 100, x: 0.37, y: 1.0e-5, rotation: false)],
+    bodies: [(name: "bar", section: "bar", path: [(0.0, 0.0), (1.0, 0.0)], elements: 4, first_node: 1)],
+    supports: [
+        (node: 1, u: true, v: true, phi: true),
+        (node: 2, u: true),
+        (node: 3, u: true),
+        (node: 4, u: true),
+        (node: 5, u: true, v: true, phi: true),
+    ],
+    prescribed: [(node: 100, dof: V, per_step: -0.002), (node: 100, dof: U, per_step: 0.0)],
+    contacts: [(nodes: [100], bodies: ["bar"], mu: {mu})],
+    control: (steps: 1),
+)"#
+    );
+    let scene = parse(&text, "drag.ron").unwrap();
+    let model = scene.model.clone();
+    let mut solver = scene.solver().unwrap();
+    let v = -1.1e-4;
+    for k in 1..=5 {
+        solver
+            .advance_to(&[v * k as f64 / 5.0, 0.0], 0.0, &mut Silent)
+            .unwrap();
+    }
+    // The drag: legs 0 -> +U -> -U -> +U, fine steps after each reversal.
+    let big_u = 0.02;
+    let mut path = vec![0.0];
+    for &(from, to) in &[(0.0, big_u), (big_u, -big_u), (-big_u, big_u)] {
+        let dir: f64 = if to > from { 1.0 } else { -1.0 };
+        let mut u = from;
+        for _ in 0..30 {
+            u += dir * 2e-5;
+            path.push(u);
+        }
+        while dir * (to - u) > 1e-12 {
+            u = if dir * (to - u) > 2e-3 {
+                u + dir * 2e-3
+            } else {
+                to
+            };
+            path.push(u);
+        }
+    }
+    let mut states = Vec::new();
+    for w in path.windows(2) {
+        let records = solver.advance_to(&[v, w[1]], 0.0, &mut Silent).unwrap();
+        let r = records.last().unwrap();
+        assert_eq!(
+            r.contacts.len(),
+            1,
+            "u = {}: the pin rests on the bar",
+            w[1]
+        );
+        // The spring acts along the chord of the element the pin rests on, at angle theta to
+        // the drag: dragging the pin by du moves it along the chord by du cos(theta), that is
+        // by du cos(theta) L0 / l of the bar's length, and changes the force along the chord
+        // by kt (L0 / l)^2 cos(theta) du.
+        let beam = &model.beams[r.contacts[0].element];
+        let (a, b) = (r.nodes[beam.i], r.nodes[beam.j]);
+        let l = (b[0] - a[0]).hypot(b[1] - a[1]);
+        let stretch = (le / l).powi(2) * (b[0] - a[0]) / l;
+        states.push((w[1], w[1] - w[0], r.contacts[0].clone(), stretch));
+    }
+    let mut checked = [0usize; 3];
+    let mut reversal = None;
+    for k in 0..states.len() {
+        let (u, du, c, stretch) = &states[k];
+        let kt = kt * stretch;
+        let limit = mu * c.pressure;
+        assert!(c.pressure > 1.0, "u = {u}: pressed ({} N)", c.pressure);
+        assert!(c.tangential.abs() <= limit * (1.0 + 1e-9), "u = {u}: {c:?}");
+        if k > 0 && states[k - 1].1 * du < 0.0 {
+            reversal = Some((states[k - 1].0, states[k - 1].2.pressure));
+        }
+        match c.friction {
+            Friction::Slipping => {
+                // Exactly mu N, against the drag.
+                assert!(
+                    (c.tangential.abs() - limit).abs() <= 1e-9 * limit,
+                    "u = {u}: {c:?}"
+                );
+                assert!(
+                    c.tangential * du < 0.0,
+                    "u = {u}: friction against the drag"
+                );
+                if let Some((at, n)) = reversal.take() {
+                    // The first slip after a reversal: dragged 2 mu N / kt back, to a step.
+                    let travel = (u - at).abs();
+                    let hand = 2.0 * mu * n / kt;
+                    assert!(
+                        travel >= hand * (1.0 - 1e-4) && travel <= hand * (1.0 + 1e-4) + 2e-5,
+                        "u = {u}: slips after {travel:.4e} m back, hand {hand:.4e} m"
+                    );
+                    checked[0] += 1;
+                }
+            }
+            Friction::Sticking if k > 0 && states[k - 1].2.friction == Friction::Sticking => {
+                let slope = (c.tangential - states[k - 1].2.tangential) / du;
+                assert!(
+                    (slope + kt).abs() <= 1e-4 * kt,
+                    "u = {u}: sticking slope {slope:.6e}, hand -{kt:e}"
+                );
+                checked[1] += 1;
+            }
+            Friction::Sticking => {}
+            Friction::Frictionless => panic!("u = {u}: frictional contact"),
+        }
+    }
+    // The loop closes: at u = +U the second time, the state of the first time.
+    let ends: Vec<&ContactState> = (states.iter())
+        .filter(|s| (s.0 - big_u).abs() < 1e-12)
+        .map(|s| &s.2)
+        .collect();
+    assert_eq!(ends.len(), 2);
+    for (a, b) in [
+        (ends[0].tangential, ends[1].tangential),
+        (ends[0].pressure, ends[1].pressure),
+        (ends[0].stick.unwrap(), ends[1].stick.unwrap()),
+    ] {
+        assert!(
+            (a - b).abs() <= 1e-9 * a.abs(),
+            "the loop closes: {a} and {b}"
+        );
+        checked[2] += 1;
+    }
+    assert_eq!(checked[0], 2, "two reversals checked");
+    assert!(checked[1] >= 20, "sticking steps checked: {}", checked[1]);
+}
+
+/// A strip lying on a rigid floor under its weight q per length, pulled at one end by u0:
+/// the scene, with `n` elements on the strip.
+fn strip_on_floor(n: usize, mu: f64) -> String {
+    let h = 1.0 / n as f64;
+    // The floor's nodes lie half an element off the strip's, all held; the strip starts a
+    // hair above it and its pulled end (node 1) is held at that height.
+    let supports: String = (0..=n + 1)
+        .map(|k| format!("(node: {}, u: true, v: true, phi: true),", 1001 + k))
+        .collect();
+    format!(
+        r#"(
+    name: "strip on a floor",
+    sections: [
+        (name: "strip", E: 1.0e4, A: 1.0e-2, I: 1.0e-4, G: 4.0e6),
+        (name: "floor", E: 1.0e6, A: 1.0, I: 1.0, G: 4.0e5),
+    ],
+    bodies: [
+        (name: "strip", section: "strip", path: [(0.0, 1.0e-9), (1.0, 1.0e-9)], elements: {n}, first_node: 1),
+        (name: "floor", section: "floor", path: [({a}, 0.0), ({b}, 0.0)], elements: {m}, first_node: 1001),
+    ],
+    supports: [(node: 1, v: true, phi: true), {supports}],
+    prescribed: [(node: 1, dof: U, per_step: -1.0e-4)],
+    distributed: [(body: "strip", q: (0.0, -1.0))],
+    contacts: [(node_bodies: ["strip"], bodies: ["floor"], mu: {mu})],
+    control: (steps: 1),
+)"#,
+        a = -h / 2.0,
+        b = 1.0 + h / 2.0,
+        m = n + 1,
+    )
+}
+
+/// The pull P and the place of the last slipping node of the strip on the floor, pulled by
+/// each of `pulls`.
+fn pulled_strip(n: usize, pulls: &[f64]) -> Vec<(f64, f64)> {
+    let mut solver = parse(&strip_on_floor(n, 0.3), "strip.ron")
+        .unwrap()
+        .solver()
+        .unwrap();
+    // The weight first, at rest; the strip settles onto the floor.
+    for k in 1..=20 {
+        solver
+            .advance_to(&[0.0], k as f64 / 20.0, &mut Silent)
+            .unwrap();
+    }
+    let h = 1.0 / n as f64;
+    let mut out = Vec::new();
+    for &u0 in pulls {
+        let records = solver.advance_to(&[-u0], 1.0, &mut Silent).unwrap();
+        let r = records.last().unwrap();
+        let pull = (r.reactions.iter())
+            .find(|x| x.node == 1 && x.dof == "u")
+            .unwrap()
+            .value
+            .abs();
+        let slipping = (r.contacts.iter())
+            .filter(|c| c.friction == Friction::Slipping)
+            .count();
+        assert_eq!(
+            r.contacts.len(),
+            n,
+            "every node but the pulled one rests on the floor"
+        );
+        out.push((pull, slipping as f64 * h));
+    }
+    out
+}
+
+/// A bar on a frictional support pulled at one end (linear theory): the part within
+/// Ls = sqrt(2 EA u0 / (mu q)) of the pulled end slips, carrying mu q per length, and the
+/// pull is P = mu q Ls. The strip's slip front follows Ls to within an element, and its pull
+/// converges to P as the mesh is refined.
+#[test]
+fn a_strip_pulled_on_a_frictional_floor_slips_over_the_length_of_the_closed_form() {
+    let (ea, mu, q) = (100.0, 0.3, 1.0);
+    let pulls: Vec<f64> = (1..=6).map(|k| 1.0e-4 * k as f64).collect();
+    let mut errors = Vec::new();
+    for n in [10, 20, 40, 80] {
+        let h = 1.0 / n as f64;
+        let got = pulled_strip(n, &pulls);
+        let mut worst = 0.0f64;
+        for (&u0, &(pull, slipping)) in pulls.iter().zip(&got) {
+            let ls = (2.0 * ea * u0 / (mu * q)).sqrt();
+            assert!(ls < 0.9, "the slip stays on the strip");
+            // The slip front lies between the last slipping node and the first sticking one;
+            // the friction acts at the nodes, each for the element's length about it (the held
+            // end's half element carries none): within an element of Ls either way.
+            assert!(
+                slipping - h <= ls + 1e-12 && ls <= slipping + 2.0 * h,
+                "n {n}, u0 {u0:e}: slipping to {slipping:.4}, closed form {ls:.4}"
+            );
+            worst = worst.max((pull - mu * q * ls).abs() / (mu * q * ls));
+        }
+        errors.push(worst);
+    }
+    // The pull's error falls with the element length (first order: the friction acts at the
+    // nodes).
+    assert!(errors[3] < 0.05, "errors {errors:?}");
+    for w in errors.windows(2) {
+        assert!(w[0] > 1.5 * w[1], "errors {errors:?}");
+    }
+}
+
+/// Example 3.2, built in, or with `mu` given on every contact.
+fn example_3_2(mu: Option<f64>) -> (Vec<IncrementRecord>, usize) {
+    let text = (BUILTIN.iter())
+        .find(|(f, _)| *f == "example_3_2.ron")
+        .unwrap()
+        .1
+        .to_string();
+    let text = match mu {
+        None => text,
+        Some(mu) => text.replace("\"])", &format!("\"], mu: {mu:?})")),
+    };
+    let scene = parse(&text, "example_3_2.ron").unwrap();
+    assert_eq!(
+        mu.is_some(),
+        scene.model.contacts.iter().all(|c| Some(c.mu) == mu)
+    );
+    let mut solver = scene.solver().unwrap();
+    let mut records = Vec::new();
+    for _ in 0..scene.steps {
+        records.extend(solver.step(&mut Silent).unwrap());
+    }
+    for r in &mut records {
+        r.seconds = 0.0;
+    }
+    let iterations = records.iter().map(|r| r.iterations).sum();
+    (records, iterations)
+}
+
+/// With mu = 0 written out, every contact is frictionless: the history is the built-in
+/// scene's, bit for bit; with friction it is not.
+#[test]
+fn zero_friction_reproduces_the_frictionless_history_bit_for_bit() {
+    let json = |r: &[IncrementRecord]| serde_json::to_string(r).unwrap();
+    let (plain, _) = example_3_2(None);
+    let (zero, _) = example_3_2(Some(0.0));
+    assert_eq!(json(&plain), json(&zero));
+    let (rough, _) = example_3_2(Some(0.3));
+    assert_ne!(json(&plain), json(&rough));
+}
+
+/// Example 3.2 with mu = 0.3: its contacts slip, the friction law holds at every accepted
+/// increment (mu N exactly where slipping, against the slip of the increment), and Newton
+/// needs at most 1.5 times the frictionless iterations per increment.
+#[test]
+fn example_3_2_with_friction_slips_within_the_friction_law() {
+    let (plain, plain_iterations) = example_3_2(None);
+    let (rough, rough_iterations) = example_3_2(Some(0.3));
+    let per = |its: usize, r: &[IncrementRecord]| its as f64 / r.len() as f64;
+    let ratio = per(rough_iterations, &rough) / per(plain_iterations, &plain);
+    assert!(
+        ratio <= 1.5,
+        "iterations per increment {ratio:.3} times frictionless"
+    );
+    let mut slipping = 0;
+    for r in &rough {
+        for c in &r.contacts {
+            let limit = 0.3 * c.pressure;
+            assert!(
+                c.tangential.abs() <= limit * (1.0 + 1e-9),
+                "{}: {c:?}",
+                r.increment
+            );
+            if c.friction == Friction::Slipping {
+                assert!((c.tangential.abs() - limit).abs() <= 1e-9 * limit);
+                slipping += 1;
+            }
+        }
+    }
+    assert!(slipping > 10, "contacts slip: {slipping}");
+    let events: Vec<ContactChange> = (rough.iter())
+        .flat_map(|r| &r.events)
+        .filter_map(|e| match e {
+            Event::Contact(c) => Some(c.change),
+            _ => None,
+        })
+        .collect();
+    assert!(events.contains(&ContactChange::Slips));
+    // The pin still jumps from A to B to C and lets go: the frictionless story's events.
+    let (touches, plain_touches) = (
+        events
+            .iter()
+            .filter(|&&c| c == ContactChange::Activated)
+            .count(),
+        (plain.iter())
+            .flat_map(|r| &r.events)
+            .filter(|e| matches!(e, Event::Contact(c) if c.change == ContactChange::Activated))
+            .count(),
+    );
+    assert_eq!(touches, plain_touches);
+    assert!(
+        rough.last().unwrap().contacts.is_empty(),
+        "every contact lets go"
+    );
+}
+
+/// The acceptance check of the friction law finds a force beyond mu N, a slip below it, and
+/// a slip the force does not oppose, and passes the states the law allows.
+#[test]
+fn the_friction_law_check_finds_each_kind_of_violation() {
+    let ok = FrictionRecord {
+        node: 3,
+        body: 1,
+        mu: 0.5,
+        pressure: 10.0,
+        tangential: -5.0,
+        stick_before: Some(0.2),
+        stick_after: 0.25,
+    };
+    assert_eq!(friction_law(&[ok]), None);
+    let sticking = FrictionRecord {
+        tangential: 4.0,
+        stick_after: 0.2,
+        ..ok
+    };
+    assert_eq!(friction_law(&[sticking]), None);
+    for bad in [
+        FrictionRecord {
+            tangential: 5.001,
+            stick_after: 0.2,
+            ..ok
+        },
+        FrictionRecord {
+            tangential: -4.9,
+            ..ok
+        },
+        FrictionRecord {
+            tangential: 5.0,
+            ..ok
+        },
+    ] {
+        let found = friction_law(&[ok, bad]).expect("a violation");
+        assert_eq!((found.node, found.body), (3, 1));
+    }
+}
