@@ -102,7 +102,7 @@ fn friction_tangent_matches_central_differences_in_stick_and_slip() {
 /// tangential compliance (the bar's nodes cannot move along it), so while the pin sticks its
 /// friction force changes by -kt per metre dragged; it slips at mu N, against the drag; after a
 /// reversal it sticks until it has been dragged 2 mu N / kt back; and the second loop retraces
-/// the first. The bar bends by a thousandth of its thickness-free length, so that the moment of
+/// the first. The bar bends by a ten-thousandth of its length, so that the moment of
 /// the friction force about the bar's axis, which the hand calculation leaves out, stays below
 /// its tolerance.
 #[test]
@@ -237,6 +237,10 @@ fn a_pin_dragged_along_a_bar_traces_the_hand_calculated_hysteresis_loop() {
         );
         checked[2] += 1;
     }
+    eprintln!(
+        "pin dragged to and fro: {} sticking steps and {} reversals against the hand calculation",
+        checked[1], checked[0]
+    );
     assert_eq!(checked[0], 2, "two reversals checked");
     assert!(checked[1] >= 20, "sticking steps checked: {}", checked[1]);
 }
@@ -334,6 +338,7 @@ fn a_strip_pulled_on_a_frictional_floor_slips_over_the_length_of_the_closed_form
             );
             worst = worst.max((pull - mu * q * ls).abs() / (mu * q * ls));
         }
+        eprintln!("strip of {n} elements: pull within {worst:.2e} of mu q Ls (relative)");
         errors.push(worst);
     }
     // The pull's error falls with the element length (first order: the friction acts at the
@@ -393,6 +398,11 @@ fn example_3_2_with_friction_slips_within_the_friction_law() {
     let (rough, rough_iterations) = example_3_2(Some(0.3));
     let per = |its: usize, r: &[IncrementRecord]| its as f64 / r.len() as f64;
     let ratio = per(rough_iterations, &rough) / per(plain_iterations, &plain);
+    eprintln!(
+        "Example 3.2: {} increments, {plain_iterations} iterations without friction; {} increments, {rough_iterations} iterations with mu = 0.3: {ratio:.3} times the iterations per increment",
+        plain.len(),
+        rough.len()
+    );
     assert!(
         ratio <= 1.5,
         "iterations per increment {ratio:.3} times frictionless"
