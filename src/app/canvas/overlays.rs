@@ -193,7 +193,7 @@ fn friction_arrow(p: &egui::Painter, at: Pos2, chord: Vec2, c: &ContactState, fm
     };
     if c.tangential != 0.0 {
         let dir = chord * c.tangential.signum() as f32;
-        let len = 4.0 + 36.0 * (c.tangential.abs() / fmax).min(1.0) as f32;
+        let len = 10.0 + 36.0 * (c.tangential.abs() / fmax).min(1.0) as f32;
         p.arrow(at - dir * (len + 6.0), dir * len, Stroke::new(2.5, colour));
     }
     p.circle_stroke(at, 8.5, Stroke::new(2.0, colour));
