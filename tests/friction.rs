@@ -12,10 +12,10 @@ use tsm_contact::scene::parse;
 use tsm_contact::solver::acceptance::{friction_law, FrictionRecord};
 use tsm_contact::solver::element::beam::BeamElement;
 use tsm_contact::solver::element::contact_element::{contact_response, ContactOptions};
-use tsm_contact::solver::element::friction::{add_friction, Grip};
+use tsm_contact::solver::element::friction::{add_friction, obstacle_friction, Grip, ObstacleGrip};
 use tsm_contact::solver::report::ContactState;
 use tsm_contact::solver::{
-    ContactChange, Event, Friction, IncrementRecord, Section, Silent, SolverParams,
+    ContactChange, Event, Friction, IncrementRecord, Section, Shape, Silent, SolverParams,
 };
 
 /// Nodal forces and tangent of a Timoshenko contact element with one frictional contact, at
@@ -277,13 +277,31 @@ fn strip_on_floor(n: usize, mu: f64) -> String {
     )
 }
 
+/// The strip of `strip_on_floor` lying on a rigid floor (a frictional `Line` obstacle), its
+/// pulled end (node 1) on the floor too.
+fn strip_on_obstacle(n: usize, mu: f64) -> String {
+    format!(
+        r#"(
+    name: "strip on an obstacle",
+    sections: [(name: "strip", E: 1.0e4, A: 1.0e-2, I: 1.0e-4, G: 4.0e6)],
+    bodies: [(name: "strip", section: "strip", path: [(0.0, 0.0), (1.0, 0.0)], elements: {n}, first_node: 1)],
+    prescribed: [(node: 1, dof: U, per_step: -1.0e-4)],
+    distributed: [(body: "strip", q: (0.0, -1.0))],
+    obstacles: [(name: "floor", shape: Line(from: (-1.0, 0.0), to: (2.0, 0.0)), bodies: ["strip"], mu: {mu})],
+    control: (steps: 1),
+)"#
+    )
+}
+
 /// The pull P and the place of the last slipping node of the strip on the floor, pulled by
-/// each of `pulls`.
-fn pulled_strip(n: usize, pulls: &[f64]) -> Vec<(f64, f64)> {
-    let mut solver = parse(&strip_on_floor(n, 0.3), "strip.ron")
-        .unwrap()
-        .solver()
-        .unwrap();
+/// each of `pulls`: on a floor of beams, or on a rigid `obstacle`.
+fn pulled_strip(n: usize, pulls: &[f64], obstacle: bool) -> Vec<(f64, f64)> {
+    let text = if obstacle {
+        strip_on_obstacle(n, 0.3)
+    } else {
+        strip_on_floor(n, 0.3)
+    };
+    let mut solver = parse(&text, "strip.ron").unwrap().solver().unwrap();
     // The weight first, at rest; the strip settles onto the floor.
     for k in 1..=20 {
         solver
@@ -300,13 +318,20 @@ fn pulled_strip(n: usize, pulls: &[f64]) -> Vec<(f64, f64)> {
             .unwrap()
             .value
             .abs();
-        let slipping = (r.contacts.iter())
-            .filter(|c| c.friction == Friction::Slipping)
-            .count();
+        let (slipping, resting) = if obstacle {
+            let on = &r.obstacle_contacts;
+            let slipping = on.iter().filter(|c| c.friction == Friction::Slipping);
+            // Node 1 at x = 0 slips too: the last slipping node lies one fewer along.
+            (slipping.count().saturating_sub(1), on.len())
+        } else {
+            let on = &r.contacts;
+            let slipping = on.iter().filter(|c| c.friction == Friction::Slipping);
+            (slipping.count(), on.len() + 1)
+        };
         assert_eq!(
-            r.contacts.len(),
-            n,
-            "every node but the pulled one rests on the floor"
+            resting,
+            n + 1,
+            "every node rests on the floor, or is held over it"
         );
         out.push((pull, slipping as f64 * h));
     }
@@ -324,7 +349,7 @@ fn a_strip_pulled_on_a_frictional_floor_slips_over_the_length_of_the_closed_form
     let mut errors = Vec::new();
     for n in [10, 20, 40, 80] {
         let h = 1.0 / n as f64;
-        let got = pulled_strip(n, &pulls);
+        let got = pulled_strip(n, &pulls, false);
         let mut worst = 0.0f64;
         for (&u0, &(pull, slipping)) in pulls.iter().zip(&got) {
             let ls = (2.0 * ea * u0 / (mu * q)).sqrt();
@@ -456,6 +481,7 @@ fn the_friction_law_check_finds_each_kind_of_violation() {
     let ok = FrictionRecord {
         node: 3,
         body: 1,
+        obstacle: false,
         mu: 0.5,
         pressure: 10.0,
         tangential: -5.0,
@@ -486,5 +512,103 @@ fn the_friction_law_check_finds_each_kind_of_violation() {
     ] {
         let found = friction_law(&[ok, bad]).expect("a violation");
         assert_eq!((found.node, found.body), (3, 1));
+    }
+}
+
+/// The same bar on a rigid frictional floor (a `Line` obstacle), every node of the strip on
+/// it, the pulled one too: the slip front follows Ls to within an element, and the pull
+/// converges to P = mu q Ls as the mesh is refined.
+#[test]
+fn a_strip_pulled_on_a_frictional_obstacle_slips_over_the_length_of_the_closed_form() {
+    let (ea, mu, q) = (100.0, 0.3, 1.0);
+    let pulls: Vec<f64> = (1..=6).map(|k| 1.0e-4 * k as f64).collect();
+    let mut errors = Vec::new();
+    for n in [10, 20, 40, 80] {
+        let h = 1.0 / n as f64;
+        let got = pulled_strip(n, &pulls, true);
+        let mut worst = 0.0f64;
+        for (&u0, &(pull, slipping)) in pulls.iter().zip(&got) {
+            let ls = (2.0 * ea * u0 / (mu * q)).sqrt();
+            assert!(
+                slipping - h <= ls + 1e-12 && ls <= slipping + 2.0 * h,
+                "n {n}, u0 {u0:e}: slipping to {slipping:.4}, closed form {ls:.4}"
+            );
+            worst = worst.max((pull - mu * q * ls).abs() / (mu * q * ls));
+        }
+        eprintln!(
+            "strip of {n} elements on an obstacle: pull within {worst:.2e} of mu q Ls (relative)"
+        );
+        errors.push(worst);
+    }
+    assert!(errors[3] < 0.05, "errors {errors:?}");
+    for w in errors.windows(2) {
+        assert!(w[0] > 1.5 * w[1], "errors {errors:?}");
+    }
+}
+
+/// The friction of a node on an obstacle: its tangent against central differences of its
+/// forces, about a disk, a hole, a line and a polyline's segment, sticking and slipping (with
+/// the place of the nearest point and the normal force following the node).
+#[test]
+fn obstacle_friction_tangent_matches_central_differences() {
+    let shapes = [
+        Shape::Circle {
+            centre: [0.2, -0.9],
+            radius: 0.7,
+            hollow: false,
+        },
+        Shape::Circle {
+            centre: [0.1, 0.3],
+            radius: 1.3,
+            hollow: true,
+        },
+        Shape::Line {
+            from: [0.0, -0.1],
+            to: [1.0, 0.2],
+        },
+        Shape::Polyline {
+            points: vec![[-1.0, 0.0], [0.0, 0.0], [0.5, 0.6], [1.5, 0.4]],
+        },
+    ];
+    let (multiplier, penalty) = (3.0, 1.0e3);
+    for shape in &shapes {
+        // A point just inside the shape, near its curve.
+        let on = shape.gap([0.8, 0.1]).unwrap().point;
+        let n = shape.gap([0.8, 0.1]).unwrap().n;
+        let x = [on[0] - 1e-4 * n[0], on[1] - 1e-4 * n[1]];
+        let place = shape.place(on);
+        for (stick, slip) in [(place + 1e-4, None), (place - 0.3, Some(1.0))] {
+            let grip = ObstacleGrip {
+                mu: 0.4,
+                stiffness: 50.0,
+                stick,
+                slip,
+                period: shape.period(),
+            };
+            let at = |x: [f64; 2]| {
+                let gap = shape.gap(x).unwrap();
+                let normal = multiplier - penalty * gap.g;
+                obstacle_friction(&gap, shape.place(gap.point), (normal, penalty), &grip)
+            };
+            let (t, _, k) = at(x);
+            assert_eq!(t.mode(slip), slip, "{shape:?}: the mode holds");
+            let h = 1e-7;
+            let mut worst = 0.0f64;
+            for q in 0..2 {
+                let (mut xp, mut xm) = (x, x);
+                xp[q] += h;
+                xm[q] -= h;
+                let (fp, fm) = (at(xp).1, at(xm).1);
+                for p in 0..2 {
+                    let fd = (fp[p] - fm[p]) / (2.0 * h);
+                    worst = worst.max((fd - k[p][q]).abs());
+                }
+            }
+            let scale = k.iter().flatten().fold(1e-30f64, |a, v| a.max(v.abs()));
+            assert!(
+                worst < 1e-6 * scale,
+                "{shape:?} {slip:?}: tangent off by {worst:e} of {scale:e}"
+            );
+        }
     }
 }

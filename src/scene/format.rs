@@ -228,6 +228,9 @@ pub struct ObstacleDef {
     /// prescribed; none: the obstacle is fixed.
     #[serde(default)]
     pub pilot: Option<u32>,
+    /// Coulomb friction coefficient between it and the nodes (default 0: frictionless).
+    #[serde(default)]
+    pub mu: f64,
 }
 
 /// The curve of an obstacle (m, degrees).

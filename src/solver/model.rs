@@ -264,6 +264,9 @@ pub struct Obstacle {
     pub pilot: Option<usize>,
     /// The nodes that may touch it (node indices, ascending).
     pub nodes: Vec<usize>,
+    /// Coulomb friction coefficient between it and the nodes (0: frictionless).
+    #[serde(default)]
+    pub mu: f64,
 }
 
 /// The whole model as the solver sees it.

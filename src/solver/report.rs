@@ -206,6 +206,17 @@ pub struct ObstacleState {
     pub point: [f64; 2],
     /// The unit normal there, pointing to the free side.
     pub normal: [f64; 2],
+    /// The friction force on the node along the obstacle's tangent (normal[1], -normal[0])
+    /// (N); 0 where the obstacle is frictionless.
+    #[serde(default)]
+    pub tangential: f64,
+    /// Whether the node sticks or slips.
+    #[serde(default)]
+    pub friction: Friction,
+    /// The stick point: a place along the obstacle (`Shape::place`, m); `None` where
+    /// frictionless.
+    #[serde(default)]
+    pub stick: Option<f64>,
 }
 
 /// A contact event with where and when it happened.

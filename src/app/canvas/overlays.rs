@@ -5,7 +5,6 @@
 use egui::{Align2, Color32, FontId, Pos2, Rect, Shape, Stroke, Vec2};
 
 use crate::scene::units::Units;
-use crate::solver::report::ContactState;
 use crate::solver::{Dof, Friction, IncrementRecord, Model};
 
 use super::shapes::moment_color;
@@ -162,9 +161,7 @@ pub(crate) fn contacts(
         let tail = at - dir * (len + 6.0);
         p.arrow(tail, dir * len, Stroke::new(2.5, ACTIVE));
         p.circle(at, 6.0, ACTIVE, Stroke::new(1.5, INK));
-        if c.friction != Friction::Frictionless {
-            friction_arrow(p, at, chord, c, fmax);
-        }
+        friction_arrow(p, at, chord, (c.tangential, c.friction), fmax);
         let label = format!("{} N", num(c.force.abs()));
         let centre = tail - dir * 4.0;
         let rect = Rect::from_center_size(centre, Vec2::new(6.5 * label.len() as f32, 13.0));
@@ -182,18 +179,24 @@ pub(crate) fn contacts(
     }
 }
 
-/// The friction force on contact node `c` (at `at`) along the chord direction `chord`, on the
-/// scale of the normal forces (`fmax`), and a ring round the node: blue where it sticks, red
-/// where it slips.
-fn friction_arrow(p: &egui::Painter, at: Pos2, chord: Vec2, c: &ContactState, fmax: f64) {
-    let colour = if c.friction == Friction::Slipping {
-        SLIP
-    } else {
-        STICK
+/// The friction force `tangential` on a contact node (at `at`) along the screen direction
+/// `along`, on the scale of the normal forces (`fmax`), and a ring round the node: blue where
+/// it sticks, red where it slips; nothing where it is frictionless.
+pub(crate) fn friction_arrow(
+    p: &egui::Painter,
+    at: Pos2,
+    along: Vec2,
+    (tangential, friction): (f64, Friction),
+    fmax: f64,
+) {
+    let colour = match friction {
+        Friction::Frictionless => return,
+        Friction::Sticking => STICK,
+        Friction::Slipping => SLIP,
     };
-    if c.tangential != 0.0 {
-        let dir = chord * c.tangential.signum() as f32;
-        let len = 10.0 + 36.0 * (c.tangential.abs() / fmax).min(1.0) as f32;
+    if tangential != 0.0 {
+        let dir = along * tangential.signum() as f32;
+        let len = 10.0 + 36.0 * (tangential.abs() / fmax).min(1.0) as f32;
         p.arrow(at - dir * (len + 6.0), dir * len, Stroke::new(2.5, colour));
     }
     p.circle_stroke(at, 8.5, Stroke::new(2.0, colour));

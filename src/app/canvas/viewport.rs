@@ -285,7 +285,8 @@ fn fit(app: &mut TsmApp, rect: Rect) {
 }
 
 /// The nodes resting on obstacles: a disc at the node and an arrow of the obstacle's push
-/// along its normal, 14 to 50 points long by the force (the largest the longest).
+/// along its normal, 14 to 50 points long by the force (the largest the longest), and the
+/// friction force along the obstacle where it has friction.
 fn obstacle_contacts(
     p: &egui::Painter,
     model: &crate::solver::Model,
@@ -307,5 +308,8 @@ fn obstacle_contacts(
             Stroke::new(2.5, overlays::ACTIVE),
         );
         p.circle(at, 5.0, overlays::ACTIVE, Stroke::new(1.5, INK));
+        // The tangent (normal_y, -normal_x) on the screen.
+        let along = Vec2::new(c.normal[1] as f32, c.normal[0] as f32);
+        overlays::friction_arrow(p, at, along, (c.tangential, c.friction), fmax);
     }
 }

@@ -93,14 +93,25 @@ pub fn show(app: &TsmApp, ui: &mut egui::Ui) {
         ui.separator();
         let count = r.obstacle_contacts.len();
         ui.label(RichText::new(format!("On obstacles: {count}")).strong());
+        let frictional = model.obstacles.iter().any(|o| o.mu > 0.0);
+        let columns = if frictional { 6 } else { 4 };
         egui::Grid::new("obstacle contacts")
             .striped(true)
-            .num_columns(4)
+            .num_columns(columns)
             .show(ui, |ui| {
                 let force = format!("F ({})", units.force());
                 let gap = format!("gap ({})", units.length());
-                for h in ["node", "on", force.as_str(), gap.as_str()] {
-                    ui.label(RichText::new(h).small());
+                let t = format!("T ({})", units.force());
+                let heads = [
+                    "node",
+                    "on",
+                    force.as_str(),
+                    gap.as_str(),
+                    t.as_str(),
+                    "grip",
+                ];
+                for h in &heads[..columns] {
+                    ui.label(RichText::new(*h).small());
                 }
                 ui.end_row();
                 for c in &r.obstacle_contacts {
@@ -108,6 +119,10 @@ pub fn show(app: &TsmApp, ui: &mut egui::Ui) {
                     ui.label(&c.obstacle);
                     ui.label(num(c.force));
                     ui.label(format!("{:.1e}", c.gap));
+                    if frictional {
+                        ui.label(num(c.tangential));
+                        ui.label(grip_label(c.friction));
+                    }
                     ui.end_row();
                 }
             });

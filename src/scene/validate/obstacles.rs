@@ -71,11 +71,22 @@ pub(super) fn obstacles(
                 ));
             }
         }
+        if !(o.mu.is_finite() && o.mu >= 0.0) {
+            return Err(ctx.err(
+                format!("obstacles[{k}].mu"),
+                here,
+                format!(
+                    "the friction coefficient is {}: it must be a finite number >= 0",
+                    o.mu
+                ),
+            ));
+        }
         out.push(Obstacle {
             name: o.name.clone(),
             shape,
             pilot,
             nodes,
+            mu: o.mu,
         });
     }
     Ok(out)

@@ -12,13 +12,16 @@ pub const FRICTION_LAW_TOLERANCE: f64 = 1e-6;
 pub struct FrictionRecord {
     /// Node index.
     pub node: usize,
-    /// Body index.
+    /// Body index, or obstacle index where `obstacle`.
     pub body: usize,
+    /// Whether the node rests on a rigid obstacle rather than a body.
+    pub obstacle: bool,
     /// Friction coefficient.
     pub mu: f64,
     /// Normal pressure N (N, compressive positive).
     pub pressure: f64,
-    /// The friction force on the node along the body's direction (N).
+    /// The friction force on the node along the body's (or the obstacle's) direction of its
+    /// stick points (N).
     pub tangential: f64,
     /// The stick point at the start of the increment (length along the body, m); `None` for
     /// a contact that began during it.
@@ -32,8 +35,10 @@ pub struct FrictionRecord {
 pub struct FrictionViolation {
     /// Node index.
     pub node: usize,
-    /// Body index.
+    /// Body index, or obstacle index where `obstacle`.
     pub body: usize,
+    /// Whether the node rests on a rigid obstacle.
+    pub obstacle: bool,
     /// |T| / (mu N).
     pub ratio: f64,
     /// How far its stick point moved in the increment (m).
@@ -53,6 +58,7 @@ pub fn friction_law(records: &[FrictionRecord]) -> Option<FrictionViolation> {
         (over || short || along).then_some(FrictionViolation {
             node: r.node,
             body: r.body,
+            obstacle: r.obstacle,
             ratio: if limit > 0.0 {
                 t / limit
             } else {

@@ -24,6 +24,8 @@ pub struct ElementResults {
     pub contact_forces: Vec<(f64, f64)>,
     /// For every obstacle link, in the order given: the normal force F_N (N).
     pub obstacle_forces: Vec<f64>,
+    /// For every obstacle link, in the order given: its friction (`None`: none).
+    pub obstacle_friction: Vec<Option<Traction>>,
     /// For every contact link, in the order given: its friction (`None`: frictionless); empty
     /// where the assembly had no grips.
     pub contact_friction: Vec<Option<Traction>>,
@@ -190,7 +192,8 @@ pub(super) fn assemble_kernel(
             tangent.as_mut(),
             &mut *coupling,
         );
-        let (penalty, forces) = (ctx.obstacle_penalty, &mut results.obstacle_forces);
+        let penalty = ctx.obstacle_penalty;
+        let forces = (&mut results.obstacle_forces, &mut results.obstacle_friction);
         add_obstacles(
             model,
             dofs,
@@ -205,6 +208,7 @@ pub(super) fn assemble_kernel(
         );
     } else {
         results.obstacle_forces.clear();
+        results.obstacle_friction.clear();
     }
     let mut gdofs: Vec<usize> = Vec::with_capacity(12);
     let mut k6 = [[0.0; 6]; 6];

@@ -5,6 +5,7 @@
 
 use super::dofs::{DofMap, Ordering};
 use super::internal::{add_element, Sink};
+use crate::solver::element::friction::{obstacle_friction, ObstacleGrip, Traction};
 use crate::solver::element::obstacle::{obstacle_response, Gap};
 use crate::solver::model::Model;
 
@@ -20,6 +21,8 @@ pub struct ObstacleLink {
     pub multiplier: f64,
     /// Whether the pair is in contact in the current pass (its force and tangent assembled).
     pub active: bool,
+    /// Its friction while in contact (stick point and mode; `None`: frictionless).
+    pub grip: Option<ObstacleGrip>,
 }
 
 /// How far obstacle `o`'s pilot node has moved it at displacements `d`.
@@ -47,9 +50,10 @@ pub fn obstacle_gap(model: &Model, dofs: &DofMap, d: &[f64], n: usize, o: usize)
 }
 
 /// Add the forces and tangents of the active pairs of `links` at penalty `penalty` (N/m) and
-/// displacements `d`; returns each pair's normal force `multiplier - penalty g` (negative:
-/// tensile), 0 for an inactive pair and minus infinity for an active one out of its obstacle's
-/// reach (an arc's node outside its angle range), which adds nothing.
+/// displacements `d`, their friction included; returns each pair's normal force
+/// `multiplier - penalty g` (negative: tensile), 0 for an inactive pair and minus infinity for
+/// an active one out of its obstacle's reach (an arc's node outside its angle range), which
+/// adds nothing; and each pair's friction (`None`: none).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn add_obstacles(
     model: &Model,
@@ -60,22 +64,38 @@ pub(super) fn add_obstacles(
     d: &[f64],
     with_tangent: bool,
     dp: Option<&[f64]>,
-    forces: &mut Vec<f64>,
+    (forces, frictions): (&mut Vec<f64>, &mut Vec<Option<Traction>>),
     (internal, held, mut band, coupling): Sink,
 ) {
     forces.clear();
+    frictions.clear();
     let mut gdofs = Vec::with_capacity(4);
     for link in links {
         if !link.active {
             forces.push(0.0);
+            frictions.push(None);
             continue;
         }
         let Some(gap) = obstacle_gap(model, dofs, d, link.node, link.obstacle) else {
             forces.push(f64::NEG_INFINITY);
+            frictions.push(None);
             continue;
         };
-        let (f, nodal, k) = obstacle_response(&gap, link.multiplier, penalty);
+        let (f, mut nodal, mut k) = obstacle_response(&gap, link.multiplier, penalty);
         forces.push(f);
+        frictions.push(link.grip.map(|grip| {
+            let shape = &model.obstacles[link.obstacle].shape;
+            let t = obstacle_offset(model, dofs, d, link.obstacle);
+            let place = shape.place([gap.point[0] - t[0], gap.point[1] - t[1]]);
+            let (traction, fnodal, fk) = obstacle_friction(&gap, place, (f, penalty), &grip);
+            for a in 0..4 {
+                nodal[a] += fnodal[a];
+                for b in 0..4 {
+                    k[a][b] += fk[a][b];
+                }
+            }
+            traction
+        }));
         gdofs.clear();
         gdofs.extend((0..2).map(|o| dofs.dof(link.node, o)));
         let pilot = model.obstacles[link.obstacle].pilot;

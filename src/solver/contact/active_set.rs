@@ -25,6 +25,7 @@ impl ContactSet {
         self.obstacle_one_at_a_time = false;
         self.friction_seen.clear();
         self.friction_one_at_a_time = false;
+        self.obstacle_touched.clear();
     }
 
     /// At a converged pass: transfers, releases of tensile contacts and activation of crossing

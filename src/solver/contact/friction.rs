@@ -6,12 +6,13 @@
 //! slip moved and the changes between stick and slip as events.
 //!
 //! A stick point is a length along the body, not a place on an element: a contact that moves
-//! onto the neighbouring element keeps it.
+//! onto the neighbouring element keeps it. On an obstacle it is a place along the curve
+//! (`Shape::place`), kept in the obstacle link with the mode.
 
 use super::set::{ActiveContact, ContactSet, ContactView, Stick};
-use crate::solver::assembly::Assembled;
-use crate::solver::element::friction::Grip;
-use crate::solver::report::{ContactChange, Event};
+use crate::solver::assembly::{obstacle_gap, obstacle_offset, Assembled};
+use crate::solver::element::friction::{Grip, ObstacleGrip};
+use crate::solver::report::{ContactChange, Event, ObstacleEvent};
 
 /// The stiffness kt that holds sticking node `node` to beam `beam` (N/m): `friction_penalty`
 /// times the smallest axial stiffness EA / L0 of that element and the node's own elements, so
@@ -47,6 +48,39 @@ impl ContactSet {
         })
     }
 
+    /// The grip of a new contact of node `n` with obstacle `o` at displacements `d`: sticking
+    /// where it touches; `None` for a frictionless obstacle or a node out of its reach. The
+    /// spring is `friction_penalty` times the least axial stiffness of the node's elements (of
+    /// the obstacle penalty for a node without elements).
+    pub(super) fn obstacle_grip_at(
+        cv: &ContactView<'_>,
+        d: &[f64],
+        n: usize,
+        o: usize,
+    ) -> Option<ObstacleGrip> {
+        let obstacle = &cv.model.obstacles[o];
+        if obstacle.mu <= 0.0 {
+            return None;
+        }
+        let gap = obstacle_gap(&cv.model, &cv.dofs, d, n, o)?;
+        let t = obstacle_offset(&cv.model, &cv.dofs, d, o);
+        let axial = |e: usize| cv.elements[e].section.ea / cv.elements[e].length;
+        let own = cv.node_beams[n].iter().map(|&e| axial(e));
+        let stiffness = own.fold(f64::INFINITY, f64::min);
+        let stiffness = if stiffness.is_finite() {
+            stiffness
+        } else {
+            cv.obstacle_penalty
+        };
+        Some(ObstacleGrip {
+            mu: obstacle.mu,
+            stiffness: cv.params.friction_penalty * stiffness,
+            stick: (obstacle.shape).place([gap.point[0] - t[0], gap.point[1] - t[1]]),
+            slip: None,
+            period: obstacle.shape.period(),
+        })
+    }
+
     /// The grip of every active contact, in their order, for the assembly: empty where no
     /// contact has friction.
     pub fn grips(&self, cv: &ContactView<'_>) -> Vec<Option<Grip>> {
@@ -71,8 +105,9 @@ impl ContactSet {
         })
     }
 
-    /// The return mapping at a converged pass (assembled in `asm`): every frictional contact
-    /// whose trial force asks for the other mode (`Traction::mode`) changes to it. Returns the
+    /// The return mapping at a converged pass (assembled in `asm`): every frictional contact,
+    /// with a beam or an obstacle, whose trial force asks for the other mode
+    /// (`Traction::mode`) changes to it. Returns the
     /// number of changes (0: the friction law holds). Once a set of modes comes back within the
     /// attempt, one change a pass, the contact of least index.
     pub(crate) fn friction_pass(&mut self, asm: &Assembled) -> usize {
@@ -87,17 +122,35 @@ impl ContactSet {
                 changes.push((k, want));
             }
         }
+        let obstacle_tractions = &asm.elements.obstacle_friction;
+        for (k, link) in self.obstacle.iter().enumerate() {
+            let (Some(grip), Some(Some(t))) = (link.grip, obstacle_tractions.get(k)) else {
+                continue;
+            };
+            let want = t.mode(grip.slip);
+            if want != grip.slip {
+                changes.push((self.active.len() + k, want));
+            }
+        }
         if self.friction_one_at_a_time {
             changes.truncate(1);
         }
+        let beams = self.active.len();
         for &(k, want) in &changes {
-            if let Some(stick) = self.active[k].stick.as_mut() {
+            if k >= beams {
+                if let Some(grip) = self.obstacle[k - beams].grip.as_mut() {
+                    grip.slip = want;
+                }
+            } else if let Some(stick) = self.active[k].stick.as_mut() {
                 stick.slip = want;
             }
         }
         if !changes.is_empty() {
+            let on_obstacles =
+                (self.obstacle.iter()).map(|l| l.grip.map_or(0, |g| mode_code(g.slip)));
             let modes = (self.active.iter())
                 .map(|a| a.stick.map_or(0, |s| mode_code(s.slip)))
+                .chain(on_obstacles)
                 .collect();
             if !self.friction_seen.insert(modes) {
                 self.friction_one_at_a_time = true;
@@ -107,9 +160,9 @@ impl ContactSet {
     }
 
     /// At the accepted pass of an increment (assembled in `asm`): the stick point of every
-    /// slipping contact moves to where its spring carries the Coulomb force, s - f / kt, and
-    /// every contact that changed between stick and slip since the last accepted state (`cv`)
-    /// is an event.
+    /// slipping contact, with a beam or an obstacle, moves to where its spring carries the
+    /// Coulomb force, s - f / kt, and every contact that changed between stick and slip since
+    /// the last accepted state (`cv`) is an event.
     pub(crate) fn settle_friction(
         &mut self,
         cv: &ContactView<'_>,
@@ -142,6 +195,34 @@ impl ContactSet {
                 events.push(event);
             }
             self.active[k].stick = Some(stick);
+        }
+        let tractions = &asm.elements.obstacle_friction;
+        for k in 0..self.obstacle.len() {
+            let link = self.obstacle[k];
+            let (Some(mut grip), Some(Some(t))) = (link.grip, tractions.get(k)) else {
+                continue;
+            };
+            if t.slipping {
+                grip.stick += t.slip - t.force / grip.stiffness;
+            }
+            let before = cv.contacts.obstacle.get(k).and_then(|b| b.grip);
+            let slipped = before.is_some_and(|b| b.slip.is_some());
+            if t.slipping != slipped {
+                let m = &cv.model;
+                events.push(Event::Obstacle(ObstacleEvent {
+                    change: if t.slipping {
+                        ContactChange::Slips
+                    } else {
+                        ContactChange::Sticks
+                    },
+                    increment,
+                    iteration,
+                    node: m.nodes[link.node].id,
+                    obstacle: m.obstacles[link.obstacle].name.clone(),
+                    force: t.tangential,
+                }));
+            }
+            self.obstacle[k].grip = Some(grip);
         }
     }
 }

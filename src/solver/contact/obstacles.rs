@@ -12,7 +12,7 @@
 
 use super::set::{ContactSet, ContactView};
 use crate::solver::assembly::{obstacle_gap, Assembled, ObstacleLink};
-use crate::solver::report::{ContactChange, Event, ObstacleEvent, ObstacleState};
+use crate::solver::report::{ContactChange, Event, Friction, ObstacleEvent, ObstacleState};
 
 impl ContactSet {
     /// The candidate pairs of the structure at rest, each with its multiplier, and whether it
@@ -27,25 +27,33 @@ impl ContactSet {
             let gap = obstacle_gap(m, &cv.dofs, cv.d, node, obstacle);
             let resting = gap.is_some_and(|g| g.g.abs() <= tol);
             let multiplier = gap.filter(|_| resting).map_or(0.0, |g| k * g.g.max(0.0));
+            let grip = resting
+                .then(|| Self::obstacle_grip_at(cv, cv.d, node, obstacle))
+                .flatten();
             self.obstacle.push(ObstacleLink {
                 node,
                 obstacle,
                 multiplier,
                 active: resting,
+                grip,
             });
             self.obstacle_resting.push(resting);
         }
     }
 
-    /// The nodes resting on obstacles at the last accepted state and their obstacles' unit
-    /// normals there (what holds a body up before it is loaded).
+    /// The nodes resting on obstacles at the last accepted state and the directions their
+    /// obstacles hold them in there (what holds a body up before it is loaded): the unit
+    /// normal, and the tangent too where the obstacle has friction (the node sticks).
     pub(crate) fn resting_normals(&self, cv: &ContactView<'_>) -> Vec<(usize, [f64; 2])> {
         (self.obstacle.iter().zip(&self.obstacle_resting))
             .filter(|(_, &r)| r)
             .filter_map(|(l, _)| {
                 let gap = obstacle_gap(&cv.model, &cv.dofs, cv.d, l.node, l.obstacle)?;
-                Some((l.node, gap.n))
+                let n = gap.n;
+                let tangent = l.grip.map(|_| (l.node, [n[1], -n[0]]));
+                Some(std::iter::once((l.node, n)).chain(tangent))
             })
+            .flatten()
             .collect()
     }
 
@@ -89,9 +97,17 @@ impl ContactSet {
                 violations.truncate(1);
             }
             for &(k, activate) in &violations {
+                let (node, obstacle) = (self.obstacle[k].node, self.obstacle[k].obstacle);
+                let grip = activate
+                    .then(|| Self::obstacle_grip_at(cv, d, node, obstacle))
+                    .flatten();
                 let link = &mut self.obstacle[k];
                 link.active = activate;
                 link.multiplier = 0.0;
+                link.grip = grip;
+                if activate {
+                    self.obstacle_touched.push(k);
+                }
                 if !activate {
                     self.obstacle_let_go.insert(k, forces[k]);
                 }
@@ -168,9 +184,11 @@ impl ContactSet {
     ) -> Vec<ObstacleState> {
         let m = &cv.model;
         let o = cv.origin;
+        let friction = |k: usize| asm.elements.obstacle_friction.get(k).copied().flatten();
         (self.obstacle.iter().zip(&asm.elements.obstacle_forces))
-            .filter(|(link, _)| link.active)
-            .filter_map(|(link, &force)| {
+            .enumerate()
+            .filter(|(_, (link, _))| link.active)
+            .filter_map(|(k, (link, &force))| {
                 let gap = obstacle_gap(m, &cv.dofs, d, link.node, link.obstacle)?;
                 Some(ObstacleState {
                     node: m.nodes[link.node].id,
@@ -179,6 +197,13 @@ impl ContactSet {
                     gap: gap.g,
                     point: [gap.point[0] + o[0], gap.point[1] + o[1]],
                     normal: gap.n,
+                    tangential: friction(k).map_or(0.0, |t| t.tangential),
+                    friction: match link.grip {
+                        Some(g) if g.slip.is_some() => Friction::Slipping,
+                        Some(_) => Friction::Sticking,
+                        None => Friction::Frictionless,
+                    },
+                    stick: link.grip.map(|g| g.stick),
                 })
             })
             .collect()

@@ -81,6 +81,9 @@ pub struct ContactSet {
     pub(crate) multiplier_updates: usize,
     /// The contact whose gap the last update found widest: (node, obstacle, gap in m).
     pub(crate) widest_gap: Option<(usize, usize, f64)>,
+    /// The obstacle pairs (by index) that touched during the current attempt: their stick
+    /// points are where they touched, not where the last accepted state had them.
+    pub(crate) obstacle_touched: Vec<usize>,
     /// The stick and slip modes met at the converged passes of the current attempt.
     pub(super) friction_seen: HashSet<Vec<i8>>,
     /// Set once a set of modes repeats within an attempt: from then on each pass changes the

@@ -51,9 +51,6 @@ impl Solver {
     /// pressure, friction force along the body, and the stick points before and after (none
     /// before for a contact that began in the increment).
     fn friction_records(&self, c: &Converged) -> Vec<FrictionRecord> {
-        if self.friction.is_empty() {
-            return Vec::new();
-        }
         let tractions = &c.assembled.elements.contact_friction;
         let began = |node: usize, body: usize| {
             c.events.iter().any(|e| {
@@ -73,11 +70,38 @@ impl Solver {
                 Some(FrictionRecord {
                     node: a.node,
                     body: a.body,
+                    obstacle: false,
                     mu: *self.friction.get(&(a.node, a.body))?,
                     pressure: t.normal,
                     tangential: t.tangential * (sj - si).signum(),
                     stick_before: before.map(|b| b.at),
                     stick_after: stick.at,
+                })
+            })
+            .chain(self.obstacle_friction_records(c))
+            .collect()
+    }
+
+    /// `friction_records` of the nodes resting on obstacles: the friction force along the
+    /// obstacle's tangent (its places grow that way).
+    fn obstacle_friction_records(&self, c: &Converged) -> Vec<FrictionRecord> {
+        let tractions = &c.assembled.elements.obstacle_friction;
+        let before = &self.state.contacts.obstacle;
+        (c.contacts.obstacle.iter().enumerate())
+            .filter_map(|(k, link)| {
+                let grip = link.grip.filter(|_| link.active)?;
+                let t = tractions.get(k).copied().flatten()?;
+                let anew = c.contacts.obstacle_touched.contains(&k);
+                let was = before.get(k).and_then(|b| b.grip).filter(|_| !anew);
+                Some(FrictionRecord {
+                    node: link.node,
+                    body: link.obstacle,
+                    obstacle: true,
+                    mu: grip.mu,
+                    pressure: t.normal,
+                    tangential: t.tangential,
+                    stick_before: was.map(|b| b.stick),
+                    stick_after: grip.stick,
                 })
             })
             .collect()
@@ -121,7 +145,11 @@ impl Solver {
                 increment,
                 cutbacks,
                 node: self.model.nodes[x.node].id,
-                body: self.model.bodies[x.body].name.clone(),
+                body: if x.obstacle {
+                    format!("obstacle {}", self.model.obstacles[x.body].name)
+                } else {
+                    self.model.bodies[x.body].name.clone()
+                },
                 ratio: x.ratio,
                 slipped: x.slipped,
             },

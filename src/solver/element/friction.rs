@@ -16,6 +16,7 @@
 use nalgebra::{DMatrix, DVector, Matrix2, Vector2};
 
 use super::contact_element::ContactResponse;
+use super::obstacle::Gap;
 
 /// The friction of one contact, for one evaluation of its contact element.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -178,6 +179,85 @@ pub fn add_friction(
         }));
     }
     out
+}
+
+/// The friction of a node resting on a rigid obstacle, for one evaluation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ObstacleGrip {
+    /// Friction coefficient mu (> 0).
+    pub mu: f64,
+    /// Stiffness kt of the spring that holds a sticking node to its stick point (N/m).
+    pub stiffness: f64,
+    /// The stick point s0: a place along the obstacle (`Shape::place`, m).
+    pub stick: f64,
+    /// `Some(sigma)`: the contact slips with s - s0 of sign sigma; `None`: it sticks.
+    pub slip: Option<f64>,
+    /// The length after which places repeat (`Shape::period`), if any.
+    pub period: Option<f64>,
+}
+
+/// The friction of a node at `place` along an obstacle (`Shape::place`), at gap `gap`, with
+/// normal force `normal` = multiplier - `penalty` g: as for a beam, f = kt (s - s0) in stick
+/// and sigma mu N in slip, conjugate to the place s, whose gradient is (1 - g k) t and whose
+/// Hessian is -(1 - g k) k (n t^T + t n^T) (k the gap's curvature, t = (n_y, -n_x)). Returns
+/// the traction and the internal forces and tangent over (u, v) of the node, then (u, v) of
+/// the obstacle's pilot (the place depends on their difference).
+pub fn obstacle_friction(
+    gap: &Gap,
+    place: f64,
+    (normal, penalty): (f64, f64),
+    grip: &ObstacleGrip,
+) -> (Traction, [f64; 4], [[f64; 4]; 4]) {
+    let n = gap.n;
+    let t = [n[1], -n[0]];
+    let a = 1.0 - gap.g * gap.curvature;
+    let grad = [a * t[0], a * t[1]];
+    let mut slip = place - grip.stick;
+    if let Some(p) = grip.period {
+        slip -= p * (slip / p).round();
+    }
+    let limit = grip.mu * normal;
+    let trial = grip.stiffness * slip;
+    let sign = grip.slip.unwrap_or(0.0);
+    let force = if grip.slip.is_some() {
+        sign * limit
+    } else {
+        trial
+    };
+    let grad_f = match grip.slip {
+        None => [grip.stiffness * grad[0], grip.stiffness * grad[1]],
+        Some(_) => [
+            -sign * grip.mu * penalty * n[0],
+            -sign * grip.mu * penalty * n[1],
+        ],
+    };
+    let curl = -a * gap.curvature * force;
+    let mut k = [[0.0; 4]; 4];
+    for p in 0..2 {
+        for q in 0..2 {
+            let v = grad[p] * grad_f[q] + curl * (n[p] * t[q] + t[p] * n[q]);
+            k[p][q] = v;
+            k[p][2 + q] = -v;
+            k[2 + p][q] = -v;
+            k[2 + p][2 + q] = v;
+        }
+    }
+    let nodal = [
+        force * grad[0],
+        force * grad[1],
+        -force * grad[0],
+        -force * grad[1],
+    ];
+    let traction = Traction {
+        force,
+        slip,
+        slipping: grip.slip.is_some(),
+        trial,
+        limit,
+        tangential: -force * a,
+        normal,
+    };
+    (traction, nodal, k)
 }
 
 /// How far past the Coulomb limit a trial force may lie, relative to the limit, and still

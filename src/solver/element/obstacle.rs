@@ -89,6 +89,76 @@ impl Shape {
     }
 }
 
+impl Shape {
+    /// The place of point `p` of the curve (at rest) along it (m): the length from a fixed
+    /// point of the curve in the direction of the tangent `(n_y, -n_x)` (n the normal to the
+    /// free side), so that a node's place s has the gradient `(1 - g curvature) t`: along a
+    /// line from `from` towards `to`, along a polyline from its first point, about a disk
+    /// clockwise and about a hole counter-clockwise from the polar angle 0 (an arc: from
+    /// `from`).
+    pub fn place(&self, p: [f64; 2]) -> f64 {
+        match self {
+            Shape::Line { from, to } => {
+                let e = sub(*to, *from);
+                dot(sub(p, *from), e) / e[0].hypot(e[1])
+            }
+            Shape::Polyline { points } => polyline_place(points, p),
+            Shape::Circle {
+                centre,
+                radius,
+                hollow,
+            } => {
+                let r = sub(p, *centre);
+                let turn = if *hollow { 1.0 } else { -1.0 };
+                turn * radius * r[1].atan2(r[0])
+            }
+            Shape::Arc {
+                centre,
+                radius,
+                from,
+                hollow,
+                ..
+            } => {
+                let r = sub(p, *centre);
+                let turn = if *hollow { 1.0 } else { -1.0 };
+                turn * radius * angle_past(r[1].atan2(r[0]), *from)
+            }
+        }
+    }
+
+    /// The length after which places repeat (a circle's or an arc's circumference), if any.
+    pub fn period(&self) -> Option<f64> {
+        match self {
+            Shape::Circle { radius, .. } | Shape::Arc { radius, .. } => {
+                Some(std::f64::consts::TAU * radius)
+            }
+            _ => None,
+        }
+    }
+}
+
+/// `Shape::place` on a polyline: the length along it to the nearest segment's start, plus the
+/// way along that segment (negative before the first point, beyond the last past it).
+fn polyline_place(points: &[[f64; 2]], p: [f64; 2]) -> f64 {
+    let last = points.len() - 2;
+    let (mut best, mut place, mut start) = (f64::MAX, 0.0, 0.0);
+    for s in 0..=last {
+        let (a, b) = (points[s], points[s + 1]);
+        let ab = sub(b, a);
+        let len = ab[0].hypot(ab[1]);
+        let lo = if s == 0 { f64::NEG_INFINITY } else { 0.0 };
+        let hi = if s == last { f64::INFINITY } else { len };
+        let along = (dot(sub(p, a), ab) / len).clamp(lo, hi);
+        let q = [a[0] + along * ab[0] / len, a[1] + along * ab[1] / len];
+        let d2 = dot(sub(p, q), sub(p, q));
+        if d2 < best {
+            (best, place) = (d2, start + along);
+        }
+        start += len;
+    }
+    place
+}
+
 /// `a - b` as an unevaluated sum (hi, lo), exactly (Knuth's two-sum).
 fn two_diff(a: f64, b: f64) -> (f64, f64) {
     let s = a - b;
