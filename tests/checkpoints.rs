@@ -1,7 +1,8 @@
 //! Going on from a checkpoint: a run restored to an accepted increment solves the increments
 //! after it exactly as the unbroken run did (every number of every record equal, bit for bit),
-//! on a contact scene with activation, sliding and transfer (Example 3.2) and on an
-//! arc-length run past a limit point (Lee's frame). The reference is the unbroken run itself.
+//! on a contact scene with activation, sliding and transfer (Example 3.2), on the same with
+//! friction (its stick points restored with the contacts), and on an arc-length run past a
+//! limit point (Lee's frame). The reference is the unbroken run itself.
 
 use tsm_contact::scene::builtin::builtin;
 use tsm_contact::solver::{IncrementRecord, Silent, Solver};
@@ -47,6 +48,22 @@ fn example_3_2_goes_on_from_increment_20_exactly_as_before() {
     let last = first.last().unwrap().increment;
     let changes: usize = first[20..].iter().map(|r| r.events.len()).sum();
     assert!(changes > 0, "the increments after 20 change the contacts");
+    let second = again(&mut solver, 20, last);
+    assert_eq!(second.len(), first.len() - 20);
+    for (a, b) in first[20..].iter().zip(&second) {
+        assert_eq!(result(a), result(b), "increment {}", a.increment);
+    }
+}
+
+#[test]
+fn example_3_2_with_friction_goes_on_from_increment_20_exactly_as_before() {
+    let (mut solver, first) = run("example_3_2_friction", 40);
+    let last = first.last().unwrap().increment;
+    let sticks = |r: &IncrementRecord| r.contacts.iter().filter_map(|c| c.stick).count();
+    assert!(
+        first[20..].iter().all(|r| sticks(r) > 0),
+        "stick points carried on"
+    );
     let second = again(&mut solver, 20, last);
     assert_eq!(second.len(), first.len() - 20);
     for (a, b) in first[20..].iter().zip(&second) {

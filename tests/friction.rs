@@ -1,10 +1,12 @@
 //! Coulomb friction at node-to-beam contacts, against independent references: the friction
 //! element's tangent against central differences of its nodal forces, in stick and in slip; a
 //! pin dragged to and fro along a bar against the hand calculation of its hysteresis loop; a
-//! strip pulled on a frictional floor against the closed form of a bar on a frictional
-//! support; Example 3.2 with mu = 0 against its frictionless history, bit for bit, and with
-//! mu = 0.3 against the friction law and the frictionless iteration count; and the acceptance
-//! check of the friction law against states made to break it.
+//! strip pulled on a frictional floor (of beams, and a rigid obstacle) against the closed form
+//! of a bar on a frictional support; a band slipping over a frictional drum against the
+//! capstan equation; Example 3.2 with mu = 0 against its frictionless history, bit for bit, and
+//! with mu = 0.3 against the friction law and the frictionless iteration count; the friction
+//! of a node on an obstacle against central differences; and the acceptance check of the
+//! friction law against states made to break it.
 
 use nalgebra::DMatrix;
 use tsm_contact::scene::builtin::BUILTIN;
@@ -610,5 +612,83 @@ fn obstacle_friction_tangent_matches_central_differences() {
                 "{shape:?} {slip:?}: tangent off by {worst:e} of {scale:e}"
             );
         }
+    }
+}
+
+/// A band over a frictional drum (the capstan): n elements with their nodes on the top half of
+/// a circle of radius 1, a weight W = 1 N hanging at the left end, the right end pulled down.
+fn band_on_drum(n: usize, mu: f64) -> String {
+    let points: String = (0..=n)
+        .map(|k| {
+            let theta = std::f64::consts::PI * (1.0 - k as f64 / n as f64);
+            format!("({:.17}, {:.17}), ", theta.cos(), theta.sin())
+        })
+        .collect();
+    format!(
+        r#"(
+    name: "capstan",
+    sections: [(name: "band", E: 1.0e6, A: 1.0e-2, I: 1.0e-8, G: 4.0e8)],
+    bodies: [(name: "band", section: "band", path: [{points}], elements: 1, first_node: 1)],
+    loads: [(node: 1, fy: -1.0)],
+    prescribed: [(node: {last}, dof: V, per_step: -1.0e-5)],
+    obstacles: [(name: "drum", shape: Circle(centre: (0.0, 0.0), radius: 1.0), bodies: ["band"], mu: {mu})],
+    control: (steps: 1),
+)"#,
+        last = n + 1
+    )
+}
+
+/// The capstan equation: a band slipping over a drum through the angle pi pulls with
+/// P = W e^(mu pi) against the weight W. With the friction at n nodes, each node passes on
+/// the tension times r = (1 + mu tan(pi / 2n)) / (1 - mu tan(pi / 2n)), so P / W = r^n
+/// exactly (both ends included). At the first pull where every node slips, P / W is r^n, and
+/// r^n converges to e^(mu pi) as the band is refined.
+#[test]
+fn a_band_slipping_over_a_frictional_drum_pulls_as_the_capstan_equation() {
+    let mu = 0.2;
+    let mut errors = Vec::new();
+    for n in [8, 16, 32] {
+        let mut solver = parse(&band_on_drum(n, mu), "capstan.ron")
+            .unwrap()
+            .solver()
+            .unwrap();
+        for k in 1..=10 {
+            solver
+                .advance_to(&[0.0], k as f64 / 10.0, &mut Silent)
+                .unwrap();
+        }
+        let mut pull = 0.0;
+        let ratio = loop {
+            pull += 2.0e-5;
+            assert!(
+                pull < 1e-2,
+                "n {n}: the band slips before it is pulled 1 cm"
+            );
+            let records = solver.advance_to(&[-pull], 1.0, &mut Silent).unwrap();
+            let r = records.last().unwrap();
+            let on = &r.obstacle_contacts;
+            assert_eq!(on.len(), n + 1, "n {n}: every node on the drum");
+            if on.iter().all(|c| c.friction == Friction::Slipping) {
+                let p = (r.reactions.iter())
+                    .find(|x| x.node == n as u32 + 1 && x.dof == "v")
+                    .unwrap()
+                    .value;
+                break p.abs();
+            }
+        };
+        let half = (std::f64::consts::PI / (2.0 * n as f64)).tan();
+        let discrete = ((1.0 + mu * half) / (1.0 - mu * half)).powi(n as i32);
+        let capstan = (mu * std::f64::consts::PI).exp();
+        eprintln!(
+            "band of {n} elements: P / W = {ratio:.6}, r^n = {discrete:.6}, e^(mu pi) = {capstan:.6}"
+        );
+        assert!(
+            (ratio - discrete).abs() < 2e-5 * discrete,
+            "n {n}: P / W = {ratio}, discrete capstan {discrete}"
+        );
+        errors.push((ratio - capstan).abs() / capstan);
+    }
+    for w in errors.windows(2) {
+        assert!(w[0] > 3.0 * w[1], "second order in the element: {errors:?}");
     }
 }
