@@ -1,6 +1,7 @@
 //! Reading results in the app (egui_kittest on the real `TsmApp`): the scene's units label the
 //! numbers, a hovered node shows its values, a click pins them in the details panel, the moment
-//! diagram of a cantilever peaks at P L at the clamp, and a scene opens fitted to the view.
+//! diagram of a cantilever peaks at P L at the clamp, a scene opens fitted to the view, and a
+//! frictional contact is listed with its friction force and whether it slips.
 #![cfg(feature = "gui")]
 
 use std::time::Duration;
@@ -10,6 +11,7 @@ use egui_kittest::Harness;
 use tsm_contact::app::canvas::diagrams::Diagram;
 use tsm_contact::app::units::num;
 use tsm_contact::app::{Startup, TsmApp};
+use tsm_contact::solver::{Friction, Silent};
 
 mod gui_support;
 use gui_support::{label, loaded, shown_increment, wait, CANTILEVER};
@@ -279,4 +281,22 @@ fn first_row(h: &Harness<'static, TsmApp>) -> String {
         .collect();
     rows.sort_by(|a, b| a.0.total_cmp(&b.0));
     rows.first().map(|r| r.1.clone()).unwrap_or_default()
+}
+
+/// A frictional contact is listed with its friction force and its mode: the first step of
+/// Example 3.2 with friction, against the same step solved headless.
+#[test]
+fn a_slipping_contact_is_listed_with_its_friction_force() {
+    let scene = tsm_contact::scene::builtin::builtin("example_3_2_friction")
+        .unwrap()
+        .unwrap();
+    let mut solver = scene.solver().unwrap();
+    let r = solver.step(&mut Silent).unwrap().pop().unwrap();
+    let c = &r.contacts[0];
+    assert_eq!(c.friction, Friction::Slipping);
+    let h = solved("example_3_2_friction", None);
+    assert!(h.query_by_label("T (N)").is_some(), "the friction column");
+    assert!(h.query_by_label("slips").is_some(), "the mode");
+    let t = num(c.tangential);
+    assert!(h.query_by_label(&t).is_some(), "the friction force {t}");
 }

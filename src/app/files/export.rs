@@ -34,7 +34,8 @@ pub fn history(
 
 /// One CSV row per increment: number, prescribed values, load factor, iterations, residual,
 /// status (converged or roundoff), cut-backs, active contacts, every reaction, the contact force
-/// on every contact candidate node (0 when it touches nothing), and the displacements of the
+/// on every contact candidate node (0 when it touches nothing), the friction force on every
+/// candidate of a frictional pair (along its element's chord), and the displacements of the
 /// nodes in `nodes` (indices). Each header names its unit in brackets, in the scene's units.
 pub fn csv(loaded: &Loaded, records: &[IncrementRecord], nodes: &[usize]) -> String {
     let model = &loaded.scene.model;
@@ -70,6 +71,14 @@ pub fn csv(loaded: &Loaded, records: &[IncrementRecord], nodes: &[usize]) -> Str
     candidates.dedup();
     for id in &candidates {
         let _ = write!(out, ",Yc_node_{id} [{}]", units.force());
+    }
+    let mut frictional: Vec<u32> = (model.contacts.iter().filter(|c| c.mu > 0.0))
+        .flat_map(|c| c.nodes.iter().map(|&n| model.nodes[n].id))
+        .collect();
+    frictional.sort_unstable();
+    frictional.dedup();
+    for id in &frictional {
+        let _ = write!(out, ",T_node_{id} [{}]", units.force());
     }
     for &n in nodes {
         let id = model.nodes[n].id;
@@ -112,6 +121,13 @@ pub fn csv(loaded: &Loaded, records: &[IncrementRecord], nodes: &[usize]) -> Str
                 .map(|c| c.force)
                 .sum();
             let _ = write!(out, ",{yc:.12e}");
+        }
+        for id in &frictional {
+            let t: f64 = (r.contacts.iter())
+                .filter(|c| c.node == *id)
+                .map(|c| c.tangential)
+                .sum();
+            let _ = write!(out, ",{t:.12e}");
         }
         for &n in nodes {
             let (p, node) = (r.nodes[n], &model.nodes[n]);
