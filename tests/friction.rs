@@ -417,7 +417,8 @@ fn zero_friction_reproduces_the_frictionless_history_bit_for_bit() {
 }
 
 /// Example 3.2 with mu = 0.3: its contacts slip, the friction law holds at every accepted
-/// increment (mu N exactly where slipping, against the slip of the increment), and Newton
+/// increment (mu N exactly where slipping, against the slip of the increment), the stick
+/// points follow the nodes along the bodies across transfers to the next element, and Newton
 /// needs at most 1.5 times the frictionless iterations per increment.
 #[test]
 fn example_3_2_with_friction_slips_within_the_friction_law() {
@@ -450,6 +451,33 @@ fn example_3_2_with_friction_slips_within_the_friction_law() {
         }
     }
     assert!(slipping > 10, "contacts slip: {slipping}");
+    // A slipping contact's stick point trails the node's place along the body, (place - 1 +
+    // li/l) 0.1 m on these bodies of 0.1 m elements, by its spring's stretch mu N / kt (under
+    // 2e-6 m here), on whichever element it rests: also at the increments where it moved onto
+    // the next element.
+    let kt = SolverParams::default().friction_penalty * 6.0e3 / 0.1;
+    let mut across = 0;
+    for r in &rough {
+        let moved = |c: &ContactState| {
+            r.events.iter().any(|e| {
+                matches!(e, Event::Contact(x) if x.change == ContactChange::Transferred
+                    && x.node == c.node && x.body == c.body)
+            })
+        };
+        for c in r.contacts.iter().filter(|c| c.friction == Friction::Slipping) {
+            let place = (c.place as f64 - 1.0 + c.xi) * 0.1;
+            let stretch = 0.3 * c.pressure / kt;
+            let off = (c.stick.unwrap() - place).abs();
+            assert!(
+                (off - stretch).abs() < 1e-9,
+                "{}: node {} {off:e} from its place, spring {stretch:e}",
+                r.increment,
+                c.node
+            );
+            across += usize::from(moved(c));
+        }
+    }
+    assert!(across >= 5, "stick points checked across transfers: {across}");
     let events: Vec<ContactChange> = (rough.iter())
         .flat_map(|r| &r.events)
         .filter_map(|e| match e {

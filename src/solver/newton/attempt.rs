@@ -157,10 +157,12 @@ impl Newton<'_> {
                     );
                     let mut updated = 0;
                     if changed == 0 {
-                        changed = contacts.friction_pass(&asm);
-                    }
-                    if changed == 0 {
                         (changed, updated) = contacts.obstacle_pass(&self.view(), &d, &asm);
+                    }
+                    // Stick and slip are judged once the normal forces hold: every contact
+                    // made and every obstacle gap closed.
+                    if changed == 0 && updated == 0 {
+                        changed = contacts.friction_pass(&asm);
                     }
                     self.too_deep(&contacts)?;
                     if changed == 0 && updated == 0 && accepted {
