@@ -464,7 +464,11 @@ fn example_3_2_with_friction_slips_within_the_friction_law() {
                     && x.node == c.node && x.body == c.body)
             })
         };
-        for c in r.contacts.iter().filter(|c| c.friction == Friction::Slipping) {
+        for c in r
+            .contacts
+            .iter()
+            .filter(|c| c.friction == Friction::Slipping)
+        {
             let place = (c.place as f64 - 1.0 + c.xi) * 0.1;
             let stretch = 0.3 * c.pressure / kt;
             let off = (c.stick.unwrap() - place).abs();
@@ -477,7 +481,10 @@ fn example_3_2_with_friction_slips_within_the_friction_law() {
             across += usize::from(moved(c));
         }
     }
-    assert!(across >= 5, "stick points checked across transfers: {across}");
+    assert!(
+        across >= 5,
+        "stick points checked across transfers: {across}"
+    );
     let events: Vec<ContactChange> = (rough.iter())
         .flat_map(|r| &r.events)
         .filter_map(|e| match e {

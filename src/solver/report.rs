@@ -152,6 +152,20 @@ impl Event {
                 c.force,
                 c.iteration
             ),
+            // A change between stick and slip carries the friction force.
+            Event::Contact(c)
+                if matches!(c.change, ContactChange::Slips | ContactChange::Sticks) =>
+            {
+                format!(
+                    "node {} {} {} (li/l = {:.4}, T = {:+.4e}) at iteration {}",
+                    c.node,
+                    c.change.verb(),
+                    model.element_label(c.element),
+                    c.xi,
+                    c.force,
+                    c.iteration
+                )
+            }
             Event::Contact(c) => format!(
                 "node {} {} {} (li/l = {:.4}) at iteration {}",
                 c.node,
@@ -160,6 +174,18 @@ impl Event {
                 c.xi,
                 c.iteration
             ),
+            Event::Obstacle(o)
+                if matches!(o.change, ContactChange::Slips | ContactChange::Sticks) =>
+            {
+                format!(
+                    "node {} {} obstacle {} (T = {:+.4e}) at iteration {}",
+                    o.node,
+                    o.change.verb(),
+                    o.obstacle,
+                    o.force,
+                    o.iteration
+                )
+            }
             Event::Obstacle(o) => format!(
                 "node {} {} obstacle {} at iteration {}",
                 o.node,
@@ -174,7 +200,7 @@ impl Event {
 /// A node touching or leaving a rigid obstacle, and when.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ObstacleEvent {
-    /// What happened: `Activated` or `Released`.
+    /// What happened: `Activated`, `Released`, `Slips` or `Sticks`.
     pub change: ContactChange,
     /// Increment number.
     pub increment: usize,
@@ -186,7 +212,8 @@ pub struct ObstacleEvent {
     pub obstacle: String,
     /// The normal force at the pass where the contact was let go (N; negative: it pulled, by
     /// as much as the penalty makes of the gap opening there, which says that it let go, not
-    /// what it carried), 0 at an activation.
+    /// what it carried), 0 at an activation; the friction force along the obstacle where it
+    /// began to slip or stuck again.
     pub force: f64,
 }
 
