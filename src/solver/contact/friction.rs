@@ -117,7 +117,7 @@ impl ContactSet {
             let (Some(stick), Some(Some(t))) = (a.stick, tractions.get(k)) else {
                 continue;
             };
-            let want = t.mode(stick.slip);
+            let want = t.mode(stick.slip, self.friction_one_at_a_time);
             if want != stick.slip {
                 changes.push((k, want));
             }
@@ -127,7 +127,7 @@ impl ContactSet {
             let (Some(grip), Some(Some(t))) = (link.grip, obstacle_tractions.get(k)) else {
                 continue;
             };
-            let want = t.mode(grip.slip);
+            let want = t.mode(grip.slip, self.friction_one_at_a_time);
             if want != grip.slip {
                 changes.push((self.active.len() + k, want));
             }

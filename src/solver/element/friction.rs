@@ -268,18 +268,19 @@ pub const COULOMB_TOLERANCE: f64 = 1e-9;
 impl Traction {
     /// The return mapping: the mode (`None`: stick, `Some(sigma)`: slip in direction sigma)
     /// this contact's trial force asks for, given the mode `now` it was evaluated in. A slip
-    /// goes on while the trial force stays beyond the limit in its direction, and sticks
-    /// otherwise; a stick slips once the trial force passes the limit.
-    pub fn mode(&self, now: Option<f64>) -> Option<f64> {
+    /// goes on while the trial force stays beyond the limit in its direction; otherwise the
+    /// contact sticks if the trial force is within the limit, and slips its way if not. With
+    /// `cautious` (the modes have come back within an attempt), a slip that turns back sticks
+    /// first instead, as the spring unloads through zero: no contact can then swing between
+    /// the two directions.
+    pub fn mode(&self, now: Option<f64>, cautious: bool) -> Option<f64> {
         let (trial, limit) = (self.trial, self.limit);
         let sign = if trial < 0.0 { -1.0 } else { 1.0 };
         match now {
-            // A slip that turns back sticks first: the spring unloads through zero before it
-            // slips the other way.
             Some(sigma) if sigma * trial >= limit * (1.0 - COULOMB_TOLERANCE) => Some(sigma),
-            Some(_) => None,
-            None if trial.abs() <= limit * (1.0 + COULOMB_TOLERANCE) => None,
-            None => Some(sign),
+            Some(_) if cautious => None,
+            _ if trial.abs() <= limit * (1.0 + COULOMB_TOLERANCE) => None,
+            _ => Some(sign),
         }
     }
 }
