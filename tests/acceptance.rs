@@ -392,8 +392,10 @@ proptest! {
 
     /// Random pins over a cantilever: both formulations, meshes of 5 to 80 elements, initial
     /// gaps of 0 exactly, +-1e-12 L, 1e-3 L and 0.1 L, steps that land exactly on the line
-    /// (for the 0.1 L gap) or not, pushed straight down or with a drift along the beam. Every accepted increment passes `check_record`, and the pin
-    /// is never below the beam; a run that stops does so with a typed error.
+    /// (for the 0.1 L gap) or not, pushed straight down or with a drift along the beam,
+    /// frictionless or with friction. Every accepted increment passes `check_record`, the pin
+    /// is never below the beam and its friction force never above mu times its pressure; a run
+    /// that stops does so with a typed error.
     #[test]
     fn random_pins_never_pass_through(
         n in 5usize..=80,
@@ -402,10 +404,13 @@ proptest! {
         land in any::<bool>(),
         bernoulli in any::<bool>(),
         drift in prop::sample::select(vec![0.0, 0.01, -0.01, 0.003]),
+        mu in prop::sample::select(vec![0.0, 0.0, 0.2, 1.0]),
     ) {
         let f = if bernoulli { "BernoulliEuler" } else { "Timoshenko" };
         let step = if land { -0.05 } else { -0.037 };
-        let text = pushed_pin(f, n, [x, gap], [drift, step], [0.0, 0.0]);
+        let text = pushed_pin(f, n, [x, gap], [drift, step], [0.0, 0.0])
+            .replace("bodies: [\"cantilever\"])]", &format!("bodies: [\"cantilever\"], mu: {mu:?})]"));
+        prop_assert!(text.contains("mu: "));
         let scene = parse(&text, "pin").unwrap();
         let (recs, err) = run(&scene, 8);
         // Until it slides off an end (and the beam springs back above it), the pin is above
@@ -416,6 +421,10 @@ proptest! {
             let c = pin_clearance(&scene, r);
             prop_assert!(c > -1e-9, "pin below the beam by {c:e} lengths in increment {}", r.increment);
             prop_assert!(r.contacts.iter().all(|k| k.pressure >= 0.0), "tensile contact {:?}", r.contacts);
+            prop_assert!(
+                r.contacts.iter().all(|k| k.tangential.abs() <= mu * k.pressure * (1.0 + 1e-9)),
+                "friction beyond mu N {:?}", r.contacts
+            );
         }
         if let Some(e) = err {
             prop_assert!(!matches!(e, SolveError::Stopped | SolveError::Invalid { .. }), "{e}");
