@@ -346,34 +346,43 @@ fn pulled_strip(n: usize, pulls: &[f64], obstacle: bool) -> Vec<(f64, f64)> {
 /// converges to P as the mesh is refined.
 #[test]
 fn a_strip_pulled_on_a_frictional_floor_slips_over_the_length_of_the_closed_form() {
-    let (ea, mu, q) = (100.0, 0.3, 1.0);
-    let pulls: Vec<f64> = (1..=6).map(|k| 1.0e-4 * k as f64).collect();
-    let mut errors = Vec::new();
-    for n in [10, 20, 40, 80] {
-        let h = 1.0 / n as f64;
-        let got = pulled_strip(n, &pulls, false);
-        let mut worst = 0.0f64;
-        for (&u0, &(pull, slipping)) in pulls.iter().zip(&got) {
-            let ls = (2.0 * ea * u0 / (mu * q)).sqrt();
-            assert!(ls < 0.9, "the slip stays on the strip");
-            // The slip front lies between the last slipping node and the first sticking one;
-            // the friction acts at the nodes, each for the element's length about it (the held
-            // end's half element carries none): within an element of Ls either way.
-            assert!(
-                slipping - h <= ls + 1e-12 && ls <= slipping + 2.0 * h,
-                "n {n}, u0 {u0:e}: slipping to {slipping:.4}, closed form {ls:.4}"
-            );
-            worst = worst.max((pull - mu * q * ls).abs() / (mu * q * ls));
-        }
-        eprintln!("strip of {n} elements: pull within {worst:.2e} of mu q Ls (relative)");
-        errors.push(worst);
-    }
+    let errors = pull_errors(false);
     // The pull's error falls with the element length (first order: the friction acts at the
     // nodes).
     assert!(errors[3] < 0.05, "errors {errors:?}");
     for w in errors.windows(2) {
         assert!(w[0] > 1.5 * w[1], "errors {errors:?}");
     }
+}
+
+/// The pulled strip on 10, 20, 40 and 80 elements, on a floor of beams or an `obstacle`,
+/// against the bar on a frictional support (EA = 100 N, mu = 0.3, q = 1 N/m): the slip front
+/// (between the last slipping node and the first sticking one) lies within an element of
+/// Ls = sqrt(2 EA u0 / (mu q)) either way, as the friction acts at the nodes, each for the
+/// element's length about it. Returns the largest relative error of the pull against
+/// mu q Ls on each mesh.
+fn pull_errors(obstacle: bool) -> Vec<f64> {
+    let (ea, mu, q) = (100.0, 0.3, 1.0);
+    let pulls: Vec<f64> = (1..=6).map(|k| 1.0e-4 * k as f64).collect();
+    let mut errors = Vec::new();
+    for n in [10, 20, 40, 80] {
+        let h = 1.0 / n as f64;
+        let got = pulled_strip(n, &pulls, obstacle);
+        let mut worst = 0.0f64;
+        for (&u0, &(pull, slipping)) in pulls.iter().zip(&got) {
+            let ls = (2.0 * ea * u0 / (mu * q)).sqrt();
+            assert!(ls < 0.9, "the slip stays on the strip");
+            assert!(
+                slipping - h <= ls + 1e-12 && ls <= slipping + 2.0 * h,
+                "n {n}, u0 {u0:e}: slipping to {slipping:.4}, closed form {ls:.4}"
+            );
+            worst = worst.max((pull - mu * q * ls).abs() / (mu * q * ls));
+        }
+        let on = if obstacle { " on an obstacle" } else { "" };
+        eprintln!("strip of {n} elements{on}: pull within {worst:.2e} of mu q Ls (relative)");
+        errors.push(worst);
+    }
+    errors
 }
 
 /// Example 3.2, built in, or with `mu` given on every contact.
@@ -557,26 +566,7 @@ fn the_friction_law_check_finds_each_kind_of_violation() {
 /// converges to P = mu q Ls as the mesh is refined.
 #[test]
 fn a_strip_pulled_on_a_frictional_obstacle_slips_over_the_length_of_the_closed_form() {
-    let (ea, mu, q) = (100.0, 0.3, 1.0);
-    let pulls: Vec<f64> = (1..=6).map(|k| 1.0e-4 * k as f64).collect();
-    let mut errors = Vec::new();
-    for n in [10, 20, 40, 80] {
-        let h = 1.0 / n as f64;
-        let got = pulled_strip(n, &pulls, true);
-        let mut worst = 0.0f64;
-        for (&u0, &(pull, slipping)) in pulls.iter().zip(&got) {
-            let ls = (2.0 * ea * u0 / (mu * q)).sqrt();
-            assert!(
-                slipping - h <= ls + 1e-12 && ls <= slipping + 2.0 * h,
-                "n {n}, u0 {u0:e}: slipping to {slipping:.4}, closed form {ls:.4}"
-            );
-            worst = worst.max((pull - mu * q * ls).abs() / (mu * q * ls));
-        }
-        eprintln!(
-            "strip of {n} elements on an obstacle: pull within {worst:.2e} of mu q Ls (relative)"
-        );
-        errors.push(worst);
-    }
+    let errors = pull_errors(true);
     assert!(errors[3] < 0.05, "errors {errors:?}");
     for w in errors.windows(2) {
         assert!(w[0] > 1.5 * w[1], "errors {errors:?}");

@@ -107,9 +107,9 @@ impl ContactSet {
 
     /// The return mapping at a converged pass (assembled in `asm`): every frictional contact,
     /// with a beam or an obstacle, whose trial force asks for the other mode
-    /// (`Traction::mode`) changes to it. Returns the
-    /// number of changes (0: the friction law holds). Once a set of modes comes back within the
-    /// attempt, one change a pass, the contact of least index.
+    /// (`Traction::mode`) changes to it. Returns the number of changes (0: the friction law
+    /// holds). Once a set of modes comes back within the attempt, one change a pass, the
+    /// contact of least index, and a slip that turns back sticks first.
     pub(crate) fn friction_pass(&mut self, asm: &Assembled) -> usize {
         let tractions = &asm.elements.contact_friction;
         let mut changes = Vec::new();

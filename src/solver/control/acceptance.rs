@@ -1,5 +1,6 @@
 //! The solver's side of the acceptance check: a converged attempt is checked before it is
-//! committed (equilibrium status, then the geometric test), and a refused or failed attempt
+//! committed (equilibrium status, then the geometric tests and the friction law, read from the
+//! forces and stick points the attempt left), and a refused or failed attempt
 //! becomes a cut-back reason or, once the cut-backs are spent, a typed `SolveError`.
 
 use super::solver::Solver;
@@ -11,8 +12,9 @@ use crate::solver::report::{ContactChange, Event, IncrementStatus, NodeState, So
 
 impl Solver {
     /// The acceptance check (`acceptance`) of a converged attempt, before it is committed: its
-    /// equilibrium status from the residual of its final assembly, and no node through a body
-    /// it is not in contact with, and no element turned or strained beyond the step range. Returns
+    /// equilibrium status from the residual of its final assembly, no element turned or
+    /// strained beyond the step range, no node inside an obstacle, every frictional contact
+    /// within the friction law, and no node through a body it is not in contact with. Returns
     /// the status and the node states.
     pub(crate) fn acceptance(
         &self,
