@@ -3,6 +3,8 @@
 //! point moved during the increment (it slipped) carries exactly mu times its pressure,
 //! against the slip.
 
+use crate::solver::model::Model;
+
 /// How far the friction force may lie from the Coulomb limit, relative to it: far above the
 /// round-off of a converged state, far below any error a user would see.
 pub const FRICTION_LAW_TOLERANCE: f64 = 1e-6;
@@ -43,6 +45,17 @@ pub struct FrictionViolation {
     pub ratio: f64,
     /// How far its stick point moved in the increment (m).
     pub slipped: f64,
+}
+
+impl FrictionViolation {
+    /// What the node rests on, for messages: the body's name, or "obstacle NAME".
+    pub fn surface(&self, model: &Model) -> String {
+        if self.obstacle {
+            format!("obstacle {}", model.obstacles[self.body].name)
+        } else {
+            model.bodies[self.body].name.clone()
+        }
+    }
 }
 
 /// The first contact of `records` that breaks the friction law, if any.

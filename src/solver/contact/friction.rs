@@ -18,9 +18,18 @@ use crate::solver::report::{ContactChange, Event, ObstacleEvent};
 /// times the smallest axial stiffness EA / L0 of that element and the node's own elements, so
 /// that a stiff floor does not make the spring stiffer than what rests on it.
 fn stick_stiffness(cv: &ContactView<'_>, node: usize, beam: usize) -> f64 {
-    let axial = |e: usize| cv.elements[e].section.ea / cv.elements[e].length;
-    let own = cv.node_beams[node].iter().map(|&e| axial(e));
-    cv.params.friction_penalty * own.fold(axial(beam), f64::min)
+    cv.params.friction_penalty * least_axial(cv, node, axial(cv, beam))
+}
+
+/// The axial stiffness EA / L0 of element `e` (N/m).
+fn axial(cv: &ContactView<'_>, e: usize) -> f64 {
+    cv.elements[e].section.ea / cv.elements[e].length
+}
+
+/// The least of `start` and the axial stiffnesses of node `node`'s own elements (N/m).
+fn least_axial(cv: &ContactView<'_>, node: usize, start: f64) -> f64 {
+    let own = cv.node_beams[node].iter().map(|&e| axial(cv, e));
+    own.fold(start, f64::min)
 }
 
 /// A mode as a small integer (0 stick, +1 or -1 slip), for telling a repeated set of modes.
@@ -64,9 +73,7 @@ impl ContactSet {
         }
         let gap = obstacle_gap(&cv.model, &cv.dofs, d, n, o)?;
         let t = obstacle_offset(&cv.model, &cv.dofs, d, o);
-        let axial = |e: usize| cv.elements[e].section.ea / cv.elements[e].length;
-        let own = cv.node_beams[n].iter().map(|&e| axial(e));
-        let stiffness = own.fold(f64::INFINITY, f64::min);
+        let stiffness = least_axial(cv, n, f64::INFINITY);
         let stiffness = if stiffness.is_finite() {
             stiffness
         } else {

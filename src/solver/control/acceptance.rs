@@ -147,11 +147,7 @@ impl Solver {
                 increment,
                 cutbacks,
                 node: self.model.nodes[x.node].id,
-                body: if x.obstacle {
-                    format!("obstacle {}", self.model.obstacles[x.body].name)
-                } else {
-                    self.model.bodies[x.body].name.clone()
-                },
+                body: x.surface(&self.model),
                 ratio: x.ratio,
                 slipped: x.slipped,
             },

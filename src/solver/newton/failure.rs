@@ -157,11 +157,7 @@ impl AttemptError {
             AttemptError::FrictionLaw(x) => format!(
                 "{} on {} breaks the friction law: friction force {:.6} times mu N, stick point moved {:.2e} m",
                 model.node_label(x.node),
-                if x.obstacle {
-                    format!("obstacle {}", model.obstacles[x.body].name)
-                } else {
-                    model.bodies[x.body].name.clone()
-                },
+                x.surface(model),
                 x.ratio,
                 x.slipped
             ),
