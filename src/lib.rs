@@ -7,6 +7,7 @@
 #![warn(missing_docs)]
 #[cfg(feature = "gui")]
 pub mod app;
+pub mod audit;
 pub mod history;
 #[cfg(feature = "reports")]
 pub mod reports;

@@ -571,6 +571,33 @@ fn the_solver_imports_nothing_from_the_layers_above_it() {
     );
 }
 
+/// The audit is the tests' oracle: it reads histories with its own geometry and sums, and
+/// shares no code with what it checks.
+#[test]
+fn the_audit_shares_no_code_with_the_solver_it_checks() {
+    let g = Graph::new(&src());
+    let wrong = arrows(
+        &g,
+        "audit",
+        &[
+            "solver/contact",
+            "solver/acceptance",
+            "solver/element",
+            "solver/newton",
+            "solver/assembly",
+            "solver/control",
+            "solver/linear",
+            "solver/structure.rs",
+        ],
+    );
+    assert!(
+        wrong.is_empty(),
+        "audit arrows into the solver's code:\n{}",
+        wrong.join("\n")
+    );
+    assert!(src().join("audit").is_dir(), "audit/ holds the oracle");
+}
+
 #[test]
 fn the_linear_algebra_knows_no_element_and_no_contact() {
     let g = Graph::new(&src());

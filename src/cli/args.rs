@@ -67,6 +67,17 @@ pub(super) enum Command {
         after_help = "Example: tsm-contact solve example_3_2 --steps 12 --json history.json"
     )]
     Solve(SolveArgs),
+    /// Audit a history independently of the solver: equilibrium from the recorded forces, the
+    /// side of every candidate node (through contact and release), obstacles, the friction law
+    /// and the statuses. Exit 1 naming each increment, node and body found wrong.
+    #[command(after_help = "Example: tsm-contact check history.json")]
+    Check {
+        /// The history (JSON, as `solve --json` writes it).
+        history: std::path::PathBuf,
+        /// The scene the history was solved on: the topology of a history that carries none.
+        #[arg(long)]
+        scene: Option<String>,
+    },
     /// List the built-in scenes.
     #[command(after_help = "Example: tsm-contact scenes")]
     Scenes,

@@ -1,6 +1,6 @@
 //! Command-line interface, one file per subcommand: `solve` runs a scene headless
 //! (`solve.rs`); `bench`, `stress` and `scale` measure the solver (`reports.rs`); `scenes`
-//! lists the built-in scenes; `view` (feature `gui`) opens the visualiser or renders a
+//! lists the built-in scenes; `check` audits a written history (`check.rs`); `view` (feature `gui`) opens the visualiser or renders a
 //! screenshot; `figure` (feature `gui`) draws a state as a PNG or SVG without a window
 //! (`figure.rs`). `args.rs` is the command line as clap parses it.
 
@@ -19,6 +19,7 @@ macro_rules! out {
 }
 
 mod args;
+mod check;
 #[cfg(feature = "gui")]
 mod figure;
 #[cfg(feature = "reports")]
@@ -40,6 +41,7 @@ pub fn run() -> i32 {
         Some(Command::Stress { long, out }) => reports::stress(long, &out),
         #[cfg(feature = "reports")]
         Some(Command::Scale { max, contact }) => reports::scale(max, contact),
+        Some(Command::Check { history, scene }) => check::check(&history, scene.as_deref()),
         Some(Command::Scenes) => {
             for (f, _) in tsm_contact::scene::builtin::BUILTIN {
                 out!("{}", f.trim_end_matches(".ron"));

@@ -158,13 +158,12 @@ pub(super) fn solve(args: SolveArgs) -> i32 {
         scene.params.tolerance
     );
     out!("# incr  prescribed/load  iter  it8  rel.resid   cut  act   ms   (r: accepted at the round-off floor)");
-    let header = History {
-        scene: scene.file.name.clone(),
-        formulation: Some(scene.model.formulation),
-        params: Some(scene.params),
-        node_ids: scene.model.nodes.iter().map(|n| n.id).collect(),
-        ..History::default()
-    };
+    let header = History::of_model(
+        &scene.file.name,
+        &scene.model,
+        Some(scene.model.formulation),
+        Some(scene.params),
+    );
     let history = match json.as_deref().map(|p| HistoryWriter::create(p, &header)) {
         None => None,
         Some(Ok(w)) => Some(w),

@@ -17,11 +17,8 @@ pub fn history(
     events: &[Event],
     error: Option<&str>,
 ) -> History {
+    let model = &loaded.scene.model;
     History {
-        scene: loaded.scene.file.name.clone(),
-        formulation: Some(loaded.scene.model.formulation),
-        params: Some(loaded.scene.params),
-        node_ids: loaded.scene.model.nodes.iter().map(|n| n.id).collect(),
         increments: records
             .iter()
             .filter(|r| r.increment > 0)
@@ -29,6 +26,12 @@ pub fn history(
             .collect(),
         events: events.to_vec(),
         error: error.map(str::to_string),
+        ..History::of_model(
+            &loaded.scene.file.name,
+            model,
+            Some(model.formulation),
+            Some(loaded.scene.params),
+        )
     }
 }
 

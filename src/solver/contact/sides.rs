@@ -240,10 +240,15 @@ impl ContactSet {
             // swept path; on the other side of one further along (a beam springing back past a
             // node that let go two elements away), only with a swept path: a beam that curls
             // brings far elements round a node without passing through it.
+            // A node that rested on the body at the last converged state keeps the side it
+            // touched from: found beyond the element it rested on (or a neighbour) at any
+            // depth, it is a contact again, never a release through the body (a beam that
+            // springs back past a node resting inside its sag crosses no chord).
             let wrong_side = p.gap * side < -cv.touching(THROUGH, p.length);
+            let rested = cv.contacts.is_active(n, b);
             let crossed = wrong_side
-                && ((-p.gap * side < SHAPE_MARGIN * p.length
-                    && Self::adjacent(cv, b, was, p.beam))
+                && ((Self::adjacent(cv, b, was, p.beam)
+                    && (rested || -p.gap * side < SHAPE_MARGIN * p.length))
                     || Self::swept_through(cv, d, n, b));
             return crossed.then_some((p, side));
         }

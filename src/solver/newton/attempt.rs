@@ -83,7 +83,7 @@ impl Newton<'_> {
             }
         }
         loop {
-            let (fext, ext2) = path.external_force();
+            let fext = path.external_force();
             let loads = Self::loads_at_equations(fext, &ordering);
             let grips = contacts.grips(&self.view());
             let ctx = AssemblyContext {
@@ -100,7 +100,7 @@ impl Newton<'_> {
                 let dp = path.dp().filter(|_| predictor);
                 assemble_into(&ctx, &d, true, dp, &mut asm);
             }
-            let (norm, reference) = self.residual_norms(&asm, fext, ext2);
+            let (norm, reference) = self.residual_norms(&asm, fext);
             if springback && !predictor && !contacts.one_at_a_time {
                 let released = contacts.release_tensile(
                     &self.view(),

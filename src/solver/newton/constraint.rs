@@ -40,7 +40,6 @@ pub(super) enum Path {
         dp: Vec<f64>,
         lambda: f64,
         fext: ExternalForce,
-        ext2: f64,
     },
     /// See `Constraint::Arc`.
     Arc {
@@ -76,13 +75,7 @@ impl Path {
                     })
                     .collect();
                 let fext = n.external_force(lambda);
-                let ext2 = fext.sum_squares();
-                Path::Prescribed {
-                    dp,
-                    lambda,
-                    fext,
-                    ext2,
-                }
+                Path::Prescribed { dp, lambda, fext }
             }
             Constraint::Arc { ds } => {
                 let n_free = (n.dofs.kind.iter())
@@ -127,11 +120,10 @@ impl Path {
         }
     }
 
-    /// The external force at the current load factor and its sum of squares.
-    pub(super) fn external_force(&self) -> (&ExternalForce, f64) {
+    /// The external force at the current load factor.
+    pub(super) fn external_force(&self) -> &ExternalForce {
         match self {
-            Path::Prescribed { fext, ext2, .. } => (fext, *ext2),
-            Path::Arc { fext, .. } => (fext, fext.sum_squares()),
+            Path::Prescribed { fext, .. } | Path::Arc { fext, .. } => fext,
         }
     }
 

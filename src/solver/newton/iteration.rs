@@ -8,7 +8,7 @@ use std::sync::Arc;
 
 use super::failure::AttemptError;
 use super::workspace::Workspace;
-use crate::solver::assembly::{Assembled, ExternalForce, Ordering};
+use crate::solver::assembly::{Assembled, DofKind, ExternalForce, Ordering};
 use crate::solver::contact::{ContactSet, ContactView};
 use crate::solver::linear::{BandMatrix, NOT_FREE};
 use crate::solver::params::StretchCorrection;
@@ -78,24 +78,16 @@ impl<'a> Newton<'a> {
     }
 
     /// The norm of the unbalanced force of `asm` (assembled, or reloaded, with the external
-    /// force `fext`, whose sum of squares is `ext2`) and the reference force: the larger of
-    /// the external force and the reactions (internal minus external force at the held dofs).
-    pub(crate) fn residual_norms(
-        &self,
-        asm: &Assembled,
-        fext: &ExternalForce,
-        ext2: f64,
-    ) -> (f64, f64) {
-        let mut reac2 = 0.0;
-        let mut loads = fext.0.iter().peekable();
-        for (&g, &i) in self.dofs.held.iter().zip(&asm.held_internal) {
-            while loads.next_if(|&&(d, _)| d < g).is_some() {}
-            let f = match loads.peek() {
-                Some(&&(d, f)) if d == g => f,
-                _ => 0.0,
-            };
-            reac2 += (i - f) * (i - f);
-        }
+    /// force `fext`) and the reference force: the larger of the loads on the free dofs and the
+    /// internal forces at the held dofs (what the supports and drives carry). A load on a held
+    /// dof goes straight into its support: it strains nothing, and left in the reference it
+    /// would loosen the test of every other dof.
+    pub(crate) fn residual_norms(&self, asm: &Assembled, fext: &ExternalForce) -> (f64, f64) {
+        let ext2: f64 = (fext.0.iter())
+            .filter(|&&(g, _)| self.dofs.kind[g] == DofKind::Free)
+            .map(|&(_, f)| f * f)
+            .sum();
+        let reac2: f64 = asm.held_internal.iter().map(|i| i * i).sum();
         let reference = ext2.sqrt().max(reac2.sqrt()).max(self.force_floor);
         (asm.unbalanced_norm2.sqrt(), reference)
     }

@@ -1,16 +1,26 @@
 //! The run history: every increment record and event of a run, as written by `solve --json`
-//! and the GUI's export. The schema is documented in `docs/history-format.md`.
+//! and the GUI's export, with the model's topology (`topology.rs`) so that it describes itself.
+//! The schema is documented in `docs/history-format.md`.
+
+pub mod topology;
 
 use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
 use crate::solver::report::Flow;
-use crate::solver::{Event, Formulation, IncrementRecord, IterationRecord, Observer, SolverParams};
+use crate::solver::{
+    Event, Formulation, IncrementRecord, IterationRecord, Model, Observer, SolverParams,
+};
+pub use topology::{Topology, FORMAT_VERSION};
 
 /// A whole run.
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct History {
+    /// The version of the format (`FORMAT_VERSION` when written by this program; 1 where
+    /// absent, for histories that carry no topology).
+    #[serde(default = "version_one")]
+    pub format_version: u32,
     /// Scene name.
     pub scene: String,
     /// Element formulation used.
@@ -19,6 +29,9 @@ pub struct History {
     pub params: Option<SolverParams>,
     /// User ids of the nodes, in the order of `IncrementRecord::nodes`.
     pub node_ids: Vec<u32>,
+    /// The model's topology (absent from version 1 histories).
+    #[serde(default)]
+    pub topology: Option<Topology>,
     /// Converged increments, in order.
     pub increments: Vec<IncrementRecord>,
     /// Every event in order (cut-backs and contact changes).
@@ -40,7 +53,31 @@ impl Observer for History {
     }
 }
 
+/// The version of a history that names none.
+fn version_one() -> u32 {
+    1
+}
+
 impl History {
+    /// An empty history of a run of `model`: the format version, the node ids and the
+    /// topology filled in.
+    pub fn of_model(
+        scene: &str,
+        model: &Model,
+        formulation: Option<Formulation>,
+        params: Option<SolverParams>,
+    ) -> History {
+        History {
+            format_version: FORMAT_VERSION,
+            scene: scene.to_string(),
+            formulation,
+            params,
+            node_ids: model.nodes.iter().map(|n| n.id).collect(),
+            topology: Some(Topology::of(model)),
+            ..History::default()
+        }
+    }
+
     /// Write as pretty JSON, atomically (temporary file, then rename).
     pub fn write_json(&self, path: &Path) -> std::io::Result<()> {
         let text = serde_json::to_string_pretty(self).map_err(std::io::Error::other)?;
@@ -130,11 +167,13 @@ impl HistoryWriter {
         };
         write!(
             writer.out,
-            "{{\"scene\":{},\"formulation\":{},\"params\":{},\"node_ids\":{},\"increments\":[",
+            "{{\"format_version\":{},\"scene\":{},\"formulation\":{},\"params\":{},\"node_ids\":{},\"topology\":{},\"increments\":[",
+            header.format_version,
             json(&header.scene),
             json(&header.formulation),
             json(&header.params),
-            json(&header.node_ids)
+            json(&header.node_ids),
+            json(&header.topology)
         )?;
         Ok(writer)
     }

@@ -1,0 +1,120 @@
+//! Obstacles: no candidate node is inside a rigid obstacle beyond the accepted gap. The
+//! obstacle's curve at a state is its rest curve moved by its pilot's displacement; the signed
+//! distance to it is worked out here from the shape's own definition.
+
+use std::collections::HashMap;
+
+use crate::history::topology::TopologyObstacle;
+use crate::solver::Shape;
+
+/// The signed distance (m) of point `p` from `shape`: positive on the free side, negative
+/// inside; None where an arc does not reach the point (its polar angle is outside the arc).
+pub fn signed_distance(shape: &Shape, p: [f64; 2]) -> Option<f64> {
+    match shape {
+        Shape::Line { from, to } => {
+            let (dx, dy) = (to[0] - from[0], to[1] - from[1]);
+            Some((dx * (p[1] - from[1]) - dy * (p[0] - from[0])) / dx.hypot(dy))
+        }
+        Shape::Polyline { points } => polyline(points, p),
+        Shape::Circle {
+            centre,
+            radius,
+            hollow,
+        } => {
+            let r = (p[0] - centre[0]).hypot(p[1] - centre[1]);
+            Some(if *hollow { radius - r } else { r - radius })
+        }
+        Shape::Arc {
+            centre,
+            radius,
+            from,
+            to,
+            hollow,
+        } => {
+            let angle = (p[1] - centre[1]).atan2(p[0] - centre[0]);
+            let span = (to - from).rem_euclid(std::f64::consts::TAU);
+            let at = (angle - from).rem_euclid(std::f64::consts::TAU);
+            if at > span {
+                return None;
+            }
+            let r = (p[0] - centre[0]).hypot(p[1] - centre[1]);
+            Some(if *hollow { radius - r } else { r - radius })
+        }
+    }
+}
+
+/// The signed distance from a polyline continued beyond its ends, free to the left: the
+/// distance to the closest piece, its sign from that piece, or at a corner from the corner's
+/// two pieces (inside where the point is on the solid side of both at a convex corner, of
+/// either at a concave one).
+fn polyline(points: &[[f64; 2]], p: [f64; 2]) -> Option<f64> {
+    let last = points.len().checked_sub(2)?;
+    let side = |a: [f64; 2], b: [f64; 2]| {
+        let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+        (dx * (p[1] - a[1]) - dy * (p[0] - a[0])) / dx.hypot(dy)
+    };
+    let mut best: Option<(f64, usize, f64)> = None;
+    for k in 0..=last {
+        let (a, b) = (points[k], points[k + 1]);
+        let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+        let t = ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / (dx * dx + dy * dy);
+        let lo = if k == 0 { f64::NEG_INFINITY } else { 0.0 };
+        let hi = if k == last { f64::INFINITY } else { 1.0 };
+        let t = t.clamp(lo, hi);
+        let d = (p[0] - a[0] - t * dx).hypot(p[1] - a[1] - t * dy);
+        if best.is_none_or(|bb| d < bb.0) {
+            best = Some((d, k, t));
+        }
+    }
+    let (d, k, t) = best?;
+    let (a, b) = (points[k], points[k + 1]);
+    let corner = if t <= 0.0 && k > 0 {
+        Some(k)
+    } else if t >= 1.0 && k < last {
+        Some(k + 1)
+    } else {
+        None
+    };
+    let Some(c) = corner else {
+        return Some(d.copysign(side(a, b)));
+    };
+    let (u, v, w) = (points[c - 1], points[c], points[c + 1]);
+    let (s1, s2) = (side(u, v), side(v, w));
+    let turn = (v[0] - u[0]) * (w[1] - v[1]) - (v[1] - u[1]) * (w[0] - v[0]);
+    // A left turn bends the free side in (concave for the free side): inside if beyond either.
+    let inside = if turn > 0.0 {
+        s1 < 0.0 || s2 < 0.0
+    } else {
+        s1 < 0.0 && s2 < 0.0
+    };
+    Some(if inside { -d } else { d })
+}
+
+/// The deepest candidate node inside an obstacle in state `s`, deeper than `tol` (m):
+/// (node id, obstacle name, depth).
+pub fn deepest_inside(
+    obstacles: &[TopologyObstacle],
+    slot: &HashMap<u32, usize>,
+    rest: &HashMap<u32, [f64; 2]>,
+    s: &[[f64; 3]],
+    tol: f64,
+) -> Option<(u32, String, f64)> {
+    let mut worst: Option<(u32, String, f64)> = None;
+    for o in obstacles {
+        let by = o.pilot.map_or([0.0, 0.0], |p| {
+            let (now, was) = (s[slot[&p]], rest[&p]);
+            [now[0] - was[0], now[1] - was[1]]
+        });
+        let shape = o.shape.translated(by);
+        for &n in &o.nodes {
+            let p = s[slot[&n]];
+            let Some(g) = signed_distance(&shape, [p[0], p[1]]) else {
+                continue;
+            };
+            if -g > tol && worst.as_ref().is_none_or(|w| -g > w.2) {
+                worst = Some((n, o.name.clone(), -g));
+            }
+        }
+    }
+    worst
+}

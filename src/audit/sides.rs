@@ -1,0 +1,248 @@
+//! Sides: every candidate (node, body) pair keeps the side of the body it was last clear on,
+//! through contact and release, and changes it only by going round an end of the body (its
+//! free or supported end, or the edge of a self-contact window). A node found clear on the
+//! other side of the part of the body it was over, without having gone round an end, went
+//! through the body. The path between two recorded states is followed in straight-line
+//! sub-steps of every position and rotation.
+
+use super::geometry::{Chains, Place};
+use super::Finding;
+use crate::history::Topology;
+use crate::solver::IncrementRecord;
+
+/// Sub-steps of the straight-line path between two recorded states, followed when a node turns
+/// up on the other side.
+const SUBSTEPS: usize = 64;
+
+/// Places along the body within this many elements of the one a side was measured over are the
+/// same part of the body: a side measured against a distant part of a curled body says nothing.
+const NEIGHBOURS: usize = 2;
+
+/// What the audit remembers of one candidate pair.
+#[derive(Clone, Copy, Debug, Default)]
+struct Track {
+    /// The side (+1 left of the body's direction, -1 right) and the place it was measured over.
+    side: Option<(f64, usize)>,
+    /// The increment where that side was first seen.
+    since: usize,
+}
+
+/// One candidate pair as the audit reads it.
+struct Pair {
+    node: u32,
+    slot: usize,
+    body: usize,
+    /// Self-contact: the places along its own body that the node leaves out.
+    window: Option<(usize, usize)>,
+}
+
+/// The side audit of a sequence of states.
+pub struct SideAudit<'a> {
+    chains: &'a Chains,
+    topology: &'a Topology,
+    pairs: Vec<Pair>,
+    tracks: Vec<Track>,
+}
+
+impl<'a> SideAudit<'a> {
+    /// The audit of `topology`'s candidate pairs, every side open.
+    pub fn new(topology: &'a Topology, chains: &'a Chains) -> SideAudit<'a> {
+        let body_of = |name: &str| topology.bodies.iter().position(|b| b.name == name);
+        let pairs: Vec<Pair> = (topology.candidates.iter())
+            .filter_map(|c| {
+                let body = body_of(&c.body)?;
+                let slot = *chains.slot.get(&c.node)?;
+                let places: Vec<usize> = (chains.nodes[body].iter().enumerate())
+                    .filter(|(_, &s)| s == slot)
+                    .map(|(k, _)| k)
+                    .collect();
+                let window = match (places.first(), places.last()) {
+                    (Some(&lo), Some(&hi)) => Some((
+                        lo.saturating_sub(1 + topology.self_window),
+                        hi + topology.self_window,
+                    )),
+                    _ => None,
+                };
+                Some(Pair {
+                    node: c.node,
+                    slot,
+                    body,
+                    window,
+                })
+            })
+            .collect();
+        let tracks = vec![Track::default(); pairs.len()];
+        SideAudit {
+            chains,
+            topology,
+            pairs,
+            tracks,
+        }
+    }
+
+    /// Check the step from state `s0` to the record `r1` (`c0`: the contacts of `s0`), and carry
+    /// every side on. Returns the crossings found.
+    pub fn step(
+        &mut self,
+        s0: &[[f64; 3]],
+        c0: &[(u32, usize, [f64; 2])],
+        r1: &IncrementRecord,
+        sag: &dyn Fn(usize) -> f64,
+    ) -> Vec<Finding> {
+        let s1 = &r1.nodes;
+        let body_of = |name: &str| self.topology.bodies.iter().position(|b| b.name == name);
+        let resting1: Vec<(usize, [f64; 2])> = (r1.contacts.iter())
+            .filter_map(|c| {
+                let slot = self.chains.slot.get(&c.node)?;
+                Some((c.element, [s1[*slot][0], s1[*slot][1]]))
+            })
+            .collect();
+        let mut found = Vec::new();
+        for k in 0..self.pairs.len() {
+            let pair = &self.pairs[k];
+            let track = &mut self.tracks[k];
+            let allowed = |at: usize| pair.window.is_none_or(|(lo, hi)| at < lo || at > hi);
+            let contact = r1
+                .contacts
+                .iter()
+                .find(|c| c.node == pair.node && body_of(&c.body) == Some(pair.body));
+            if let Some(c) = contact {
+                // In contact: it keeps the side it came from; a side not yet known is the one
+                // the contact presses from.
+                if track.side.is_none() && c.force != 0.0 {
+                    let at = (self.chains.elements[pair.body].iter())
+                        .position(|&e| e == c.element)
+                        .unwrap_or(0);
+                    track.side = Some((contact_side(c.force), at));
+                    track.since = r1.increment;
+                }
+                continue;
+            }
+            let p1 = [s1[pair.slot][0], s1[pair.slot][1]];
+            let Some(now) = self
+                .chains
+                .place(s1, p1, pair.body, &allowed, &resting1, sag)
+            else {
+                continue;
+            };
+            let verdict = judge(track, &now);
+            if verdict != Verdict::Flipped {
+                apply(track, &now, verdict, r1.increment);
+                continue;
+            }
+            // On the other side now. Over the outer half of an end element before, it may
+            // have gone round that end.
+            let resting0: Vec<(usize, [f64; 2])> = c0.iter().map(|&(_, e, p)| (e, p)).collect();
+            let p0 = [s0[pair.slot][0], s0[pair.slot][1]];
+            let before = self
+                .chains
+                .place(s0, p0, pair.body, &allowed, &resting0, sag);
+            if before.is_some_and(|b| b.at_end) {
+                apply(track, &now, Verdict::Reassign, r1.increment);
+                continue;
+            }
+            // Otherwise follow the path from s0 to s1 in sub-steps.
+            let mut crossed = None;
+            let mut t = *track;
+            for j in 1..=SUBSTEPS {
+                let f = j as f64 / SUBSTEPS as f64;
+                let s: Vec<[f64; 3]> = (s0.iter().zip(s1.iter()))
+                    .map(|(a, b)| {
+                        [
+                            a[0] + f * (b[0] - a[0]),
+                            a[1] + f * (b[1] - a[1]),
+                            a[2] + f * (b[2] - a[2]),
+                        ]
+                    })
+                    .collect();
+                let p = [s[pair.slot][0], s[pair.slot][1]];
+                let resting = if f < 0.5 { &resting0 } else { &resting1 };
+                let Some(at) = self.chains.place(&s, p, pair.body, &allowed, resting, sag) else {
+                    continue;
+                };
+                match judge(&t, &at) {
+                    Verdict::Flipped => {
+                        crossed = Some(at);
+                        break;
+                    }
+                    v => apply(&mut t, &at, v, r1.increment),
+                }
+            }
+            match crossed {
+                Some(at) => {
+                    let (side, _) = track.side.unwrap_or((0.0, 0));
+                    let element = self.chains.elements[pair.body][at.at];
+                    found.push(Finding {
+                        increment: r1.increment,
+                        node: Some(pair.node),
+                        body: Some(self.topology.bodies[pair.body].name.clone()),
+                        what: format!(
+                            "node {} went through {} element {} with no contact on it: on its {} side since increment {}, {:.3e} m on the other side at increment {}",
+                            pair.node,
+                            self.topology.bodies[pair.body].name,
+                            at.at + 1,
+                            if side > 0.0 { "left" } else { "right" },
+                            track.since,
+                            now.gap.abs(),
+                            r1.increment,
+                        ),
+                        element: Some(element),
+                    });
+                    // Carry on from the side it is on, so that one crossing is told once.
+                    apply(track, &now, Verdict::Reassign, r1.increment);
+                }
+                None => apply(track, &now, Verdict::Reassign, r1.increment),
+            }
+        }
+        found
+    }
+}
+
+/// The side a contact presses from: its force Yc acts on the beam along the element's chord
+/// normal, away from the node's side.
+fn contact_side(force: f64) -> f64 {
+    -force.signum()
+}
+
+/// What a pair's place at a state says of its side.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Verdict {
+    /// Off the body's end: the side is open again.
+    Open,
+    /// Touching: the side is kept.
+    Touching,
+    /// Clear on the side it was on (or the first side seen), or over a distant part of the
+    /// body: the side is set from here.
+    Reassign,
+    /// Clear on the other side of the part of the body its side was measured over.
+    Flipped,
+}
+
+fn judge(track: &Track, at: &Place) -> Verdict {
+    if !at.beside {
+        return Verdict::Open;
+    }
+    if at.gap.abs() <= at.tol {
+        return Verdict::Touching;
+    }
+    match track.side {
+        Some((side, was)) if side * at.gap < 0.0 && was.abs_diff(at.at) <= NEIGHBOURS => {
+            Verdict::Flipped
+        }
+        _ => Verdict::Reassign,
+    }
+}
+
+fn apply(track: &mut Track, at: &Place, verdict: Verdict, increment: usize) {
+    match verdict {
+        Verdict::Open => track.side = None,
+        Verdict::Touching => {}
+        Verdict::Reassign | Verdict::Flipped => {
+            let side = at.gap.signum();
+            if track.side.is_none_or(|(s, _)| s != side) {
+                track.since = increment;
+            }
+            track.side = Some((side, at.at));
+        }
+    }
+}

@@ -1,0 +1,210 @@
+//! The model's topology as a history carries it (`History::topology`): nodes at rest, elements
+//! with their sections, bodies as ordered node chains, contact candidate pairs, obstacles with
+//! their shape and pilot, loads and the held dofs. With it a history describes itself: an
+//! independent checker (`tsm-contact check`) needs nothing else.
+
+use serde::{Deserialize, Serialize};
+
+use crate::solver::{Dof, Formulation, Model, Shape};
+
+/// The version of the history format this program writes. Version 1 histories carry no
+/// `format_version` and no topology; version 2 adds both.
+pub const FORMAT_VERSION: u32 = 2;
+
+/// The topology of the model a history was solved on.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Topology {
+    /// Element formulation of every beam.
+    pub formulation: Option<Formulation>,
+    /// Every node at rest, in the order of `History::node_ids`.
+    pub nodes: Vec<TopologyNode>,
+    /// Every beam element, in index order (`ContactState::element` indexes it).
+    pub elements: Vec<TopologyElement>,
+    /// Every body: its name and its nodes in order along it.
+    pub bodies: Vec<TopologyBody>,
+    /// The contact candidate pairs: a node and a body it may touch.
+    pub candidates: Vec<TopologyPair>,
+    /// How many elements on either side of a node's own elements its self-contact leaves out.
+    pub self_window: usize,
+    /// The rigid obstacles.
+    pub obstacles: Vec<TopologyObstacle>,
+    /// Nodal loads at load factor 1.
+    pub loads: Vec<TopologyLoad>,
+    /// Distributed loads at load factor 1.
+    pub distributed: Vec<TopologyDistributed>,
+    /// The held dofs: supported or prescribed, (node id, "u" | "v" | "phi").
+    pub held: Vec<(u32, String)>,
+}
+
+/// A node at rest.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TopologyNode {
+    /// User id.
+    pub id: u32,
+    /// Position at rest (m).
+    pub x: f64,
+    /// Position at rest (m).
+    pub y: f64,
+}
+
+/// A beam element.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TopologyElement {
+    /// Index of its body in `Topology::bodies`.
+    pub body: usize,
+    /// User id of its end node i.
+    pub i: u32,
+    /// User id of its end node j.
+    pub j: u32,
+    /// E A (N).
+    pub ea: f64,
+    /// E I (N m^2).
+    pub ei: f64,
+    /// G Ae (N).
+    pub gae: f64,
+}
+
+/// A body: a chain of elements.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TopologyBody {
+    /// Name.
+    pub name: String,
+    /// Its elements (indices into `Topology::elements`) in order along it.
+    pub elements: Vec<usize>,
+    /// Its node ids in order along it (one more than the elements).
+    pub nodes: Vec<u32>,
+}
+
+/// A contact candidate pair.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TopologyPair {
+    /// User id of the node.
+    pub node: u32,
+    /// Name of the body.
+    pub body: String,
+    /// Coulomb friction coefficient.
+    pub mu: f64,
+}
+
+/// A rigid obstacle.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TopologyObstacle {
+    /// Name.
+    pub name: String,
+    /// Its curve at rest.
+    pub shape: Shape,
+    /// The node whose displacement moves it, if any.
+    pub pilot: Option<u32>,
+    /// The node ids that may touch it.
+    pub nodes: Vec<u32>,
+    /// Coulomb friction coefficient.
+    pub mu: f64,
+}
+
+/// A nodal load at load factor 1.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TopologyLoad {
+    /// User id of the node.
+    pub node: u32,
+    /// (Fx, Fy, M) (N, N m).
+    pub force: [f64; 3],
+}
+
+/// A distributed load at load factor 1 on one element.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TopologyDistributed {
+    /// Element index.
+    pub element: usize,
+    /// Intensity at end i and end j (N/m): global (x, y) per length at rest, or, for a
+    /// follower, (along, across) the current chord per current length.
+    pub q: [[f64; 2]; 2],
+    /// Whether it turns with the element.
+    pub follower: bool,
+}
+
+impl Topology {
+    /// The topology of `model`.
+    pub fn of(model: &Model) -> Topology {
+        let id = |n: usize| model.nodes[n].id;
+        let bodies = (model.bodies.iter())
+            .map(|b| {
+                let mut nodes: Vec<u32> = b
+                    .elements
+                    .first()
+                    .map(|&e| id(model.beams[e].i))
+                    .into_iter()
+                    .collect();
+                nodes.extend(b.elements.iter().map(|&e| id(model.beams[e].j)));
+                TopologyBody {
+                    name: b.name.clone(),
+                    elements: b.elements.clone(),
+                    nodes,
+                }
+            })
+            .collect();
+        let mu = |n: usize, b: usize| {
+            (model.contacts.iter())
+                .find(|p| p.nodes.contains(&n) && p.bodies.contains(&b))
+                .map_or(0.0, |p| p.mu)
+        };
+        let mut held: Vec<(u32, String)> = (model.supports.iter())
+            .map(|s| (id(s.node), s.dof))
+            .chain(model.prescribed.iter().map(|p| (id(p.node), p.dof)))
+            .map(|(n, d): (u32, Dof)| (n, d.name().to_string()))
+            .collect();
+        held.sort();
+        held.dedup();
+        Topology {
+            formulation: Some(model.formulation),
+            nodes: (model.nodes.iter())
+                .map(|n| TopologyNode {
+                    id: n.id,
+                    x: n.x,
+                    y: n.y,
+                })
+                .collect(),
+            elements: (model.beams.iter())
+                .map(|b| TopologyElement {
+                    body: b.body,
+                    i: id(b.i),
+                    j: id(b.j),
+                    ea: b.section.ea,
+                    ei: b.section.ei,
+                    gae: b.section.gae,
+                })
+                .collect(),
+            bodies,
+            candidates: (model.contact_candidates().into_iter())
+                .map(|(n, b)| TopologyPair {
+                    node: id(n),
+                    body: model.bodies[b].name.clone(),
+                    mu: mu(n, b),
+                })
+                .collect(),
+            self_window: crate::solver::model::SELF_CONTACT_WINDOW,
+            obstacles: (model.obstacles.iter())
+                .map(|o| TopologyObstacle {
+                    name: o.name.clone(),
+                    shape: o.shape.clone(),
+                    pilot: o.pilot.map(id),
+                    nodes: o.nodes.iter().map(|&n| id(n)).collect(),
+                    mu: o.mu,
+                })
+                .collect(),
+            loads: (model.loads.iter())
+                .map(|l| TopologyLoad {
+                    node: id(l.node),
+                    force: l.force,
+                })
+                .collect(),
+            distributed: (model.distributed.iter())
+                .map(|d| TopologyDistributed {
+                    element: d.beam,
+                    q: d.q,
+                    follower: d.follower,
+                })
+                .collect(),
+            held,
+        }
+    }
+}

@@ -1,0 +1,305 @@
+//! The oracle (`tsm_contact::audit`) on the histories users make: every built-in contact scene
+//! at step sizes from half to three times its own, Example 3.2 at 200 step sizes, steps that
+//! land exactly on a beam's line or an obstacle's, and the oracle's teeth: pass-throughs
+//! planted in real histories, and a stored history with the pin through beam A.
+
+use tsm_contact::audit::{audit, audit_history, Finding, Run};
+use tsm_contact::history::{History, Topology};
+use tsm_contact::scene::{builtin::builtin, parse, Scene};
+use tsm_contact::solver::{IncrementRecord, SolveError};
+
+/// The records of a run of `scene` over `steps` steps (up to the first error), and the error.
+fn solve(scene: &Scene, steps: usize) -> (Vec<IncrementRecord>, Option<SolveError>) {
+    let mut solver = scene.solver().expect("a stable scene");
+    let mut history = History::default();
+    let mut error = None;
+    for _ in 0..steps {
+        if let Err(e) = solver.step(&mut history) {
+            error = Some(e);
+            break;
+        }
+    }
+    (history.increments, error)
+}
+
+/// The oracle's findings on the records of `scene`.
+fn findings(scene: &Scene, records: &[IncrementRecord]) -> Vec<Finding> {
+    let topology = Topology::of(&scene.model);
+    let ids: Vec<u32> = scene.model.nodes.iter().map(|n| n.id).collect();
+    let run = Run {
+        topology: &topology,
+        node_ids: &ids,
+        params: &scene.params,
+    };
+    audit(&run, None, records)
+}
+
+/// `scene` with every prescribed step and the load step scaled by `f`, and as many steps as
+/// cover the same path.
+fn scaled(scene: &Scene, f: f64) -> Scene {
+    let mut s = scene.clone();
+    for p in &mut s.model.prescribed {
+        p.per_step *= f;
+    }
+    s.model.load_per_step *= f;
+    s.steps = ((scene.steps as f64) / f).ceil() as usize;
+    s
+}
+
+/// Runs `scene` at each step factor; panics naming every finding. Returns how many runs
+/// completed.
+fn sweep(name: &str, scene: &Scene, factors: &[f64]) -> usize {
+    let mut done = 0;
+    let mut bad = Vec::new();
+    for &f in factors {
+        let s = scaled(scene, f);
+        let (records, error) = solve(&s, s.steps);
+        done += usize::from(error.is_none());
+        for x in findings(&s, &records) {
+            bad.push(format!("{name} at {f:.4}x: {x}"));
+        }
+    }
+    assert!(
+        bad.is_empty(),
+        "{} finding(s):\n{}",
+        bad.len(),
+        bad.join("\n")
+    );
+    done
+}
+
+/// `n` factors spread evenly over [lo, hi].
+fn spread(n: usize, lo: f64, hi: f64) -> Vec<f64> {
+    (0..n)
+        .map(|k| lo + (hi - lo) * k as f64 / (n - 1) as f64)
+        .collect()
+}
+
+/// Example 3.2 with the pin driven 0.0098 m a step: a history that ends with the pin under
+/// beam A, every increment accepted (kept as written by a solver that released the pin in a
+/// cascade of releases). The oracle finds the pin through A where it happened.
+#[test]
+fn the_oracle_finds_the_stored_pass_through() {
+    let text = include_str!("fixtures/example_3_2_pin_through_a.json");
+    let h: History = serde_json::from_str(text).expect("a history");
+    let scene = builtin("example_3_2").unwrap().unwrap();
+    let found = audit_history(&h, Some(&Topology::of(&scene.model))).expect("audited");
+    let through = found
+        .iter()
+        .find(|f| f.body.as_deref() == Some("A") && f.what.contains("went through"))
+        .unwrap_or_else(|| panic!("no pass-through found: {found:?}"));
+    assert_eq!(through.increment, 13, "{through}");
+    // Without a topology, a version 1 history cannot be audited.
+    assert!(audit_history(&h, None).is_err());
+}
+
+/// Planted pass-throughs: in a clean run of Example 3.2 the oracle finds nothing; moved below
+/// beam A, or with its contact taken out of the record while pressed into A, the pin is found.
+#[test]
+fn the_oracle_finds_planted_pass_throughs() {
+    let scene = builtin("example_3_2").unwrap().unwrap();
+    let (records, error) = solve(&scene, 20);
+    assert!(error.is_none(), "{error:?}");
+    assert!(
+        findings(&scene, &records).is_empty(),
+        "{:?}",
+        findings(&scene, &records)
+    );
+    let pin = (scene.model.nodes.iter())
+        .position(|n| n.id == 34)
+        .expect("the pin is node 34");
+    // The pin 0.05 m under beam A in a record where it is clear above A.
+    let k = records
+        .iter()
+        .position(|r| r.contacts.is_empty())
+        .expect("a record before contact");
+    let mut planted = records.clone();
+    planted[k].nodes[pin][1] = -0.05;
+    let found = findings(&scene, &planted[..=k]);
+    assert!(
+        found
+            .iter()
+            .any(|f| f.node == Some(34) && f.body.as_deref() == Some("A")),
+        "{found:?}"
+    );
+    // A record with the pin resting on A, its contact taken out and the pin moved 0.01 m below
+    // A's line: a release through the beam.
+    let k = records
+        .iter()
+        .position(|r| !r.contacts.is_empty())
+        .expect("a record in contact");
+    let mut planted = records.clone();
+    planted[k].contacts.clear();
+    planted[k].nodes[pin][1] -= 0.01;
+    let y_a = planted[k].nodes[pin][1];
+    let found = findings(&scene, &planted[..=k]);
+    assert!(
+        found
+            .iter()
+            .any(|f| f.node == Some(34) && f.what.contains("went through")),
+        "pin at y = {y_a}: {found:?}"
+    );
+}
+
+/// A stiff arm whose clamp turns 1 degree a step: its tip lands on the line y = -0.5 at step 30
+/// to within round-off (1 m at 30 degrees), on a clamped beam or on a `Line` obstacle. The
+/// contact is recorded, and the oracle finds nothing.
+#[test]
+fn a_tip_landing_exactly_on_a_line_is_a_contact() {
+    let turn = -std::f64::consts::PI / 180.0;
+    for floor in ["beam", "line"] {
+        let (body, contact, obstacle) = if floor == "beam" {
+            (
+                r#", (name: "floor", section: "s", path: [(0.0, -0.5), (2.0, -0.5)], elements: 8, first_node: 101)"#,
+                r#"contacts: [(nodes: [11], bodies: ["floor"])],"#,
+                "",
+            )
+        } else {
+            (
+                "",
+                "",
+                r#"obstacles: [(name: "floor", shape: Line(from: (0.0, -0.5), to: (2.0, -0.5)), nodes: [11])],"#,
+            )
+        };
+        let text = format!(
+            r#"(
+            name: "landing", formulation: BernoulliEuler,
+            sections: [(name: "s", E: 1.0e3, A: 1.0e3, I: 1.0, G: 400.0)],
+            bodies: [(name: "arm", section: "s", path: [(0.5, 0.0), (1.5, 0.0)], elements: 10, first_node: 1){body}],
+            supports: [(node: 1, u: true, v: true){extra}],
+            prescribed: [(node: 1, dof: Phi, per_step: {turn:?})],
+            {contact}
+            {obstacle}
+            control: (steps: 34),
+        )"#,
+            extra = if floor == "beam" {
+                ", (node: 101, u: true, v: true, phi: true), (node: 109, u: true, v: true, phi: true)"
+            } else {
+                ""
+            },
+        );
+        let scene = parse(&text, "landing").unwrap_or_else(|e| panic!("{e}"));
+        let (records, error) = solve(&scene, 34);
+        assert!(error.is_none(), "{floor}: {error:?}");
+        let touched = records
+            .iter()
+            .position(|r| !r.contacts.is_empty() || !r.obstacle_contacts.is_empty());
+        assert!(
+            touched.is_some_and(|k| k + 1 >= 30 && k + 1 <= 31),
+            "{floor}: contact at {touched:?}"
+        );
+        let tip = scene.model.nodes.iter().position(|n| n.id == 11).unwrap();
+        let last = records.last().unwrap();
+        assert!(
+            last.nodes[tip][1] >= -0.5 - 1e-6,
+            "{floor}: the tip at {:?}",
+            last.nodes[tip]
+        );
+        let found = findings(&scene, &records);
+        assert!(found.is_empty(), "{floor}: {found:?}");
+    }
+}
+
+/// A load on a held dof goes into its support and changes nothing else: Example 3.2 with 1e6 N
+/// on clamped node 1 has the same positions, element forces, contact forces and other
+/// reactions as without it, to 1e-9 relative.
+#[test]
+fn a_load_on_a_held_dof_changes_nothing() {
+    let plain = builtin("example_3_2").unwrap().unwrap();
+    let mut loaded = plain.clone();
+    let node = loaded.model.nodes.iter().position(|n| n.id == 1).unwrap();
+    loaded.model.loads.push(tsm_contact::solver::Load {
+        node,
+        force: [0.0, 1.0e6, 0.0],
+    });
+    assert!(plain.model.loads.is_empty() && plain.model.distributed.is_empty());
+    // The load factor grows 0.1 a step: the held load reaches 3e6 N.
+    loaded.model.load_per_step = 0.1;
+    let (a, ea) = solve(&plain, 30);
+    let (b, eb) = solve(&loaded, 30);
+    assert!(ea.is_none() && eb.is_none(), "{ea:?} {eb:?}");
+    assert_eq!(a.len(), b.len());
+    let close = |x: f64, y: f64, scale: f64| (x - y).abs() <= 1e-9 * scale;
+    // Positions against the scene's size (1 m).
+    let size = 1.0;
+    for (ra, rb) in a.iter().zip(&b) {
+        for (p, q) in ra.nodes.iter().zip(&rb.nodes) {
+            assert!(
+                close(p[0], q[0], size) && close(p[1], q[1], size),
+                "increment {}: {p:?} vs {q:?}",
+                ra.increment
+            );
+        }
+        let fmax = ra
+            .element_forces
+            .iter()
+            .flatten()
+            .fold(1e-30f64, |m, v| m.max(v.abs()));
+        for (p, q) in ra.element_forces.iter().zip(&rb.element_forces) {
+            for k in 0..3 {
+                assert!(
+                    close(p[k], q[k], fmax),
+                    "increment {}: forces {p:?} vs {q:?}",
+                    ra.increment
+                );
+            }
+        }
+        assert_eq!(
+            ra.contacts.len(),
+            rb.contacts.len(),
+            "increment {}",
+            ra.increment
+        );
+        for (p, q) in ra.contacts.iter().zip(&rb.contacts) {
+            assert!(
+                close(p.force, q.force, fmax),
+                "increment {}: contact {p:?} vs {q:?}",
+                ra.increment
+            );
+        }
+        // The loaded support's reaction takes the load; the others are unchanged.
+        for (p, q) in ra.reactions.iter().zip(&rb.reactions) {
+            let load = if (p.node, p.dof.as_str()) == (1, "v") {
+                1.0e6 * rb.load_factor
+            } else {
+                0.0
+            };
+            assert!(
+                close(p.value, q.value + load, fmax),
+                "increment {}: reaction {p:?} vs {q:?}",
+                ra.increment
+            );
+        }
+    }
+}
+
+/// Example 3.2 at 200 step sizes from 0.005 to 0.05 m: the oracle finds nothing in any run,
+/// and the runs complete.
+#[test]
+fn example_3_2_at_200_step_sizes_never_passes_through() {
+    let scene = builtin("example_3_2").unwrap().unwrap();
+    let own = scene.model.prescribed[0].per_step.abs();
+    let factors: Vec<f64> = spread(200, 0.005, 0.05)
+        .into_iter()
+        .map(|s| s / own)
+        .collect();
+    let done = sweep("example_3_2", &scene, &factors);
+    assert!(done >= 190, "{done} of 200 runs complete");
+}
+
+/// Every built-in contact scene at 40 step sizes from 0.5 to 3 times its own: the oracle
+/// finds nothing.
+#[test]
+fn every_builtin_contact_scene_at_40_step_sizes_never_passes_through() {
+    for (file, _) in tsm_contact::scene::builtin::BUILTIN {
+        let name = file.trim_end_matches(".ron");
+        if name == "example_3_2" {
+            continue;
+        }
+        let scene = builtin(name).unwrap().unwrap();
+        if scene.model.contacts.is_empty() && scene.model.obstacles.is_empty() {
+            continue;
+        }
+        sweep(name, &scene, &spread(40, 0.5, 3.0));
+    }
+}
