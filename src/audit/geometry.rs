@@ -26,6 +26,8 @@ pub struct Chains {
     pub slot: std::collections::HashMap<u32, usize>,
     /// Round-off of a position (m): `ROUNDOFF_ULPS` units of the largest rest coordinate.
     pub roundoff: f64,
+    /// Every node's place at rest, by slot.
+    pub rest: Vec<[f64; 2]>,
 }
 
 /// Where a point lies relative to a body at one state.
@@ -82,6 +84,10 @@ impl Chains {
             elements: topology.bodies.iter().map(|b| b.elements.clone()).collect(),
             angle0,
             shear,
+            rest: node_ids
+                .iter()
+                .map(|id| rest.get(id).copied().unwrap_or([0.0; 2]))
+                .collect(),
             slot,
             roundoff: ROUNDOFF_ULPS * f64::EPSILON * size,
         }

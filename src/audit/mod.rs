@@ -96,9 +96,12 @@ pub fn audit(
         Some(r) => (r.nodes.clone(), contacts_of(r)),
         None => (rest_state, Vec::new()),
     };
-    if let Some(r) = start {
+    match start {
         // Sides are learnt from the start state: a record with its contacts.
-        let _ = sides.step(&before, &[], r, &|_| 0.0);
+        Some(r) => {
+            let _ = sides.step(&before, &[], r, &|_| 0.0);
+        }
+        None => sides.start(&before),
     }
     for r in records {
         let at = |what: String| Finding {

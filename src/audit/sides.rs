@@ -3,11 +3,15 @@
 //! free or supported end, or the edge of a self-contact window). A node found clear on the
 //! other side of the part of the body it was over, without having gone round an end, went
 //! through the body. The path between two recorded states is followed in straight-line
-//! sub-steps of every position and rotation.
+//! sub-steps of every position and rotation. An obstacle's convex features (the centre of a
+//! circle or arc that nodes stay out of, a corner of a polyline that juts into the free side)
+//! keep their sides of the bodies whose nodes may touch the obstacle in the same way: a
+//! feature found beyond an element went through it between its nodes.
 
 use super::geometry::{Chains, Place};
 use super::Finding;
 use crate::history::Topology;
+use crate::solver::report::ContactState;
 use crate::solver::IncrementRecord;
 
 /// Sub-steps of the straight-line path between two recorded states, followed when a node turns
@@ -27,10 +31,21 @@ struct Track {
     since: usize,
 }
 
+/// What keeps a side: a node, or an obstacle's feature (its place at rest, and the slot of
+/// the pilot that moves it).
+#[derive(Clone, Copy)]
+enum Point {
+    Node(usize),
+    Feature([f64; 2], Option<usize>),
+}
+
 /// One candidate pair as the audit reads it.
 struct Pair {
+    /// The node's id, or the obstacle's index for a feature.
     node: u32,
-    slot: usize,
+    point: Point,
+    /// The obstacle's name, for a feature.
+    obstacle: Option<String>,
     body: usize,
     /// Self-contact: the places along its own body that the node leaves out.
     window: Option<(usize, usize)>,
@@ -65,11 +80,16 @@ impl<'a> SideAudit<'a> {
                 };
                 Some(Pair {
                     node: c.node,
-                    slot,
+                    point: Point::Node(slot),
+                    obstacle: None,
                     body,
                     window,
                 })
             })
+            .collect();
+        let pairs: Vec<Pair> = pairs
+            .into_iter()
+            .chain(features(topology, chains))
             .collect();
         let tracks = vec![Track::default(); pairs.len()];
         SideAudit {
@@ -89,9 +109,25 @@ impl<'a> SideAudit<'a> {
         r1: &IncrementRecord,
         sag: &dyn Fn(usize) -> f64,
     ) -> Vec<Finding> {
-        let s1 = &r1.nodes;
+        self.step_to(s0, c0, (r1.increment, &r1.nodes, &r1.contacts), sag)
+    }
+
+    /// Learn every side from state `s` (the first of a run), which has no contacts.
+    pub fn start(&mut self, s: &[[f64; 3]]) {
+        let found = self.step_to(s, &[], (0, s, &[]), &|_| 0.0);
+        debug_assert!(found.is_empty());
+    }
+
+    /// `step` to a state given by its increment number, node states and contacts.
+    fn step_to(
+        &mut self,
+        s0: &[[f64; 3]],
+        c0: &[(u32, usize, [f64; 2])],
+        (increment, s1, contacts): (usize, &[[f64; 3]], &[ContactState]),
+        sag: &dyn Fn(usize) -> f64,
+    ) -> Vec<Finding> {
         let body_of = |name: &str| self.topology.bodies.iter().position(|b| b.name == name);
-        let resting1: Vec<(usize, [f64; 2])> = (r1.contacts.iter())
+        let resting1: Vec<(usize, [f64; 2])> = (contacts.iter())
             .filter_map(|c| {
                 let slot = self.chains.slot.get(&c.node)?;
                 Some((c.element, [s1[*slot][0], s1[*slot][1]]))
@@ -102,9 +138,8 @@ impl<'a> SideAudit<'a> {
             let pair = &self.pairs[k];
             let track = &mut self.tracks[k];
             let allowed = |at: usize| pair.window.is_none_or(|(lo, hi)| at < lo || at > hi);
-            let contact = r1
-                .contacts
-                .iter()
+            let contact = (contacts.iter())
+                .filter(|_| pair.obstacle.is_none())
                 .find(|c| c.node == pair.node && body_of(&c.body) == Some(pair.body));
             if let Some(c) = contact {
                 // In contact: it keeps the side it came from; a side not yet known is the one
@@ -114,11 +149,11 @@ impl<'a> SideAudit<'a> {
                         .position(|&e| e == c.element)
                         .unwrap_or(0);
                     track.side = Some((contact_side(c.force), at));
-                    track.since = r1.increment;
+                    track.since = increment;
                 }
                 continue;
             }
-            let p1 = [s1[pair.slot][0], s1[pair.slot][1]];
+            let p1 = pair.at(s1, self.chains);
             let Some(now) = self
                 .chains
                 .place(s1, p1, pair.body, &allowed, &resting1, sag)
@@ -127,18 +162,18 @@ impl<'a> SideAudit<'a> {
             };
             let verdict = judge(track, &now);
             if verdict != Verdict::Flipped {
-                apply(track, &now, verdict, r1.increment);
+                apply(track, &now, verdict, increment);
                 continue;
             }
             // On the other side now. Over the outer half of an end element before, it may
             // have gone round that end.
             let resting0: Vec<(usize, [f64; 2])> = c0.iter().map(|&(_, e, p)| (e, p)).collect();
-            let p0 = [s0[pair.slot][0], s0[pair.slot][1]];
+            let p0 = pair.at(s0, self.chains);
             let before = self
                 .chains
                 .place(s0, p0, pair.body, &allowed, &resting0, sag);
             if before.is_some_and(|b| b.at_end) {
-                apply(track, &now, Verdict::Reassign, r1.increment);
+                apply(track, &now, Verdict::Reassign, increment);
                 continue;
             }
             // Otherwise follow the path from s0 to s1 in sub-steps.
@@ -155,7 +190,7 @@ impl<'a> SideAudit<'a> {
                         ]
                     })
                     .collect();
-                let p = [s[pair.slot][0], s[pair.slot][1]];
+                let p = pair.at(&s, self.chains);
                 let resting = if f < 0.5 { &resting0 } else { &resting1 };
                 let Some(at) = self.chains.place(&s, p, pair.body, &allowed, resting, sag) else {
                     continue;
@@ -165,37 +200,109 @@ impl<'a> SideAudit<'a> {
                         crossed = Some(at);
                         break;
                     }
-                    v => apply(&mut t, &at, v, r1.increment),
+                    v => apply(&mut t, &at, v, increment),
                 }
             }
             match crossed {
                 Some(at) => {
                     let (side, _) = track.side.unwrap_or((0.0, 0));
                     let element = self.chains.elements[pair.body][at.at];
+                    let name = &self.topology.bodies[pair.body].name;
+                    let what = match &pair.obstacle {
+                        None => format!("node {}", pair.node),
+                        Some(o) => format!("a feature of obstacle {o}"),
+                    };
                     found.push(Finding {
-                        increment: r1.increment,
-                        node: Some(pair.node),
-                        body: Some(self.topology.bodies[pair.body].name.clone()),
+                        increment: increment,
+                        node: pair.obstacle.is_none().then_some(pair.node),
+                        body: Some(name.clone()),
                         what: format!(
-                            "node {} went through {} element {} with no contact on it: on its {} side since increment {}, {:.3e} m on the other side at increment {}",
-                            pair.node,
-                            self.topology.bodies[pair.body].name,
+                            "{what} went through {name} element {} with no contact on it: on its {} side since increment {}, {:.3e} m on the other side at increment {}",
                             at.at + 1,
                             if side > 0.0 { "left" } else { "right" },
                             track.since,
                             now.gap.abs(),
-                            r1.increment,
+                            increment,
                         ),
                         element: Some(element),
                     });
                     // Carry on from the side it is on, so that one crossing is told once.
-                    apply(track, &now, Verdict::Reassign, r1.increment);
+                    apply(track, &now, Verdict::Reassign, increment);
                 }
-                None => apply(track, &now, Verdict::Reassign, r1.increment),
+                None => apply(track, &now, Verdict::Reassign, increment),
             }
         }
         found
     }
+}
+
+impl Pair {
+    /// Where the node or feature is in state `s`.
+    fn at(&self, s: &[[f64; 3]], chains: &Chains) -> [f64; 2] {
+        match self.point {
+            Point::Node(k) => [s[k][0], s[k][1]],
+            Point::Feature(p, pilot) => match pilot {
+                None => p,
+                Some(k) => {
+                    let moved = [s[k][0] - chains.rest[k][0], s[k][1] - chains.rest[k][1]];
+                    [p[0] + moved[0], p[1] + moved[1]]
+                }
+            },
+        }
+    }
+}
+
+/// The convex features of the topology's obstacles, each paired with every body whose nodes
+/// may touch the obstacle.
+fn features(topology: &Topology, chains: &Chains) -> Vec<Pair> {
+    use crate::solver::Shape;
+    let mut out = Vec::new();
+    for (o, ob) in topology.obstacles.iter().enumerate() {
+        let points: Vec<[f64; 2]> = match &ob.shape {
+            Shape::Circle {
+                centre,
+                hollow: false,
+                ..
+            }
+            | Shape::Arc {
+                centre,
+                hollow: false,
+                ..
+            } => {
+                vec![*centre]
+            }
+            Shape::Polyline { points } => (points.windows(3))
+                .filter(|w| {
+                    let turn = (w[1][0] - w[0][0]) * (w[2][1] - w[1][1])
+                        - (w[1][1] - w[0][1]) * (w[2][0] - w[1][0]);
+                    turn < 0.0
+                })
+                .map(|w| w[1])
+                .collect(),
+            _ => Vec::new(),
+        };
+        let pilot = ob.pilot.and_then(|p| chains.slot.get(&p).copied());
+        let touching: Vec<usize> = (0..topology.bodies.len())
+            .filter(|&b| {
+                topology.bodies[b]
+                    .nodes
+                    .iter()
+                    .any(|n| ob.nodes.contains(n))
+            })
+            .collect();
+        for &p in &points {
+            for &body in &touching {
+                out.push(Pair {
+                    node: o as u32,
+                    point: Point::Feature(p, pilot),
+                    obstacle: Some(ob.name.clone()),
+                    body,
+                    window: None,
+                });
+            }
+        }
+    }
+    out
 }
 
 /// The side a contact presses from: its force Yc acts on the beam along the element's chord

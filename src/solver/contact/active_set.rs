@@ -1,19 +1,16 @@
 //! The contact active set at a converged pass: which tensile contacts let go and which crossing
 //! nodes become contacts. All violations are fixed at once while that makes progress; once an
 //! active set comes back within an attempt (cycling), one violation per pass, Murty's
-//! least-index rule. Node-on-node pairs get one contact, not two.
+//! least-index rule. Two nodes of different bodies that meet node on node each get a contact
+//! on the other's body when each is found through it: one of them alone would leave the other
+//! through the first body wherever their chords meet at an angle.
 
 use super::probe::{PassViews, Probe};
 use super::set::ContactView;
-use super::set::{on_body, ActiveContact, ContactSet};
-use crate::solver::assembly::{current, Assembled};
+use super::set::{ActiveContact, ContactSet};
+use crate::solver::assembly::Assembled;
 use crate::solver::index_map::IndexMap;
 use crate::solver::report::{ContactChange, Event};
-
-/// Two nodes of different bodies closer than this (in element lengths) touch node on node: one
-/// contact between them is enough (a second, the other way round, would impose the same
-/// constraint twice and make the tangent singular).
-const NODE_ON_NODE: f64 = 0.01;
 
 impl ContactSet {
     /// Forget the passes of a previous attempt (call at the start of each attempt).
@@ -60,14 +57,6 @@ impl ContactSet {
                 crossings.push((n, b, p, side));
             }
         }
-        let redundant: Vec<bool> = (0..crossings.len())
-            .map(|k| self.node_on_node(cv, d, &crossings, k))
-            .collect();
-        let mut k = 0;
-        crossings.retain(|_| {
-            k += 1;
-            !redundant[k - 1]
-        });
         if self.one_at_a_time {
             let tensile = self.tensile(asm).into_iter().map(|k| {
                 let a = self.active[k];
@@ -95,28 +84,6 @@ impl ContactSet {
             self.one_at_a_time = true;
         }
         changes
-    }
-
-    /// Whether crossing `k` (node n through an element of body b) lies on an end node m of that
-    /// element, and m already rests on (or, with a lower index, is about to rest on) a body n
-    /// belongs to: the two nodes touch node on node, and that contact keeps them apart.
-    fn node_on_node(
-        &self,
-        cv: &ContactView<'_>,
-        d: &[f64],
-        crossings: &[(usize, usize, Probe, f64)],
-        k: usize,
-    ) -> bool {
-        let m = &cv.model;
-        let (n, _, p, _) = crossings[k];
-        let xn = current(m, &cv.dofs, d, n).0;
-        let own = |body: usize| on_body(cv, n, body);
-        [m.beams[p.beam].i, m.beams[p.beam].j].iter().any(|&o| {
-            let xo = current(m, &cv.dofs, d, o).0;
-            (xn[0] - xo[0]).hypot(xn[1] - xo[1]) < NODE_ON_NODE * p.length
-                && (self.active.iter().any(|a| a.node == o && own(a.body))
-                    || crossings[..k].iter().any(|c| c.0 == o && own(c.1)))
-        })
     }
 
     /// Make the crossing nodes active contacts. Returns how many.

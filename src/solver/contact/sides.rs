@@ -57,6 +57,16 @@ impl ContactSet {
             let (u0, v0) = (sub(q0, p0), sub(c0, p0));
             let (du, dv) = (sub(sub(q1, p1), u0), sub(sub(c1, p1), v0));
             let (qa, qb, qc) = (cross(du, dv), cross(u0, dv) + cross(du, v0), cross(u0, v0));
+            // Touching the chord at the start, over it: the path leaves the line at t = 0
+            // (a step that landed exactly on the line, to round-off, and goes on through).
+            let l0 = (u0[0] * u0[0] + u0[1] * u0[1]).sqrt();
+            let s0 = (u0[0] * v0[0] + u0[1] * v0[1]) / (l0 * l0);
+            if t_min == 0.0
+                && qc.abs() <= cv.touching(THROUGH, l0) * l0
+                && (0.0..=1.0).contains(&s0)
+            {
+                return true;
+            }
             let mut roots = Vec::with_capacity(2);
             if qa.abs() < 1e-14 * (qb.abs() + qc.abs()) {
                 if qb != 0.0 {

@@ -1,0 +1,145 @@
+//! Drags as the app makes them: the worker marched to targets that jump by uneven amounts
+//! (frames of a drag handle), down past the scene's own path and back up past the start. Every
+//! record the worker sends is audited by the oracle (`tsm_contact::audit`), which shares no
+//! code with the solver: no node goes through a body, every state is in equilibrium.
+
+use std::time::{Duration, Instant};
+
+use tsm_contact::audit::{audit, Run};
+use tsm_contact::history::Topology;
+use tsm_contact::scene::builtin::builtin;
+use tsm_contact::solver::IncrementRecord;
+use tsm_contact::worker::{Command, Message, Worker};
+
+/// Collect messages until `Idle` arrives after the work started (`Busy`), or time runs out.
+fn until_idle(w: &Worker, limit: Duration) -> (Vec<IncrementRecord>, Vec<String>) {
+    let t0 = Instant::now();
+    let (mut incs, mut errors, mut busy) = (Vec::new(), Vec::new(), false);
+    while t0.elapsed() < limit {
+        match w.recv_timeout(Duration::from_millis(50)) {
+            Some(Message::Increment(r)) => incs.push(*r),
+            Some(Message::Error(e)) => errors.push(e),
+            Some(Message::Busy) => busy = true,
+            Some(Message::Idle) if busy => return (incs, errors),
+            _ => {}
+        }
+    }
+    panic!("the worker did not become idle within {limit:?}");
+}
+
+/// The frames of a drag, in scene steps: down to `depth` steps in uneven jumps of 0.3 to 2.7
+/// steps, then back up to `back` steps (negative: past the start).
+fn frames(depth: f64, back: f64) -> Vec<f64> {
+    let mut x: u64 = 0x9e37_79b9_7f4a_7c15;
+    let mut jump = move || {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        0.3 + 2.4 * ((x >> 11) as f64 / (1u64 << 53) as f64)
+    };
+    let mut out = Vec::new();
+    let mut s = 0.0;
+    while s < depth {
+        s = (s + jump()).min(depth);
+        out.push(s);
+    }
+    while s > back {
+        s = (s - jump()).max(back);
+        out.push(s);
+    }
+    out
+}
+
+/// Drag built-in scene `name`'s prescribed dofs together through `frames` (in scene steps)
+/// with the worker, one frame at a time; audit everything it accepted. Returns the records
+/// and the errors.
+fn drag(name: &str, frames: &[f64]) -> (Vec<IncrementRecord>, Vec<String>) {
+    let scene = builtin(name).unwrap().unwrap();
+    let w = Worker::spawn(None);
+    w.send(Command::LoadScene(Box::new(scene.clone())));
+    let t0 = Instant::now();
+    let mut loaded = false;
+    while t0.elapsed() < Duration::from_secs(60) {
+        match w.recv_timeout(Duration::from_millis(50)) {
+            Some(Message::Loaded(_)) => loaded = true,
+            Some(Message::Error(e)) => panic!("{name}: {e}"),
+            Some(Message::Idle) if loaded => break,
+            _ => {}
+        }
+    }
+    assert!(loaded, "{name} did not load");
+    let (mut records, mut errors) = (Vec::new(), Vec::new());
+    for &f in frames {
+        for (index, p) in scene.model.prescribed.iter().enumerate() {
+            w.send(Command::SetTarget {
+                index,
+                value: f * p.per_step,
+            });
+        }
+        let (r, e) = until_idle(&w, Duration::from_secs(120));
+        records.extend(r);
+        errors.extend(e);
+    }
+    let topology = Topology::of(&scene.model);
+    let ids: Vec<u32> = scene.model.nodes.iter().map(|n| n.id).collect();
+    let run = Run {
+        topology: &topology,
+        node_ids: &ids,
+        params: &scene.params,
+    };
+    let found = audit(&run, None, &records);
+    assert!(
+        found.is_empty(),
+        "{name}: {} finding(s) in {} records:\n{}",
+        found.len(),
+        records.len(),
+        found
+            .iter()
+            .map(|f| f.to_string())
+            .collect::<Vec<_>>()
+            .join("\n")
+    );
+    (records, errors)
+}
+
+/// Example 3.2 dragged down to 0.33 m and back up past the start: the pin stays on A's upper
+/// side until it leaves round A's free end, and nothing is found.
+#[test]
+fn example_3_2_dragged_down_and_back_up() {
+    let (records, errors) = drag("example_3_2", &frames(33.0, -3.0));
+    assert!(errors.is_empty(), "{errors:?}");
+    // Until 0.5 m down the pin rests on A or is clear above it: it is never on B or C while A
+    // is straight above it.
+    let pin_on_a_or_above = records.iter().all(|r| {
+        r.contacts
+            .iter()
+            .filter(|c| c.node == 34)
+            .all(|c| c.body == "A")
+    });
+    assert!(pin_on_a_or_above, "the pin rested on B or C within 0.33 m");
+}
+
+/// Example 3.2 dragged all the way down (past B and C) and back up past the start.
+#[test]
+fn example_3_2_dragged_to_the_end_and_back() {
+    let (_, errors) = drag("example_3_2", &frames(80.0, -3.0));
+    assert!(errors.is_empty(), "{errors:?}");
+}
+
+/// Example 3.2 with friction, dragged down and back up.
+#[test]
+fn example_3_2_friction_dragged_down_and_back_up() {
+    drag("example_3_2_friction", &frames(40.0, -3.0));
+}
+
+/// Example 3.1 dragged down and back up.
+#[test]
+fn example_3_1_dragged_down_and_back_up() {
+    drag("example_3_1", &frames(18.0, -2.0));
+}
+
+/// The roller dragged along the strip and back.
+#[test]
+fn roller_dragged_along_and_back() {
+    drag("roller", &frames(48.0, 0.0));
+}
