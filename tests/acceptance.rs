@@ -1,11 +1,13 @@
 //! The acceptance rule: no accepted increment has a node on the wrong side of a beam, and none
-//! is out of equilibrium beyond the stated bound. Each check is made on the run's records (node
+//! is out of equilibrium beyond the stated bound. Each check is made by the oracle
+//! (`tsm_contact::audit`) on the run's records (node
 //! positions), not on the solver's contact set: zero gaps, steps that land exactly on a beam's
 //! line, Example 3.2 dragged in uneven steps and with Bernoulli-Euler elements, translated
 //! scenes, and random pins (proptest).
 
 use proptest::prelude::*;
-use tsm_contact::history::History;
+use tsm_contact::audit::{audit, Run};
+use tsm_contact::history::{History, Topology};
 use tsm_contact::scene::{builtin::builtin, parse, Scene};
 use tsm_contact::solver::report::ContactChange;
 use tsm_contact::solver::{
@@ -57,13 +59,10 @@ fn pushed_pin(
 }
 
 /// The records of `steps` steps of `scene` (every increment committed, those of a step that
-/// failed after cut-backs included), each checked by `check_record`. Returns the records and
-/// the error the run stopped with, if any.
+/// failed after cut-backs included), each audited by the oracle (`audited`). Returns the
+/// records and the error the run stopped with, if any.
 fn run(scene: &Scene, steps: usize) -> (Vec<IncrementRecord>, Option<SolveError>) {
     let mut solver = scene.solver().expect("stable");
-    let pairs = scene.model.contact_candidates();
-    let start = solver.node_states(solver.displacements());
-    let mut check = CrossingCheck::new(&scene.model, pairs, start);
     let mut history = History::default();
     let mut error = None;
     for _ in 0..steps {
@@ -72,44 +71,36 @@ fn run(scene: &Scene, steps: usize) -> (Vec<IncrementRecord>, Option<SolveError>
             break;
         }
     }
-    for r in &history.increments {
-        check_record(scene, &mut check, r);
-    }
+    audited(scene, &history.increments);
     (history.increments, error)
 }
 
-/// The acceptance rule on one record, from its positions and contact list alone: no candidate
-/// node through a body it is not in contact with since the record before; the relative
-/// residual within the tolerance, or within the round-off bound and marked so.
-fn check_record(scene: &Scene, check: &mut CrossingCheck, r: &IncrementRecord) {
-    let m = &scene.model;
-    let index = |id: u32| m.nodes.iter().position(|n| n.id == id).expect("node");
-    let body = |name: &str| m.bodies.iter().position(|b| b.name == name).expect("body");
-    let active: Vec<(usize, usize)> = (r.contacts.iter())
-        .map(|c| (index(c.node), body(&c.body)))
-        .collect();
-    if let Some(x) = check.find(m, &r.nodes, &active) {
-        panic!(
-            "increment {}: node {} through element {} of body {} by {:.3e} lengths",
-            r.increment, m.nodes[x.node].id, x.element, m.bodies[x.body].name, x.depth
-        );
-    }
-    check.accept(m, r.nodes.clone(), &active);
-    let (tol, bound) = (scene.params.tolerance, scene.params.roundoff_bound);
-    let rel = r.relative_residual;
-    match r.status {
-        IncrementStatus::Converged => assert!(
-            rel <= tol,
-            "increment {}: {rel:e} marked converged",
-            r.increment
-        ),
-        IncrementStatus::RoundOff { ratio } => {
-            assert!(
-                rel > tol && rel <= bound,
-                "increment {}: {rel:e} at round-off",
-                r.increment
-            );
-            assert!((ratio - rel / tol).abs() <= 1e-12 * ratio);
+/// The oracle (`tsm_contact::audit`, sharing no code with the solver) on `records`, which follow
+/// one another from the undeformed state: no candidate node through a body it is not in
+/// contact with, every increment in equilibrium from its recorded forces, its status that of
+/// its residual. Panics naming every finding.
+fn audited(scene: &Scene, records: &[IncrementRecord]) {
+    let topology = Topology::of(&scene.model);
+    let ids: Vec<u32> = scene.model.nodes.iter().map(|n| n.id).collect();
+    let run = Run {
+        topology: &topology,
+        node_ids: &ids,
+        params: &scene.params,
+    };
+    let found = audit(&run, None, records);
+    assert!(
+        found.is_empty(),
+        "{}",
+        found
+            .iter()
+            .map(|f| f.to_string())
+            .collect::<Vec<_>>()
+            .join("\n")
+    );
+    for r in records {
+        if let IncrementStatus::RoundOff { ratio } = r.status {
+            let rel = r.relative_residual;
+            assert!((ratio - rel / scene.params.tolerance).abs() <= 1e-12 * ratio);
         }
     }
 }
@@ -393,7 +384,7 @@ proptest! {
     /// Random pins over a cantilever: both formulations, meshes of 5 to 80 elements, initial
     /// gaps of 0 exactly, +-1e-12 L, 1e-3 L and 0.1 L, steps that land exactly on the line
     /// (for the 0.1 L gap) or not, pushed straight down or with a drift along the beam,
-    /// frictionless or with friction. Every accepted increment passes `check_record`, the pin
+    /// frictionless or with friction. Every accepted increment passes `audited`, the pin
     /// is never below the beam and its friction force never above mu times its pressure; a run
     /// that stops does so with a typed error.
     #[test]
@@ -437,7 +428,7 @@ proptest! {
 /// beam (`pin_elastica`, independent of the elements) with the error falling as h^2: each
 /// halving of the elements divides the force error by 3 to 5, and 160 elements are within
 /// 1e-4. Driven on (40 steps of 0.03 m), the pin slides off the free end on every mesh, and
-/// every accepted increment passes `check_record`.
+/// every accepted increment passes `audited`.
 #[cfg(feature = "reports")]
 #[test]
 fn the_pin_over_a_node_converges_as_h_squared_and_slides_off_every_mesh() {
@@ -476,7 +467,7 @@ fn the_pin_over_a_node_converges_as_h_squared_and_slides_off_every_mesh() {
 /// Example 3.2 dragged through the worker as the app drags it: from every tenth increment of
 /// the default run, ten frames of 16 ms, each setting the pin's target a random amount up to
 /// 0.05 m away from the last (a newer target replaces the one being marched to). Every
-/// increment the worker sends passes `check_record` (no node through a beam, equilibrium
+/// increment the worker sends passes `audited` (no node through a beam, equilibrium
 /// within the tolerance or marked), in order from the undeformed state.
 #[test]
 fn example_3_2_dragged_through_the_worker_never_crosses() {
@@ -533,14 +524,10 @@ fn example_3_2_dragged_through_the_worker_never_crosses() {
         }
         collect(Instant::now() + long, second, &mut records, &mut errors);
         w.send(Command::Shutdown);
-        let pairs = scene.model.contact_candidates();
-        let start_states: Vec<[f64; 3]> =
-            scene.model.nodes.iter().map(|n| [n.x, n.y, 0.0]).collect();
-        let mut check = CrossingCheck::new(&scene.model, pairs, start_states);
         for (k, r) in records.iter().enumerate() {
             assert_eq!(r.increment, k + 1, "from {start}: increments out of order");
-            check_record(&scene, &mut check, r);
         }
+        audited(&scene, &records);
         assert!(
             records.len() > start,
             "from {start}: {} increments",
@@ -556,7 +543,7 @@ fn example_3_2_dragged_through_the_worker_never_crosses() {
 /// A cantilever pushed onto a floor beam a thousand times stiffer (its clamp driven down; every
 /// node of the cantilever a candidate on the floor), both formulations: the tip touches, the
 /// cantilever lies down on the floor, contacts near the floor's element ends release and
-/// re-form, and no accepted increment has a node through the floor (`check_record`). The run
+/// re-form, and no accepted increment has a node through the floor (`audited`). The run
 /// ends in contact, the clamp (left of the floor) 0.1 m below the floor's height, and every
 /// node of the cantilever over the floor above it (the floor deflects by less than 1e-3 m).
 #[test]
@@ -650,7 +637,7 @@ proptest! {
 
     /// Random pins pressing one cantilever onto a second, both formulations, meshes of 5 to 40
     /// elements each, gaps between the beams of 0 exactly (their lines meet nowhere: the lower
-    /// one is offset), 1e-3 and 0.05 m. Every accepted increment passes `check_record` (no
+    /// one is offset), 1e-3 and 0.05 m. Every accepted increment passes `audited` (no
     /// node of the pin or of either beam through the other beam), and a run that stops does
     /// so with a typed error.
     #[test]

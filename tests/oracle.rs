@@ -315,3 +315,86 @@ fn every_builtin_contact_scene_at_40_step_sizes_never_passes_through() {
         bad.join("\n")
     );
 }
+
+/// One-step loads onto small circles: a roller (R = 20 mm, pilot-driven) pushed 0.1 m down in
+/// one step onto strips of 10 to 40 elements over a node and between nodes, and a fixed peg
+/// (R = 20 mm) under cantilevers of 10 to 40 elements loaded in one step. The roller never
+/// ends below the strip nor the strip below the peg: the oracle finds nothing, and a run that
+/// stops does so with a located error.
+#[test]
+fn one_step_loads_onto_small_circles_never_pass_through() {
+    let strip = |n: usize, extra: &str| {
+        format!(
+            r#"(
+            name: "small circle", units: N_m, formulation: BernoulliEuler,
+            sections: [(name: "strip", E: 2.0e11, A: 2.0e-4, I: 1.6667e-9)],
+            bodies: [(name: "strip", section: "strip", path: [(0.0, 0.0), (1.0, 0.0)], elements: {n}, first_node: 1)],
+            {extra}
+            control: (steps: 1),
+        )"#
+        )
+    };
+    let mut bad = Vec::new();
+    for n in [10, 20, 40] {
+        for x in [0.5, 0.5 + 0.5 / n as f64] {
+            let roller = strip(
+                n,
+                &format!(
+                    r#"nodes: [(id: 1000, x: {x:?}, y: 0.03, rotation: false)],
+                    supports: [(node: 1, u: true, v: true, phi: true), (node: {last}, u: true, v: true)],
+                    prescribed: [(node: 1000, dof: U, per_step: 0.0), (node: 1000, dof: V, per_step: -0.1)],
+                    obstacles: [(name: "roller", shape: Circle(centre: ({x:?}, 0.03), radius: 0.02), bodies: ["strip"], pilot: 1000)],"#,
+                    last = n + 1
+                ),
+            );
+            let peg = strip(
+                n,
+                &format!(
+                    r#"supports: [(node: 1, u: true, v: true, phi: true)],
+                    loads: [(node: {last}, fy: -30.0)],
+                    obstacles: [(name: "peg", shape: Circle(centre: ({x:?}, -0.05), radius: 0.02), bodies: ["strip"])],"#,
+                    last = n + 1
+                ),
+            );
+            for (what, text) in [("roller", roller), ("peg", peg)] {
+                let scene = parse(&text, what).unwrap_or_else(|e| panic!("{what}: {e}"));
+                let (records, error) = solve(&scene, 1);
+                for f in findings(&scene, &records) {
+                    bad.push(format!("{what} on {n} elements at x = {x}: {f}"));
+                }
+                if let Some(e) = error {
+                    eprintln!("{what} on {n} elements at x = {x}: {e}");
+                }
+            }
+        }
+    }
+    assert!(bad.is_empty(), "{}", bad.join("\n"));
+}
+
+/// Every built-in scene, in both formulations, at its own step: the oracle finds nothing (the
+/// scenes without contact are audited for equilibrium and status).
+#[test]
+fn every_builtin_scene_in_both_formulations_passes_the_audit() {
+    use tsm_contact::solver::Formulation;
+    let mut bad = Vec::new();
+    for (file, _) in tsm_contact::scene::builtin::BUILTIN {
+        let name = file.trim_end_matches(".ron");
+        for f in [Formulation::Timoshenko, Formulation::BernoulliEuler] {
+            let mut scene = builtin(name).unwrap().unwrap();
+            scene.model.formulation = f;
+            let (records, error) = solve(&scene, scene.steps);
+            if let Some(e) = error {
+                eprintln!("{name} ({f:?}): {e}");
+            }
+            for x in findings(&scene, &records) {
+                bad.push(format!("{name} ({f:?}): {x}"));
+            }
+        }
+    }
+    assert!(
+        bad.is_empty(),
+        "{} finding(s):\n{}",
+        bad.len(),
+        bad.join("\n")
+    );
+}

@@ -17,6 +17,9 @@ struct Forces {
     /// The reference: the norm of the loads on free dofs, of the held dofs' internal forces
     /// (reaction plus load there), and the force floor.
     reference: f64,
+    /// What the round-off of the positions makes of the contact forces' directions (N): a
+    /// chord's direction from positions of size X is uncertain by 64 eps X / l.
+    slack: f64,
 }
 
 /// The groups of node slots joined by elements; a node on no element is a group of its own.
@@ -78,8 +81,9 @@ pub fn unbalanced(
         for &(p, v) in &f.at_points[g] {
             add(p, [v[0], v[1], 0.0]);
         }
-        // Round-off of the sums themselves.
-        let slack = 1e-12 * size * arm * (members.len() + f.at_points[g].len()) as f64;
+        // Round-off of the sums themselves, and of the contact forces' directions.
+        let slack =
+            1e-12 * size * arm * (members.len() + f.at_points[g].len()) as f64 + f.slack * arm;
         // An obstacle turns with nothing: its pilot holds no moment.
         let checks = if pilots.contains(&g) { 2 } else { 3 };
         for (k, what) in ["x force", "y force", "moment"]
@@ -170,11 +174,17 @@ fn forces(
         let internal = re.value + held_at.get(&(re.node, k)).copied().unwrap_or(0.0);
         held2 += internal * internal;
     }
+    let scale = r
+        .nodes
+        .iter()
+        .fold(0.0f64, |m, p| m.max(p[0].abs()).max(p[1].abs()));
+    let mut slack = 0.0;
     for c in &r.contacts {
         let e = &topology.elements[c.element];
         let (a, b) = (pos(e.i), pos(e.j));
         let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
         let l = dx.hypot(dy);
+        slack += c.force.hypot(c.tangential) * 64.0 * f64::EPSILON * scale / l;
         // Yc is the force on the beam along its chord's left normal: the node takes -Yc
         // there, and the friction force along the chord from end i to end j.
         let f = [
@@ -210,5 +220,6 @@ fn forces(
             .sqrt()
             .max(held2.sqrt())
             .max(params.force_floor * ea.max(f64::MIN_POSITIVE)),
+        slack,
     }
 }

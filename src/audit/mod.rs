@@ -7,6 +7,7 @@
 //! of `tsm-contact check`.
 
 pub mod equilibrium;
+pub mod finding;
 pub mod geometry;
 pub mod obstacles;
 pub mod sides;
@@ -15,6 +16,7 @@ use std::collections::HashMap;
 
 use crate::history::{History, Topology};
 use crate::solver::{IncrementRecord, IncrementStatus, SolverParams};
+pub use finding::Finding;
 use geometry::Chains;
 use sides::SideAudit;
 
@@ -24,27 +26,6 @@ const ROUNDOFF_ULPS: f64 = 64.0;
 /// Slack of the friction law: a friction force may exceed mu times the pressure by this
 /// fraction (the return mapping sets it to mu N exactly, up to round-off).
 const FRICTION_SLACK: f64 = 1e-9;
-
-/// Something the audit found wrong, located.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Finding {
-    /// The increment it is in.
-    pub increment: usize,
-    /// The node it concerns, by user id.
-    pub node: Option<u32>,
-    /// The body (or obstacle) it concerns.
-    pub body: Option<String>,
-    /// The element it concerns (index).
-    pub element: Option<usize>,
-    /// What is wrong, in a sentence.
-    pub what: String,
-}
-
-impl std::fmt::Display for Finding {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "increment {}: {}", self.increment, self.what)
-    }
-}
 
 /// What the audit needs of a run: its topology, node order and parameters.
 pub struct Run<'a> {

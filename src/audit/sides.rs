@@ -8,8 +8,8 @@
 //! keep their sides of the bodies whose nodes may touch the obstacle in the same way: a
 //! feature found beyond an element went through it between its nodes.
 
+use super::finding::Finding;
 use super::geometry::{Chains, Place};
-use super::Finding;
 use crate::history::Topology;
 use crate::solver::report::ContactState;
 use crate::solver::IncrementRecord;

@@ -71,6 +71,26 @@ pub enum SolveError {
         /// How far inside (m): at its end, or the deepest of its path.
         depth: f64,
     },
+    /// An obstacle's convex feature (a circle's centre, a polyline's jutting corner) passes
+    /// through a beam element between its nodes in every attempt, even after the allowed
+    /// cut-backs (the nodes alone cannot hold a small roller or peg).
+    #[error(
+        "increment {increment}: obstacle {obstacle} passes through {body} element {element} between its nodes, {depth:.2e} m, after {cutbacks} cut-backs"
+    )]
+    ObstacleThrough {
+        /// Increment number.
+        increment: usize,
+        /// Cut-backs tried.
+        cutbacks: usize,
+        /// Name of the obstacle.
+        obstacle: String,
+        /// Name of the body.
+        body: String,
+        /// The place in its body (from 1) of the element.
+        element: usize,
+        /// How far beyond the element's chord (m).
+        depth: f64,
+    },
     /// Every attempt converges to a state where a frictional contact breaks the friction law
     /// (a friction force beyond mu times its pressure, or a slip not resisted by mu times its
     /// pressure), even after the allowed cut-backs.

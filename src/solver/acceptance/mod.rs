@@ -9,18 +9,21 @@
 //!   element of a candidate body it is not in contact with, tested on node positions and
 //!   rotations alone; `chord.rs` holds the swept chord, `grid.rs` the grid of the long bodies;
 //!   and no candidate node inside a rigid obstacle beyond the obstacle tolerance
-//!   (`obstacle.rs`).
+//!   (`obstacle.rs`), nor an obstacle's convex feature through an element between its nodes
+//!   (`feature.rs`).
 //! - **Friction** (`friction.rs`): no friction force beyond mu times the pressure, and exactly
 //!   that, against the slip, where a contact slipped.
 
 mod chord;
 mod crossing;
+mod feature;
 mod friction;
 mod grid;
 mod obstacle;
 mod range;
 
 pub use crossing::{Crossing, CrossingCheck, CrossingMemory};
+pub use feature::{feature_through, FeatureCrossing};
 pub use friction::{friction_law, FrictionRecord, FrictionViolation, FRICTION_LAW_TOLERANCE};
 pub use obstacle::{inside_obstacle, ObstacleCrossing};
 pub use range::{out_of_range, OutOfRange, MAX_STRAIN_STEP, MAX_TURN_STEP};

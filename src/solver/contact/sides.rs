@@ -92,6 +92,19 @@ impl ContactSet {
         })
     }
 
+    /// Whether node `n` lay, at the last converged state, over the outer half of element `e`
+    /// of body `b` where `e` is an end element of the body: from there it can go round the
+    /// body's end within one increment.
+    pub(super) fn over_an_end_half(cv: &ContactView<'_>, n: usize, b: usize, e: usize) -> bool {
+        let els = &cv.model.bodies[b].elements;
+        let (first, last) = (els.first() == Some(&e), els.last() == Some(&e));
+        if !first && !last {
+            return false;
+        }
+        let t = Self::chord_fraction(cv, cv.d, n, e);
+        (first && t < 0.5) || (last && t > 0.5)
+    }
+
     /// Whether elements `e` and `f` of body `b` are the same or neighbours. A node crossing a body
     /// within one increment does so near one element; a side measured against a distant element
     /// of a curled beam says nothing about a crossing.
@@ -254,11 +267,18 @@ impl ContactSet {
             // touched from: found beyond the element it rested on (or a neighbour) at any
             // depth, it is a contact again, never a release through the body (a beam that
             // springs back past a node resting inside its sag crosses no chord).
+            //
+            // Beyond an element next to the one its side was measured against, at any depth,
+            // a node went through, unless it lay over the outer half of an end element of the
+            // body, from where it may have gone round that end within the increment (the
+            // chords swept in a straight line cannot tell): then only shallow, or with a
+            // swept path. A beam that springs back past a node resting inside the sag of its
+            // chord, or a node that crosses inside the sag, crosses no chord.
             let wrong_side = p.gap * side < -cv.touching(THROUGH, p.length);
-            let rested = cv.contacts.is_active(n, b);
+            let round_an_end = Self::over_an_end_half(cv, n, b, was);
             let crossed = wrong_side
                 && ((Self::adjacent(cv, b, was, p.beam)
-                    && (rested || -p.gap * side < SHAPE_MARGIN * p.length))
+                    && (!round_an_end || -p.gap * side < SHAPE_MARGIN * p.length))
                     || Self::swept_through(cv, d, n, b));
             return crossed.then_some((p, side));
         }

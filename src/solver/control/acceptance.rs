@@ -5,7 +5,8 @@
 
 use super::solver::Solver;
 use crate::solver::acceptance::{
-    friction_law, inside_obstacle, out_of_range, FrictionRecord, MAX_STRAIN_STEP, MAX_TURN_STEP,
+    feature_through, friction_law, inside_obstacle, out_of_range, FrictionRecord, MAX_STRAIN_STEP,
+    MAX_TURN_STEP,
 };
 use crate::solver::newton::{AttemptError, Converged};
 use crate::solver::report::{ContactChange, Event, IncrementStatus, NodeState, SolveError};
@@ -36,6 +37,9 @@ impl Solver {
         let tol = self.obstacle_tolerance();
         if let Some(x) = inside_obstacle(&self.model, self.origin, (&before, &states), tol) {
             return Err(AttemptError::InsideObstacle(x));
+        }
+        if let Some(x) = feature_through(&self.model, self.origin, (&before, &states)) {
+            return Err(AttemptError::FeatureThrough(x));
         }
         if let Some(x) = friction_law(&self.friction_records(c)) {
             return Err(AttemptError::FrictionLaw(x));
@@ -143,6 +147,19 @@ impl Solver {
                 obstacle: self.model.obstacles[x.obstacle].name.clone(),
                 depth: x.depth,
             },
+            AttemptError::FeatureThrough(x) => {
+                let body = self.model.beams[x.element].body;
+                SolveError::ObstacleThrough {
+                    increment,
+                    cutbacks,
+                    obstacle: self.model.obstacles[x.obstacle].name.clone(),
+                    body: self.model.bodies[body].name.clone(),
+                    element: (self.model.bodies[body].elements.iter())
+                        .position(|&e| e == x.element)
+                        .map_or(x.element, |k| k + 1),
+                    depth: x.depth,
+                }
+            }
             AttemptError::FrictionLaw(x) => SolveError::FrictionLaw {
                 increment,
                 cutbacks,

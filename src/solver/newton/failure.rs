@@ -2,7 +2,8 @@
 //! (a smaller increment, a slide-off, a located error) is told apart by its variant.
 
 use crate::solver::acceptance::{
-    Crossing, FrictionViolation, ObstacleCrossing, OutOfRange, MAX_STRAIN_STEP, MAX_TURN_STEP,
+    Crossing, FeatureCrossing, FrictionViolation, ObstacleCrossing, OutOfRange, MAX_STRAIN_STEP,
+    MAX_TURN_STEP,
 };
 use crate::solver::contact::ContactSet;
 use crate::solver::model::Model;
@@ -75,6 +76,8 @@ pub enum AttemptError {
     },
     /// The acceptance check found a node inside a rigid obstacle.
     InsideObstacle(ObstacleCrossing),
+    /// The acceptance check found an obstacle's feature through an element between its nodes.
+    FeatureThrough(FeatureCrossing),
     /// The acceptance check found a contact breaking the friction law.
     FrictionLaw(FrictionViolation),
     /// Arc length: the reference load does no work on the free dofs.
@@ -152,6 +155,12 @@ impl AttemptError {
                 "{} ends inside obstacle {}, or passed through it, {:.2e} m deep",
                 model.node_label(x.node),
                 model.obstacles[x.obstacle].name,
+                x.depth
+            ),
+            AttemptError::FeatureThrough(x) => format!(
+                "obstacle {} passed through {} between its nodes, {:.2e} m",
+                model.obstacles[x.obstacle].name,
+                model.element_label(x.element),
                 x.depth
             ),
             AttemptError::FrictionLaw(x) => format!(
