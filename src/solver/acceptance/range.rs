@@ -4,7 +4,9 @@
 //! the discrete model far from the path (a chain folded flat, its elements stretched by a
 //! quarter and turned by radians against their chords). Such a state satisfies the equations
 //! but is not where the structure goes: it is refused and the increment cut back, so that the
-//! path is followed in steps each element can take.
+//! path is followed in steps each element can take. Nor does any node turn by a half turn or
+//! more (`MAX_SPIN_STEP`): a beam that comes back to its place turned whole turns is a rigid
+//! motion to its elements, and no straight-line sweep between the two states can follow it.
 
 use super::chord::{wrapped, Chord};
 use crate::solver::element::beam::BeamElement;
@@ -17,6 +19,19 @@ pub const MAX_TURN_STEP: f64 = 0.5;
 
 /// The largest change, within one increment, of an element's axial strain.
 pub const MAX_STRAIN_STEP: f64 = 0.05;
+
+/// The largest change of a node's rotation within one increment (rad): a half turn.
+pub const MAX_SPIN_STEP: f64 = std::f64::consts::PI;
+
+/// The node of `model` (with a rotation dof) that turns furthest beyond `MAX_SPIN_STEP` from
+/// node states `before` to `after`: (node index, its turn in rad), if any does.
+pub fn spun(model: &Model, before: &[NodeState], after: &[NodeState]) -> Option<(usize, f64)> {
+    (0..model.nodes.len())
+        .filter(|&n| model.nodes[n].rotation)
+        .map(|n| (n, after[n][2] - before[n][2]))
+        .filter(|(_, t)| t.abs() >= MAX_SPIN_STEP)
+        .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
+}
 
 /// An element that moves too far within one increment.
 #[derive(Clone, Copy, Debug, PartialEq)]

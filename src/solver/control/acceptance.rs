@@ -5,8 +5,8 @@
 
 use super::solver::Solver;
 use crate::solver::acceptance::{
-    feature_through, friction_law, inside_obstacle, out_of_range, FrictionRecord, MAX_STRAIN_STEP,
-    MAX_TURN_STEP,
+    feature_through, friction_law, inside_obstacle, out_of_range, spun, FrictionRecord,
+    MAX_STRAIN_STEP, MAX_TURN_STEP,
 };
 use crate::solver::newton::{AttemptError, Converged};
 use crate::solver::report::{ContactChange, Event, IncrementStatus, NodeState, SolveError};
@@ -33,6 +33,9 @@ impl Solver {
         let before = self.node_states(&self.state.d);
         if let Some(x) = out_of_range(&self.model, &self.elements, &before, &states) {
             return Err(AttemptError::OutOfRange(x));
+        }
+        if let Some((node, turn)) = spun(&self.model, &before, &states) {
+            return Err(AttemptError::Spun(node, turn));
         }
         let tol = self.obstacle_tolerance();
         if let Some(x) = inside_obstacle(&self.model, self.origin, (&before, &states), tol) {

@@ -2,8 +2,8 @@
 //! (a smaller increment, a slide-off, a located error) is told apart by its variant.
 
 use crate::solver::acceptance::{
-    Crossing, FeatureCrossing, FrictionViolation, ObstacleCrossing, OutOfRange, MAX_STRAIN_STEP,
-    MAX_TURN_STEP,
+    Crossing, FeatureCrossing, FrictionViolation, ObstacleCrossing, OutOfRange, MAX_SPIN_STEP,
+    MAX_STRAIN_STEP, MAX_TURN_STEP,
 };
 use crate::solver::contact::ContactSet;
 use crate::solver::model::Model;
@@ -98,6 +98,9 @@ pub enum AttemptError {
     Crossed(Crossing),
     /// The acceptance check found an element outside the range of its theory.
     OutOfRange(OutOfRange),
+    /// The acceptance check found a node turned by a half turn or more within the increment:
+    /// (node index, its turn in rad).
+    Spun(usize, f64),
     /// The observer asked to stop.
     Stopped,
 }
@@ -190,6 +193,11 @@ impl AttemptError {
                 model.element_label(x.element),
                 x.turn,
                 x.strain
+            ),
+            AttemptError::Spun(node, turn) => format!(
+                "{} turns by {turn:.2} rad in one increment (limit {:.2} rad, a half turn): a state far from the path",
+                model.node_label(*node),
+                MAX_SPIN_STEP
             ),
             AttemptError::Stopped => "stopped by the caller".into(),
         }
