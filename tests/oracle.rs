@@ -398,3 +398,56 @@ fn every_builtin_scene_in_both_formulations_passes_the_audit() {
         bad.join("\n")
     );
 }
+
+/// A plank laid on a floor beam (zero gap over a metre) is refused without a side, since no
+/// rule tells which side of the floor its nodes are on; declared `side: Left` (above the floor,
+/// drawn left to right), it rests on the floor under a load at its tip: the run completes, its
+/// nodes stay above the floor, and the oracle finds nothing.
+#[test]
+fn a_plank_laid_on_a_floor_declared_above_it_rests_on_it() {
+    let text = |side: &str| {
+        format!(
+            r#"(
+            name: "plank", formulation: Timoshenko,
+            sections: [(name: "s", E: 1.0e3, A: 1.0e3, I: 1.0, G: 400.0)],
+            bodies: [
+                (name: "floor", section: "s", path: [(0.0, 0.0), (2.0, 0.0)], elements: 8, first_node: 1),
+                (name: "plank", section: "s", path: [(-0.4, 0.0), (1.6, 0.0)], elements: 8, first_node: 101),
+            ],
+            supports: [(node: 1, u: true, v: true, phi: true), (node: 9, u: true, v: true, phi: true),
+                       (node: 101, u: true, v: true, phi: true)],
+            loads: [(node: 109, fy: -1.0)],
+            contacts: [(node_bodies: ["plank"], bodies: ["floor"]{side})],
+            control: (steps: 10),
+        )"#
+        )
+    };
+    let plain = parse(&text(""), "plank");
+    assert!(
+        plain.is_err() || plain.as_ref().unwrap().solver().is_err(),
+        "a plank on the floor's line without a side"
+    );
+    let scene = parse(&text(", side: Left"), "plank").unwrap_or_else(|e| panic!("{e}"));
+    let (records, error) = solve(&scene, scene.steps);
+    assert!(error.is_none(), "{error:?}");
+    assert!(
+        !records.last().unwrap().contacts.is_empty(),
+        "the plank rests on the floor"
+    );
+    let found = findings(&scene, &records);
+    assert!(found.is_empty(), "{found:?}");
+    // Each plank node over the floor is at or above the floor's chord under it.
+    let last = records.last().unwrap();
+    let at = |id: u32| last.nodes[scene.model.nodes.iter().position(|n| n.id == id).unwrap()];
+    for id in 103..=109 {
+        let p = at(id);
+        let k = ((p[0] / 0.25).floor() as u32).min(7);
+        let (a, b) = (at(1 + k), at(2 + k));
+        let off = ((b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]))
+            / (b[0] - a[0]).hypot(b[1] - a[1]);
+        assert!(
+            off > -1e-3,
+            "plank node {id} {off:e} below the floor's chord"
+        );
+    }
+}

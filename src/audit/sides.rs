@@ -47,6 +47,8 @@ struct Pair {
     /// The obstacle's name, for a feature.
     obstacle: Option<String>,
     body: usize,
+    /// The side the scene declares for a node that starts touching the body.
+    declared: Option<f64>,
     /// Self-contact: the places along its own body that the node leaves out.
     window: Option<(usize, usize)>,
 }
@@ -83,6 +85,7 @@ impl<'a> SideAudit<'a> {
                     point: Point::Node(slot),
                     obstacle: None,
                     body,
+                    declared: c.side,
                     window,
                 })
             })
@@ -161,6 +164,11 @@ impl<'a> SideAudit<'a> {
                 continue;
             };
             let verdict = judge(track, &now);
+            if let (Verdict::Touching, None, Some(s)) = (verdict, track.side, pair.declared) {
+                // Touching with no side yet: the side the scene declares.
+                track.side = Some((s, now.at));
+                track.since = increment;
+            }
             if verdict != Verdict::Flipped {
                 apply(track, &now, verdict, increment);
                 continue;
@@ -297,6 +305,7 @@ fn features(topology: &Topology, chains: &Chains) -> Vec<Pair> {
                     point: Point::Feature(p, pilot),
                     obstacle: Some(ob.name.clone()),
                     body,
+                    declared: None,
                     window: None,
                 });
             }

@@ -84,6 +84,10 @@ pub struct TopologyPair {
     pub body: String,
     /// Coulomb friction coefficient.
     pub mu: f64,
+    /// The side (+1 left of the body's direction, -1 right) the scene declares for a node
+    /// that starts touching the body.
+    #[serde(default)]
+    pub side: Option<f64>,
 }
 
 /// A rigid obstacle.
@@ -142,10 +146,8 @@ impl Topology {
                 }
             })
             .collect();
-        let mu = |n: usize, b: usize| {
-            (model.contacts.iter())
-                .find(|p| p.nodes.contains(&n) && p.bodies.contains(&b))
-                .map_or(0.0, |p| p.mu)
+        let pair = |n: usize, b: usize| {
+            (model.contacts.iter()).find(|p| p.nodes.contains(&n) && p.bodies.contains(&b))
         };
         let mut held: Vec<(u32, String)> = (model.supports.iter())
             .map(|s| (id(s.node), s.dof))
@@ -178,7 +180,8 @@ impl Topology {
                 .map(|(n, b)| TopologyPair {
                     node: id(n),
                     body: model.bodies[b].name.clone(),
-                    mu: mu(n, b),
+                    mu: pair(n, b).map_or(0.0, |p| p.mu),
+                    side: pair(n, b).and_then(|p| p.side),
                 })
                 .collect(),
             self_window: crate::solver::model::SELF_CONTACT_WINDOW,

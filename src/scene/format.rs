@@ -208,6 +208,21 @@ pub struct ContactDef {
     /// frictionless).
     #[serde(default)]
     pub mu: f64,
+    /// The side of each body the candidates are on where they start touching it (a beam laid
+    /// on a beam): `Left` or `Right` of the body's direction, from the first point of its path
+    /// to the last. Without it, a node that starts on a body's line takes the side its own
+    /// beam's neighbouring nodes lie on, or a pin the side opposite to its motion.
+    #[serde(default)]
+    pub side: Option<SideDef>,
+}
+
+/// A side of a body, looking along it from the first point of its path to the last.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum SideDef {
+    /// To the left (above a body drawn left to right).
+    Left,
+    /// To the right (below a body drawn left to right).
+    Right,
 }
 
 /// A rigid obstacle: its curve, the nodes that may touch it, and the node that moves it.

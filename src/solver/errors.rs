@@ -139,7 +139,7 @@ pub enum SolveError {
     /// A contact candidate node starts on a body's line with the neighbouring nodes of its own
     /// beam not all clear on one side of it: which side it is on cannot be told.
     #[error(
-        "node {node} starts on {body} with its own beam's neighbouring nodes not all on one side of it: move it off the line or its neighbours to one side"
+        "node {node} starts on {body} with its own beam's neighbouring nodes not all on one side of it: move it off the line or its neighbours to one side, or give the contact a side (side: Left or Right)"
     )]
     AmbiguousSide {
         /// User id of the node.

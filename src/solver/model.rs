@@ -162,6 +162,11 @@ pub struct ContactPair {
     /// Coulomb friction coefficient mu of these contacts (0: frictionless).
     #[serde(default)]
     pub mu: f64,
+    /// The side of the bodies the nodes are on where they start touching them: +1 to the
+    /// left of each body's direction (the element normal turns its chord i -> j by +90
+    /// degrees), -1 to the right; `None`: from the start geometry.
+    #[serde(default)]
+    pub side: Option<f64>,
 }
 
 /// The elements on either side of a node's own elements that its self-contact leaves out: a

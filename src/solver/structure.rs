@@ -65,6 +65,9 @@ pub struct Structure {
     /// For every beam, the length along its body (undeformed, from the body's first node) at
     /// its ends i and j: where a contact's stick point lies, whichever element it rests on.
     pub(crate) body_length_at: Vec<[f64; 2]>,
+    /// The side (+1 left, -1 right) the scene declares for candidate pairs (node, body) that
+    /// start touching (`ContactPair::side`).
+    pub(crate) declared_sides: IndexMap<(usize, usize), f64>,
 }
 
 /// The friction coefficient of every candidate pair (node, body) of a frictional contact pair.
@@ -147,7 +150,14 @@ impl Structure {
                 place[e] = k;
             }
         }
+        let declared_sides = (model.contacts.iter())
+            .filter_map(|p| p.side.map(|s| (p, s)))
+            .flat_map(|(p, s)| {
+                (p.nodes.iter()).flat_map(move |&n| p.bodies.iter().map(move |&b| ((n, b), s)))
+            })
+            .collect();
         Structure {
+            declared_sides,
             friction: friction_pairs(&model),
             body_length_at: body_length_at(&model, &elements),
             self_windows,

@@ -3,7 +3,7 @@
 
 use super::errors::{Ctx, SceneError};
 use super::geometry::Geometry;
-use crate::scene::format::SceneFile;
+use crate::scene::format::{SceneFile, SideDef};
 use crate::solver::{Beam, ContactPair};
 
 /// The contact pairs of `sf` on geometry `g`.
@@ -66,6 +66,10 @@ pub(super) fn contacts(
             bodies: cb,
             own: c.own,
             mu: c.mu,
+            side: c.side.map(|s| match s {
+                SideDef::Left => 1.0,
+                SideDef::Right => -1.0,
+            }),
         });
     }
     Ok(contacts)

@@ -148,11 +148,13 @@ impl ContactSet {
                     // `after_convergence`, so the side now is the side to keep.
                     self.sides.insert((n, b), (p.gap.signum(), p.beam));
                 }
-                // Touching: the node lies on the body, so its own position says nothing. A
-                // node of a beam touches from the side its own beam lies on: take the side of
-                // its neighbouring nodes (a pin has none and must start with a gap).
+                // Touching: the node lies on the body, so its own position says nothing. The
+                // side the scene declares; else a node of a beam touches from the side its own
+                // beam lies on: take the side of its neighbouring nodes (a pin has none and
+                // must start with a gap).
                 Some(p) if !self.sides.contains_key(&(n, b)) => {
-                    match self.neighbour_side(cv, d, n, b, Some(&view)) {
+                    let declared = cv.declared_sides.get(&(n, b)).copied();
+                    match declared.or_else(|| self.neighbour_side(cv, d, n, b, Some(&view))) {
                         Some(side) => {
                             self.sides.insert((n, b), (side, p.beam));
                         }
