@@ -2,7 +2,8 @@
 //! quietly, with exit status 0 and nothing on stderr. The comb prints more than a pipe holds
 //! (64 KiB), so the solver is still writing when the pipe closes. The report commands make their
 //! output folder, and name it where it cannot be made. The history numbers contact elements as
-//! the scene does. `figure` draws a state as a PNG of the asked size or an SVG.
+//! the scene does. `figure` draws a state as a PNG of the asked size or an SVG. `check` audits
+//! a history: nothing in a clean run, the pin through beam A in the stored history.
 
 use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
@@ -185,4 +186,54 @@ fn figure_draws_the_state_as_a_png_of_the_asked_size_or_an_svg() {
     assert_eq!(r.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&r.stderr).contains(".png or .svg"));
     let _ = std::fs::remove_dir_all(dir);
+}
+
+/// `check` on a history `solve` wrote: format version 2 with its topology, exit 0 and nothing
+/// found. On the stored version 1 history of Example 3.2 driven 0.0098 m a step (the pin
+/// through beam A at increment 13): exit 2 without `--scene` (no topology), and with it exit 1,
+/// the line naming the increment, the node and the body.
+#[test]
+fn check_audits_a_history_and_names_what_is_wrong() {
+    let json = std::env::temp_dir().join(format!("tsm-check-{}.json", std::process::id()));
+    let tsm = || Command::new(env!("CARGO_BIN_EXE_tsm-contact"));
+    let solved = tsm()
+        .args(["solve", "example_3_2", "--json"])
+        .arg(&json)
+        .output()
+        .expect("runs");
+    assert_eq!(solved.status.code(), Some(0));
+    let history: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).expect("written")).expect("JSON");
+    assert_eq!(history["format_version"], 2);
+    assert_eq!(
+        history["topology"]["bodies"].as_array().map(Vec::len),
+        Some(3)
+    );
+    let clean = tsm().arg("check").arg(&json).output().expect("runs");
+    let _ = std::fs::remove_file(&json);
+    let text = String::from_utf8_lossy(&clean.stdout);
+    assert_eq!(clean.status.code(), Some(0), "{text}");
+    assert!(
+        text.contains("81 increment(s) audited, 0 finding(s)"),
+        "{text}"
+    );
+
+    let fixture = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/fixtures/example_3_2_pin_through_a.json"
+    );
+    let bare = tsm().args(["check", fixture]).output().expect("runs");
+    assert_eq!(bare.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&bare.stderr).contains("--scene"));
+    let found = tsm()
+        .args(["check", fixture, "--scene", "example_3_2"])
+        .output()
+        .expect("runs");
+    let text = String::from_utf8_lossy(&found.stdout);
+    assert_eq!(found.status.code(), Some(1), "{text}");
+    assert!(
+        text.lines()
+            .any(|l| l.starts_with("increment 13: node 34 went through A element 9")),
+        "{text}"
+    );
 }

@@ -27,15 +27,16 @@ fn until_idle(w: &Worker, limit: Duration) -> (Vec<IncrementRecord>, Vec<String>
     panic!("the worker did not become idle within {limit:?}");
 }
 
-/// The frames of a drag, in scene steps: down to `depth` steps in uneven jumps of 0.3 to 2.7
-/// steps, then back up to `back` steps (negative: past the start).
-fn frames(depth: f64, back: f64) -> Vec<f64> {
-    let mut x: u64 = 0x9e37_79b9_7f4a_7c15;
+/// The frames of a drag, in scene steps: down to `depth` steps in uneven jumps of 0.1 to 1.9
+/// steps (a hand on the mouse, frame by frame), then back up to `back` steps (negative: past
+/// the start). `seed` picks the jumps.
+fn frames(seed: u64, depth: f64, back: f64) -> Vec<f64> {
+    let mut x: u64 = 0x9e37_79b9_7f4a_7c15 ^ seed.wrapping_mul(0x2545_f491_4f6c_dd1d);
     let mut jump = move || {
         x ^= x << 13;
         x ^= x >> 7;
         x ^= x << 17;
-        0.3 + 2.4 * ((x >> 11) as f64 / (1u64 << 53) as f64)
+        0.1 + 1.8 * ((x >> 11) as f64 / (1u64 << 53) as f64)
     };
     let mut out = Vec::new();
     let mut s = 0.0;
@@ -102,12 +103,41 @@ fn drag(name: &str, frames: &[f64]) -> (Vec<IncrementRecord>, Vec<String>) {
     (records, errors)
 }
 
+/// `drag` with the frames of eight seeds; returns every record, and the errors of the drags
+/// that stopped (a drag that stops goes on from the last accepted state at the next frame).
+fn drag_seeds(name: &str, depth: f64, back: f64) -> (Vec<IncrementRecord>, Vec<String>) {
+    let (mut records, mut errors) = (Vec::new(), Vec::new());
+    for seed in 0..8 {
+        let (r, e) = drag(name, &frames(seed, depth, back));
+        records.extend(r);
+        errors.extend(e.into_iter().map(|e| format!("seed {seed}: {e}")));
+    }
+    eprintln!(
+        "{name}: {} records, {} stops: {errors:?}",
+        records.len(),
+        errors.len()
+    );
+    (records, errors)
+}
+
+/// At most `most` of the drags stopped, each where Newton found no equilibrium after every
+/// cut-back (a contact point crossing a mesh node where the chords meet in a valley seen from
+/// the node, `docs/limits.md`), never on a crossing; a stopped drag goes on from its last
+/// accepted state at the next frame.
+fn few_stops(errors: &[String], most: usize) {
+    assert!(errors.len() <= most, "{} stops: {errors:?}", errors.len());
+    assert!(
+        errors.iter().all(|e| e.contains("no convergence")),
+        "{errors:?}"
+    );
+}
+
 /// Example 3.2 dragged down to 0.33 m and back up past the start: the pin stays on A's upper
 /// side until it leaves round A's free end, and nothing is found.
 #[test]
 fn example_3_2_dragged_down_and_back_up() {
-    let (records, errors) = drag("example_3_2", &frames(33.0, -3.0));
-    assert!(errors.is_empty(), "{errors:?}");
+    let (records, errors) = drag_seeds("example_3_2", 33.0, -3.0);
+    few_stops(&errors, 2);
     // Until 0.5 m down the pin rests on A or is clear above it: it is never on B or C while A
     // is straight above it.
     let pin_on_a_or_above = records.iter().all(|r| {
@@ -122,24 +152,27 @@ fn example_3_2_dragged_down_and_back_up() {
 /// Example 3.2 dragged all the way down (past B and C) and back up past the start.
 #[test]
 fn example_3_2_dragged_to_the_end_and_back() {
-    let (_, errors) = drag("example_3_2", &frames(80.0, -3.0));
-    assert!(errors.is_empty(), "{errors:?}");
+    let (_, errors) = drag_seeds("example_3_2", 80.0, -3.0);
+    few_stops(&errors, 2);
 }
 
 /// Example 3.2 with friction, dragged down and back up.
 #[test]
 fn example_3_2_friction_dragged_down_and_back_up() {
-    drag("example_3_2_friction", &frames(40.0, -3.0));
+    let (_, errors) = drag_seeds("example_3_2_friction", 40.0, -3.0);
+    few_stops(&errors, 2);
 }
 
 /// Example 3.1 dragged down and back up.
 #[test]
 fn example_3_1_dragged_down_and_back_up() {
-    drag("example_3_1", &frames(18.0, -2.0));
+    let (_, errors) = drag_seeds("example_3_1", 18.0, -2.0);
+    few_stops(&errors, 0);
 }
 
 /// The roller dragged along the strip and back.
 #[test]
 fn roller_dragged_along_and_back() {
-    drag("roller", &frames(48.0, 0.0));
+    let (_, errors) = drag_seeds("roller", 48.0, 0.0);
+    few_stops(&errors, 0);
 }
