@@ -10,6 +10,8 @@
 //! alone until the thrust at which it turns into a line contact (`line_contact_thrust`), and
 //! the contacts stay symmetric about midspan; no node crosses a wall.
 
+mod common;
+
 use tsm_contact::scene::parse;
 use tsm_contact::solver::{Event, IncrementRecord, Silent};
 
@@ -93,6 +95,7 @@ fn column(n: usize, steps: usize) -> Vec<IncrementRecord> {
     for _ in 0..steps {
         out.extend(solver.step(&mut Silent).expect("converges"));
     }
+    common::assert_audited(&scene, &out);
     out
 }
 

@@ -2,6 +2,8 @@
 //! closed-form springs-in-series force (bending plus shear), and the paper's Example 3.2 keeps every contact compressive, no node through a beam, residuals below 1e-8,
 //! events in the paper's order and few Newton iterations.
 
+mod common;
+
 use tsm_contact::scene::{builtin::builtin, parse};
 use tsm_contact::solver::report::ContactChange;
 use tsm_contact::solver::{Event, Formulation, IncrementRecord, Silent};
@@ -100,6 +102,7 @@ fn run_example_3_2(steps: usize) -> Vec<IncrementRecord> {
         }
         out.extend(recs);
     }
+    common::assert_audited(&sc, &out);
     out
 }
 
@@ -212,6 +215,7 @@ fn pin_across(n: usize) -> Vec<IncrementRecord> {
     for _ in 0..50 {
         out.extend(solver.step(&mut Silent).expect("converges"));
     }
+    common::assert_audited(&sc, &out);
     for r in &out {
         for c in &r.contacts {
             assert!(

@@ -4,6 +4,8 @@
 //! right at that beam's end node (li/l = 0) is caught. No chord of one beam may cross a chord
 //! of the other away from an active contact at any converged state.
 
+mod common;
+
 use tsm_contact::scene::{builtin::builtin, parse};
 use tsm_contact::solver::{Formulation, IncrementRecord, Silent};
 
@@ -105,6 +107,7 @@ fn shipped(formulation: Formulation) -> Vec<IncrementRecord> {
     sc.model.formulation = formulation;
     let mut solver = sc.solver().unwrap();
     let mut steps = Vec::new();
+    let mut all = Vec::new();
     for step in 1..=18 {
         let recs = solver
             .step(&mut Silent)
@@ -120,8 +123,10 @@ fn shipped(formulation: Formulation) -> Vec<IncrementRecord> {
             assert!(bad.is_empty(), "{formulation:?}, step {step}: {bad:?}");
             assert!(r.max_penetration < 1e-9);
         }
+        all.extend(recs.iter().cloned());
         steps.push(recs.last().unwrap().clone());
     }
+    common::assert_audited(&sc, &all);
     steps
 }
 

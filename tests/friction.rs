@@ -8,6 +8,8 @@
 //! of a node on an obstacle against central differences; and the acceptance check of the
 //! friction law against states made to break it.
 
+mod common;
+
 use nalgebra::DMatrix;
 use tsm_contact::scene::builtin::BUILTIN;
 use tsm_contact::scene::parse;
@@ -303,17 +305,22 @@ fn pulled_strip(n: usize, pulls: &[f64], obstacle: bool) -> Vec<(f64, f64)> {
     } else {
         strip_on_floor(n, 0.3)
     };
-    let mut solver = parse(&text, "strip.ron").unwrap().solver().unwrap();
+    let scene = parse(&text, "strip.ron").unwrap();
+    let mut solver = scene.solver().unwrap();
+    let mut all = Vec::new();
     // The weight first, at rest; the strip settles onto the floor.
     for k in 1..=20 {
-        solver
-            .advance_to(&[0.0], k as f64 / 20.0, &mut Silent)
-            .unwrap();
+        all.extend(
+            solver
+                .advance_to(&[0.0], k as f64 / 20.0, &mut Silent)
+                .unwrap(),
+        );
     }
     let h = 1.0 / n as f64;
     let mut out = Vec::new();
     for &u0 in pulls {
         let records = solver.advance_to(&[-u0], 1.0, &mut Silent).unwrap();
+        all.extend(records.iter().cloned());
         let r = records.last().unwrap();
         let pull = (r.reactions.iter())
             .find(|x| x.node == 1 && x.dof == "u")
@@ -337,6 +344,7 @@ fn pulled_strip(n: usize, pulls: &[f64], obstacle: bool) -> Vec<(f64, f64)> {
         );
         out.push((pull, slipping as f64 * h));
     }
+    common::assert_audited(&scene, &all);
     out
 }
 
@@ -406,6 +414,7 @@ fn example_3_2(mu: Option<f64>) -> (Vec<IncrementRecord>, usize) {
     for _ in 0..scene.steps {
         records.extend(solver.step(&mut Silent).unwrap());
     }
+    common::assert_audited(&scene, &records);
     for r in &mut records {
         r.seconds = 0.0;
     }

@@ -3,6 +3,8 @@
 //! table (free and clamped lifted end), and the elastica of the wrapped cantilever under a large
 //! load, integrated here by shooting; each with its error falling as h^2 under refinement.
 
+mod common;
+
 use tsm_contact::scene::parse;
 use tsm_contact::solver::{IncrementRecord, Silent};
 
@@ -34,6 +36,7 @@ fn run_with_gap(n: usize, extra: &str, steps: usize, gap: f64) -> Vec<IncrementR
     for _ in 0..steps {
         out.extend(solver.step(&mut Silent).expect("converges"));
     }
+    common::assert_audited(&scene, &out);
     out
 }
 

@@ -4,6 +4,8 @@
 //! self-contact windows). A folded strip pressed shut gives the same states, contacts and
 //! forces both ways.
 
+mod common;
+
 use tsm_contact::scene::parse;
 use tsm_contact::solver::{IncrementRecord, Silent};
 
@@ -35,12 +37,15 @@ fn folded(bodies: &str, nodes: &str, contacts: &str) -> Vec<IncrementRecord> {
     order.sort_by_key(|&k| scene.model.nodes[k].id);
     let mut solver = scene.solver().unwrap();
     let mut out = Vec::new();
+    let mut records = Vec::new();
     for _ in 0..10 {
         for mut r in solver.step(&mut Silent).expect("converges") {
+            records.push(r.clone());
             r.nodes = order.iter().map(|&k| r.nodes[k]).collect();
             out.push(r);
         }
     }
+    common::assert_audited(&scene, &records);
     out
 }
 
@@ -150,8 +155,10 @@ fn a_cantilever_rolled_past_a_turn_presses_on_itself_and_never_passes_through() 
     let steps = scene.steps;
     let mut solver = scene.solver().unwrap();
     let mut pressed = 0;
+    let mut records = Vec::new();
     for _ in 0..steps {
         for r in solver.step(&mut Silent).expect("converges") {
+            records.push(r.clone());
             let x = &r.nodes;
             for e in 0..x.len() - 1 {
                 for f in e + 2..x.len() - 1 {
@@ -200,4 +207,5 @@ fn a_cantilever_rolled_past_a_turn_presses_on_itself_and_never_passes_through() 
         }
     }
     assert!(pressed > 0, "the tip never touched the root");
+    common::assert_audited(&scene, &records);
 }

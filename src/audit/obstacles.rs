@@ -7,6 +7,21 @@ use std::collections::HashMap;
 use crate::history::topology::TopologyObstacle;
 use crate::solver::Shape;
 
+/// Round-off units of the coordinates that a distance from an obstacle may be off by.
+const ROUNDOFF_ULPS: f64 = 64.0;
+
+/// The size of the coordinates of `shape` (m): its largest coordinate, plus its radius.
+fn shape_scale(shape: &Shape) -> f64 {
+    let big = |p: &[f64; 2]| p[0].abs().max(p[1].abs());
+    match shape {
+        Shape::Line { from, to } => big(from).max(big(to)),
+        Shape::Polyline { points } => points.iter().map(big).fold(0.0, f64::max),
+        Shape::Circle { centre, radius, .. } | Shape::Arc { centre, radius, .. } => {
+            big(centre) + radius
+        }
+    }
+}
+
 /// The signed distance (m) of point `p` from `shape`: positive on the free side, negative
 /// inside; None where an arc does not reach the point (its polar angle is outside the arc).
 pub fn signed_distance(shape: &Shape, p: [f64; 2]) -> Option<f64> {
@@ -106,12 +121,15 @@ pub fn deepest_inside(
             [now[0] - was[0], now[1] - was[1]]
         });
         let shape = o.shape.translated(by);
+        let scale = shape_scale(&shape);
         for &n in &o.nodes {
             let p = s[slot[&n]];
             let Some(g) = signed_distance(&shape, [p[0], p[1]]) else {
                 continue;
             };
-            if -g > tol && worst.as_ref().is_none_or(|w| -g > w.2) {
+            // Beyond the round-off of the positions and the shape's coordinates too.
+            let slack = ROUNDOFF_ULPS * f64::EPSILON * (scale + p[0].abs().max(p[1].abs()));
+            if -g > tol + slack && worst.as_ref().is_none_or(|w| -g > w.2) {
                 worst = Some((n, o.name.clone(), -g));
             }
         }

@@ -1,9 +1,42 @@
-//! Helpers shared by the integration tests.
+//! Helpers shared by the integration tests: a reproducible random sequence, and the oracle's
+//! audit of a run's records (`tsm_contact::audit`, which shares no code with the solver).
+
+use tsm_contact::audit::{audit, Run};
+use tsm_contact::history::Topology;
+use tsm_contact::scene::Scene;
+use tsm_contact::solver::IncrementRecord;
+
+/// The oracle on `records` of `scene`, which follow one another from the undeformed state:
+/// panics naming every finding (a node through a body, a group out of balance, a node inside
+/// an obstacle, a contact beyond the friction law, a status its residual does not earn).
+#[allow(dead_code)]
+pub fn assert_audited(scene: &Scene, records: &[IncrementRecord]) {
+    let topology = Topology::of(&scene.model);
+    let ids: Vec<u32> = scene.model.nodes.iter().map(|n| n.id).collect();
+    let run = Run {
+        topology: &topology,
+        node_ids: &ids,
+        params: &scene.params,
+    };
+    let found = audit(&run, None, records);
+    assert!(
+        found.is_empty(),
+        "{} finding(s):\n{}",
+        found.len(),
+        found
+            .iter()
+            .map(|f| f.to_string())
+            .collect::<Vec<_>>()
+            .join("\n")
+    );
+}
 
 /// A small deterministic pseudo-random sequence (xorshift) in [-1, 1), so failures are
 /// reproducible.
+#[allow(dead_code)]
 pub struct Rng(pub u64);
 
+#[allow(dead_code)]
 impl Rng {
     /// Next value in [-1, 1).
     pub fn next(&mut self) -> f64 {
