@@ -44,6 +44,9 @@ impl ContactSet {
         let at = |dd: &[f64], k: usize| current(m, &cv.dofs, dd, k).0;
         let (c0, c1) = (at(cv.d, n), at(d, n));
         let window = cv.self_window_of(n, b);
+        // A node resting on the body at the last converged state touches its chord there
+        // without being about to cross it.
+        let resting = cv.contacts.is_active(n, b);
         let mut elements = m.bodies[b].elements.iter().copied();
         elements.find(|&e| {
             if window.is_some_and(|(lo, hi)| (lo..=hi).contains(&cv.place[e])) {
@@ -62,6 +65,7 @@ impl ContactSet {
             let l0 = (u0[0] * u0[0] + u0[1] * u0[1]).sqrt();
             let s0 = (u0[0] * v0[0] + u0[1] * v0[1]) / (l0 * l0);
             if t_min == 0.0
+                && !resting
                 && qc.abs() <= cv.touching(THROUGH, l0) * l0
                 && (0.0..=1.0).contains(&s0)
             {
@@ -278,6 +282,11 @@ impl ContactSet {
             // chord, or a node that crosses inside the sag, crosses no chord.
             let wrong_side = p.gap * side < -cv.touching(THROUGH, p.length);
             let round_an_end = Self::over_an_end_half(cv, n, b, was);
+            // Resting there, it may have slid off that end and the body sprung back past it:
+            // a straight sweep of the chords cannot follow that, and its side is open again.
+            if round_an_end && cv.contacts.is_active(n, b) {
+                return None;
+            }
             let crossed = wrong_side
                 && ((Self::adjacent(cv, b, was, p.beam)
                     && (!round_an_end || -p.gap * side < SHAPE_MARGIN * p.length))

@@ -135,8 +135,9 @@ impl ContactSet {
                     xi_now,
                     0.0,
                 ));
-                // The node went round the end: its side is unknown until it projects again.
-                self.sides.remove(&(a.node, a.body));
+                // The node keeps the side it rested on: found beyond the body at the end of
+                // the increment, it went round the end only if it lay over the outer half of
+                // that end element at the last accepted state (`ContactSet::crossing`).
                 // A tip resting on another body hands the node over to that body (the paper's
                 // "jump"): the node sits on the tip, so it sits on the other body's surface.
                 let beam = &m.beams[a.beam];
