@@ -92,7 +92,12 @@ pub fn unbalanced(
             .take(checks)
         {
             let b = if k < 2 { bound } else { arm * bound } + slack;
-            if !(sum[k].abs() <= b) {
+            // Within the bound (a NaN sum is not).
+            let within = matches!(
+                sum[k].abs().partial_cmp(&b),
+                Some(std::cmp::Ordering::Less | std::cmp::Ordering::Equal)
+            );
+            if !within {
                 let first = topology.nodes.get(members[0]).map_or(0, |nd| nd.id);
                 return Some(format!(
                     "the group of {} node(s) from node {first} is out of balance: {what} {:.3e} above the bound {b:.3e} (tolerance {tol:.0e} of the reference {:.3e})",
@@ -127,9 +132,10 @@ fn forces(
         topology.held.iter().map(|(n, d)| (*n, dof(d))).collect();
     let (mut free2, mut held_at): (f64, HashMap<(u32, usize), f64>) = (0.0, HashMap::new());
     for l in &topology.loads {
-        for k in 0..3 {
-            let v = lam * l.force[k];
-            on[slot[&l.node]][k] += v;
+        let at = slot[&l.node];
+        for (k, f) in l.force.iter().enumerate() {
+            let v = lam * f;
+            on[at][k] += v;
             if held.contains(&(l.node, k)) {
                 *held_at.entry((l.node, k)).or_default() += v;
             } else {

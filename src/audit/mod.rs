@@ -163,7 +163,12 @@ fn status(params: &SolverParams, r: &IncrementRecord) -> Option<String> {
             "accepted at the round-off floor",
         ),
     };
-    (!(r.relative_residual <= bound)).then(|| {
+    // Within the bound (a NaN residual is not).
+    let within = matches!(
+        r.relative_residual.partial_cmp(&bound),
+        Some(std::cmp::Ordering::Less | std::cmp::Ordering::Equal)
+    );
+    (!within).then(|| {
         format!(
             "called {named} with a relative residual of {:.3e}, above {bound:.0e}",
             r.relative_residual

@@ -221,7 +221,7 @@ impl<'a> SideAudit<'a> {
                         Some(o) => format!("a feature of obstacle {o}"),
                     };
                     found.push(Finding {
-                        increment: increment,
+                        increment,
                         node: pair.obstacle.is_none().then_some(pair.node),
                         body: Some(name.clone()),
                         what: format!(
