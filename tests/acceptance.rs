@@ -5,9 +5,10 @@
 //! line, Example 3.2 dragged in uneven steps and with Bernoulli-Euler elements, translated
 //! scenes, and random pins (proptest).
 
+mod common;
+
 use proptest::prelude::*;
-use tsm_contact::audit::{audit, Run};
-use tsm_contact::history::{History, Topology};
+use tsm_contact::history::History;
 use tsm_contact::scene::{builtin::builtin, parse, Scene};
 use tsm_contact::solver::report::ContactChange;
 use tsm_contact::solver::{
@@ -76,27 +77,10 @@ fn run(scene: &Scene, steps: usize) -> (Vec<IncrementRecord>, Option<SolveError>
 }
 
 /// The oracle (`tsm_contact::audit`, sharing no code with the solver) on `records`, which follow
-/// one another from the undeformed state: no candidate node through a body it is not in
-/// contact with, every increment in equilibrium from its recorded forces, its status that of
-/// its residual. Panics naming every finding.
+/// one another from the undeformed state (`common::assert_audited`), and each round-off status
+/// carrying its ratio to the tolerance.
 fn audited(scene: &Scene, records: &[IncrementRecord]) {
-    let topology = Topology::of(&scene.model);
-    let ids: Vec<u32> = scene.model.nodes.iter().map(|n| n.id).collect();
-    let run = Run {
-        topology: &topology,
-        node_ids: &ids,
-        params: &scene.params,
-    };
-    let found = audit(&run, None, records);
-    assert!(
-        found.is_empty(),
-        "{}",
-        found
-            .iter()
-            .map(|f| f.to_string())
-            .collect::<Vec<_>>()
-            .join("\n")
-    );
+    common::assert_audited(scene, records);
     for r in records {
         if let IncrementStatus::RoundOff { ratio } = r.status {
             let rel = r.relative_residual;

@@ -3,10 +3,10 @@
 //! record the worker sends is audited by the oracle (`tsm_contact::audit`), which shares no
 //! code with the solver: no node goes through a body, every state is in equilibrium.
 
+mod common;
+
 use std::time::{Duration, Instant};
 
-use tsm_contact::audit::{audit, Run};
-use tsm_contact::history::Topology;
 use tsm_contact::scene::builtin::builtin;
 use tsm_contact::solver::IncrementRecord;
 use tsm_contact::worker::{Command, Message, Worker};
@@ -81,25 +81,7 @@ fn drag(name: &str, frames: &[f64]) -> (Vec<IncrementRecord>, Vec<String>) {
         records.extend(r);
         errors.extend(e);
     }
-    let topology = Topology::of(&scene.model);
-    let ids: Vec<u32> = scene.model.nodes.iter().map(|n| n.id).collect();
-    let run = Run {
-        topology: &topology,
-        node_ids: &ids,
-        params: &scene.params,
-    };
-    let found = audit(&run, None, &records);
-    assert!(
-        found.is_empty(),
-        "{name}: {} finding(s) in {} records:\n{}",
-        found.len(),
-        records.len(),
-        found
-            .iter()
-            .map(|f| f.to_string())
-            .collect::<Vec<_>>()
-            .join("\n")
-    );
+    common::assert_audited(&scene, &records);
     (records, errors)
 }
 
