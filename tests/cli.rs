@@ -237,3 +237,25 @@ fn check_audits_a_history_and_names_what_is_wrong() {
         "{text}"
     );
 }
+
+/// `robust --per-scene 1` drives every built-in scene once, writes robustness.md into its output
+/// folder with one row per scene, and the audit finds nothing in what it accepted.
+#[test]
+fn robust_writes_a_row_per_scene_and_an_audit_count() {
+    let out = std::env::temp_dir().join(format!("tsm-robust-{}", std::process::id()));
+    let run = Command::new(env!("CARGO_BIN_EXE_tsm-contact"))
+        .args(["robust", "--per-scene", "1", "--out"])
+        .arg(&out)
+        .output()
+        .expect("runs");
+    assert_eq!(run.status.code(), Some(0));
+    let page = std::fs::read_to_string(out.join("robustness.md")).expect("written");
+    let _ = std::fs::remove_dir_all(&out);
+    let scenes = tsm_contact::scene::builtin::BUILTIN.len();
+    assert!(page.contains(&format!("{scenes} drives (1 per built-in scene")), "{page}");
+    assert!(page.contains(", 0 audit finding(s)"), "{page}");
+    for (file, _) in tsm_contact::scene::builtin::BUILTIN {
+        let row = format!("| {} | 1 |", file.trim_end_matches(".ron"));
+        assert!(page.contains(&row), "no row {row}");
+    }
+}

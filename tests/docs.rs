@@ -140,7 +140,7 @@ fn the_cli_reference_is_the_help() {
     let page = std::fs::read_to_string(root().join("docs/cli.md")).unwrap();
     let printed = blocks(&page, "text");
     let commands = [
-        "solve", "scenes", "check", "view", "figure", "bench", "stress", "scale",
+        "solve", "scenes", "check", "view", "figure", "bench", "stress", "robust", "scale",
     ];
     assert_eq!(printed.len(), commands.len());
     for (c, shown) in commands.iter().zip(&printed) {

@@ -119,6 +119,23 @@ pub(super) enum Command {
         #[arg(long, default_value = "docs")]
         out: PathBuf,
     },
+    /// Robustness campaign: seeded random drives of every built-in scene (meshes, formulations,
+    /// steps from 3e-4 to 50 times the scene's, down and back up, friction); counts how they
+    /// end and the Newton iterations of every increment (failed attempts included), audits
+    /// every accepted state; prints a Markdown report and writes robustness.md into --out.
+    #[cfg(feature = "reports")]
+    #[command(after_help = "Example: tsm-contact robust --per-scene 4 --out /tmp/report")]
+    Robust {
+        /// Drives per built-in scene.
+        #[arg(long, default_value_t = 24)]
+        per_scene: usize,
+        /// The campaign's seed.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Output folder.
+        #[arg(long, default_value = "docs")]
+        out: PathBuf,
+    },
     /// Open the visualiser on a scene (default: the built-in default scene).
     #[cfg(feature = "gui")]
     #[command(

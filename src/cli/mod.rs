@@ -40,6 +40,12 @@ pub fn run() -> i32 {
         #[cfg(feature = "reports")]
         Some(Command::Stress { long, out }) => reports::stress(long, &out),
         #[cfg(feature = "reports")]
+        Some(Command::Robust {
+            per_scene,
+            seed,
+            out,
+        }) => reports::robust(per_scene, seed, &out),
+        #[cfg(feature = "reports")]
         Some(Command::Scale { max, contact }) => reports::scale(max, contact),
         Some(Command::Check { history, scene }) => check::check(&history, scene.as_deref()),
         Some(Command::Scenes) => {

@@ -3,12 +3,13 @@
 //! report or the reference it is measured against:
 //! `work_precision.rs` (error against time, with `pin_elastica.rs` the contact reference),
 //! `stress.rs` (the stability suite), `scaling.rs` and `contact_scaling.rs` (cost against
-//! size, with `plain_chain.rs` the yardstick), `interactive.rs` (slider re-solve times).
+//! size, with `plain_chain.rs` the yardstick), `interactive.rs` (slider re-solve times), `robust.rs` (the robustness campaign).
 
 pub mod contact_scaling;
 pub mod interactive;
 pub mod pin_elastica;
 pub mod plain_chain;
+pub mod robust;
 pub mod scaling;
 pub mod stress;
 pub mod work_precision;

@@ -1,0 +1,309 @@
+//! The robustness campaign (`tsm-contact robust`): seeded random drives of every built-in scene
+//! (the scene's own mesh or, for a one-body scene, half or twice as many elements; either
+//! formulation; steps from 3e-4 to 50 times the scene's; down only, or down and back up; friction
+//! mu in [0, 1] on every contact) counted by how they end, with the Newton iterations of every
+//! increment (its failed attempts and cut-backs included) and what the independent audit
+//! (`crate::audit`) finds in every accepted state. A measurement, not a test: it reports.
+
+use std::collections::BTreeMap;
+
+use crate::audit::{audit, Run};
+use crate::history::Topology;
+use crate::scene::builtin::{builtin, with_elements, BUILTIN};
+use crate::scene::Scene;
+use crate::solver::report::Flow;
+use crate::solver::{Formulation, IncrementRecord, IterationRecord, Observer};
+
+/// The most increments one drive takes (each way): a drive at 3e-4 of a scene's step covers
+/// that many of its small steps, not the scene's whole path.
+const MAX_INCREMENTS: usize = 120;
+
+/// The smallest and largest step, as multiples of the scene's.
+const STEP_RANGE: (f64, f64) = (3e-4, 50.0);
+
+/// One drive of the campaign.
+#[derive(Clone, Debug)]
+pub struct Case {
+    /// Built-in scene name.
+    pub scene: String,
+    /// The seed it was drawn from.
+    pub seed: u64,
+    /// Element formulation.
+    pub formulation: Formulation,
+    /// Elements per path segment of a one-body scene (`None`: the scene's own mesh).
+    pub elements: Option<usize>,
+    /// The step as a multiple of the scene's (prescribed values and load factor alike).
+    pub factor: f64,
+    /// Steps down.
+    pub steps: usize,
+    /// Whether the drive goes back up to the start afterwards.
+    pub reverse: bool,
+    /// Friction coefficient on every contact pair and obstacle.
+    pub mu: f64,
+}
+
+/// How one drive ended.
+#[derive(Clone, Debug)]
+pub struct Outcome {
+    /// The drive.
+    pub case: Case,
+    /// `None`: every step done; else the error's kind and text.
+    pub stop: Option<(String, String)>,
+    /// Newton iterations of each accepted increment, its failed attempts included.
+    pub iterations: Vec<usize>,
+    /// What the audit found in the accepted states.
+    pub findings: Vec<String>,
+}
+
+/// A small reproducible random sequence (xorshift) in [0, 1).
+struct Draw(u64);
+
+impl Draw {
+    fn next(&mut self) -> f64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// `per_scene` drives of every built-in scene, drawn from `seed`.
+pub fn cases(per_scene: usize, seed: u64) -> Vec<Case> {
+    let mut out = Vec::new();
+    for (k, (file, _)) in BUILTIN.iter().enumerate() {
+        let name = file.trim_end_matches(".ron").to_string();
+        for j in 0..per_scene {
+            let s =
+                seed ^ ((k as u64 + 1) << 32) ^ (j as u64 + 1).wrapping_mul(0x9e37_79b9_7f4a_7c15);
+            let mut d = Draw(s | 1);
+            for _ in 0..4 {
+                d.next();
+            }
+            let (lo, hi) = STEP_RANGE;
+            let factor = lo * (hi / lo).powf(d.next());
+            let own = builtin(&name).and_then(Result::ok).map_or(1, |sc| sc.steps);
+            let steps = ((own as f64 / factor).ceil() as usize).clamp(1, MAX_INCREMENTS);
+            let elements = match (d.next() * 3.0) as usize {
+                0 => None,
+                m => {
+                    single_body_elements(&name).map(|n| if m == 1 { (n / 2).max(1) } else { 2 * n })
+                }
+            };
+            out.push(Case {
+                scene: name.clone(),
+                seed: s,
+                formulation: if d.next() < 0.5 {
+                    Formulation::Timoshenko
+                } else {
+                    Formulation::BernoulliEuler
+                },
+                elements,
+                factor,
+                steps,
+                reverse: d.next() < 0.5,
+                mu: if d.next() < 0.5 { 0.0 } else { d.next() },
+            });
+        }
+    }
+    out
+}
+
+/// The elements per segment of a one-body built-in scene.
+fn single_body_elements(name: &str) -> Option<usize> {
+    let scene = builtin(name)?.ok()?;
+    match scene.file.bodies.as_slice() {
+        [body] => Some(body.elements),
+        _ => None,
+    }
+}
+
+/// The scene of `case`: re-meshed, its formulation and friction set. `None` where the mesh
+/// cannot be made.
+fn scene_of(case: &Case) -> Option<Scene> {
+    let mut scene = match case.elements {
+        Some(n) => with_elements(&case.scene, n)?.ok()?,
+        None => builtin(&case.scene)?.ok()?,
+    };
+    scene.model.formulation = case.formulation;
+    for pair in &mut scene.model.contacts {
+        pair.mu = case.mu;
+    }
+    for ob in &mut scene.model.obstacles {
+        ob.mu = case.mu;
+    }
+    Some(scene)
+}
+
+/// Counts the Newton iterations of each increment number, every attempt included.
+#[derive(Default)]
+struct Count {
+    per_increment: BTreeMap<usize, usize>,
+}
+
+impl Observer for Count {
+    fn iteration(&mut self, r: &IterationRecord) -> Flow {
+        *self.per_increment.entry(r.increment).or_default() += 1;
+        Flow::Continue
+    }
+}
+
+/// Drive `case` and audit what it accepted.
+pub fn run(case: &Case) -> Outcome {
+    let mut outcome = Outcome {
+        case: case.clone(),
+        stop: None,
+        iterations: Vec::new(),
+        findings: Vec::new(),
+    };
+    let Some(scene) = scene_of(case) else {
+        outcome.stop = Some(("NoMesh".into(), "the scene cannot be re-meshed so".into()));
+        return outcome;
+    };
+    let mut solver = match scene.solver() {
+        Ok(s) => s,
+        Err(e) => {
+            outcome.stop = Some((kind(&e), e.to_string()));
+            return outcome;
+        }
+    };
+    let per_step: Vec<f64> = (scene.model.prescribed.iter())
+        .map(|p| p.per_step * case.factor)
+        .collect();
+    let load_step = scene.model.load_per_step * case.factor;
+    let mut count = Count::default();
+    let mut records: Vec<IncrementRecord> = Vec::new();
+    let legs = if case.reverse { 2 } else { 1 };
+    'drive: for leg in 0..legs {
+        let sign = if leg == 0 { 1.0 } else { -1.0 };
+        for _ in 0..case.steps {
+            let targets: Vec<f64> = (solver.prescribed_values().iter())
+                .zip(&per_step)
+                .map(|(v, s)| v + sign * s)
+                .collect();
+            let lambda = solver.load_factor() + sign * load_step;
+            match solver.advance_to(&targets, lambda, &mut count) {
+                Ok(r) => records.extend(r),
+                Err(e) => {
+                    outcome.stop = Some((kind(&e), e.to_string()));
+                    break 'drive;
+                }
+            }
+        }
+    }
+    outcome.iterations = (records.iter())
+        .map(|r| {
+            count
+                .per_increment
+                .get(&r.increment)
+                .copied()
+                .unwrap_or(r.iterations)
+        })
+        .collect();
+    let topology = Topology::of(&scene.model);
+    let ids: Vec<u32> = scene.model.nodes.iter().map(|n| n.id).collect();
+    let audit_run = Run {
+        topology: &topology,
+        node_ids: &ids,
+        params: &scene.params,
+    };
+    outcome.findings = (audit(&audit_run, None, &records).iter())
+        .map(|f| f.to_string())
+        .collect();
+    outcome
+}
+
+/// The kind of an error: its variant's name.
+fn kind(e: &crate::solver::SolveError) -> String {
+    let debug = format!("{e:?}");
+    debug.chars().take_while(|c| c.is_alphanumeric()).collect()
+}
+
+/// The `q`-quantile (0 to 1) of sorted `v` (0 for none).
+fn quantile(v: &[usize], q: f64) -> usize {
+    match v.len() {
+        0 => 0,
+        n => v[((q * (n - 1) as f64).round() as usize).min(n - 1)],
+    }
+}
+
+/// The report: a summary, a line per scene and every stop, as Markdown.
+pub fn report(outcomes: &[Outcome], per_scene: usize, seed: u64) -> String {
+    let mut text = String::new();
+    let done = outcomes.iter().filter(|o| o.stop.is_none()).count();
+    let mut all: Vec<usize> = outcomes
+        .iter()
+        .flat_map(|o| o.iterations.iter().copied())
+        .collect();
+    all.sort_unstable();
+    let findings: usize = outcomes.iter().map(|o| o.findings.len()).sum();
+    text += &format!(
+        "{} drives ({per_scene} per built-in scene, seed {seed}): {done} complete ({:.1} %), {} accepted increments, {findings} audit finding(s).\n\n",
+        outcomes.len(),
+        100.0 * done as f64 / outcomes.len().max(1) as f64,
+        all.len()
+    );
+    text += &format!(
+        "Newton iterations per accepted increment, failed attempts and cut-backs included: median {}, 99th percentile {}, largest {}.\n\n",
+        quantile(&all, 0.5),
+        quantile(&all, 0.99),
+        all.last().copied().unwrap_or(0)
+    );
+    text += "| scene | drives | complete | stops (kind: count) | iterations median / p99 / max | findings |\n|---|---|---|---|---|---|\n";
+    let mut scenes: Vec<&str> = outcomes.iter().map(|o| o.case.scene.as_str()).collect();
+    scenes.dedup();
+    for name in scenes {
+        let of: Vec<&Outcome> = outcomes.iter().filter(|o| o.case.scene == name).collect();
+        let mut stops: BTreeMap<&str, usize> = BTreeMap::new();
+        for o in &of {
+            if let Some((k, _)) = &o.stop {
+                *stops.entry(k.as_str()).or_default() += 1;
+            }
+        }
+        let mut its: Vec<usize> = of
+            .iter()
+            .flat_map(|o| o.iterations.iter().copied())
+            .collect();
+        its.sort_unstable();
+        let stops: Vec<String> = stops.iter().map(|(k, n)| format!("{k}: {n}")).collect();
+        text += &format!(
+            "| {name} | {} | {} | {} | {} / {} / {} | {} |\n",
+            of.len(),
+            of.iter().filter(|o| o.stop.is_none()).count(),
+            if stops.is_empty() {
+                "-".into()
+            } else {
+                stops.join(", ")
+            },
+            quantile(&its, 0.5),
+            quantile(&its, 0.99),
+            its.last().copied().unwrap_or(0),
+            of.iter().map(|o| o.findings.len()).sum::<usize>()
+        );
+    }
+    text += "\nEvery stop, with its drive (seed, formulation, elements per segment, step factor, steps, down and up, mu):\n\n";
+    for o in outcomes
+        .iter()
+        .filter(|o| o.stop.is_some() || !o.findings.is_empty())
+    {
+        let c = &o.case;
+        let why = o
+            .stop
+            .as_ref()
+            .map_or("completes".to_string(), |s| s.1.clone());
+        text += &format!(
+            "- {} seed {:#x} {:?} {} x{:.3e} {} steps{} mu {:.2}: {why}{}\n",
+            c.scene,
+            c.seed,
+            c.formulation,
+            c.elements.map_or("own mesh".into(), |n| format!("{n} el.")),
+            c.factor,
+            c.steps,
+            if c.reverse { " and back" } else { "" },
+            c.mu,
+            o.findings
+                .first()
+                .map_or(String::new(), |f| format!("; audit: {f}"))
+        );
+    }
+    text
+}
