@@ -252,7 +252,10 @@ fn robust_writes_a_row_per_scene_and_an_audit_count() {
     let page = std::fs::read_to_string(out.join("robustness.md")).expect("written");
     let _ = std::fs::remove_dir_all(&out);
     let scenes = tsm_contact::scene::builtin::BUILTIN.len();
-    assert!(page.contains(&format!("{scenes} drives (1 per built-in scene")), "{page}");
+    assert!(
+        page.contains(&format!("{scenes} drives (1 per built-in scene")),
+        "{page}"
+    );
     assert!(page.contains(", 0 audit finding(s)"), "{page}");
     for (file, _) in tsm_contact::scene::builtin::BUILTIN {
         let row = format!("| {} | 1 |", file.trim_end_matches(".ron"));

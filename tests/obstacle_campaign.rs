@@ -174,6 +174,7 @@ fn random_obstacle_scenes_keep_every_node_out_and_every_record_in_balance() {
         let mut solver = parsed.solver().expect("a stable scene");
         let tol = solver.obstacle_tolerance();
         let mut failed = false;
+        let mut all = Vec::new();
         for _ in 0..8 {
             match solver.step(&mut Silent) {
                 Ok(records) => {
@@ -181,6 +182,7 @@ fn random_obstacle_scenes_keep_every_node_out_and_every_record_in_balance() {
                         check(r, &solid, tol, load, &text);
                         touched += usize::from(!r.obstacle_contacts.is_empty());
                     }
+                    all.extend(records);
                 }
                 Err(e) => {
                     eprintln!("stopped: {e}");
@@ -189,6 +191,7 @@ fn random_obstacle_scenes_keep_every_node_out_and_every_record_in_balance() {
                 }
             }
         }
+        common::assert_audited(&parsed, &all);
         if failed {
             stopped += 1;
         } else {

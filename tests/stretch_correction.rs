@@ -4,6 +4,8 @@
 //! roll-up, against the regular polygon. The default mode switches it on at a run's first
 //! cut-back and leaves runs without one as plain Newton's, bit for bit.
 
+mod common;
+
 use tsm_contact::scene::{builtin, Scene};
 use tsm_contact::solver::{Event, IncrementRecord, Observer, StretchCorrection};
 
@@ -31,9 +33,10 @@ impl Observer for Events {
 fn run_with_events(sc: &Scene) -> (Vec<IncrementRecord>, Vec<Event>) {
     let mut s = sc.solver().expect("stable");
     let mut events = Events::default();
-    let recs = (0..sc.steps)
+    let recs: Vec<IncrementRecord> = (0..sc.steps)
         .flat_map(|_| s.step(&mut events).expect("converges"))
         .collect();
+    common::assert_audited(sc, &recs);
     (recs, events.0)
 }
 
