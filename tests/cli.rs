@@ -238,8 +238,9 @@ fn check_audits_a_history_and_names_what_is_wrong() {
     );
 }
 
-/// `robust --per-scene 1` drives every built-in scene once, writes robustness.md into its output
-/// folder with one row per scene, and the audit finds nothing in what it accepted.
+/// `robust --per-scene 1` drives every built-in scene and family once, writes robustness.md into
+/// its output folder with one row per built-in scene, and the audit finds nothing in what it
+/// accepted.
 #[test]
 fn robust_writes_a_row_per_scene_and_an_audit_count() {
     let out = std::env::temp_dir().join(format!("tsm-robust-{}", std::process::id()));
@@ -252,10 +253,12 @@ fn robust_writes_a_row_per_scene_and_an_audit_count() {
     let page = std::fs::read_to_string(out.join("robustness.md")).expect("written");
     let _ = std::fs::remove_dir_all(&out);
     let scenes = tsm_contact::scene::builtin::BUILTIN.len();
-    assert!(
-        page.contains(&format!("{scenes} drives (1 per built-in scene")),
-        "{page}"
+    let families = tsm_contact::reports::robust::FAMILIES.len();
+    let drives = format!(
+        "{} drives (1 per built-in scene and family",
+        scenes + families
     );
+    assert!(page.contains(&drives), "{page}");
     assert!(page.contains(", 0 audit finding(s)"), "{page}");
     for (file, _) in tsm_contact::scene::builtin::BUILTIN {
         let row = format!("| {} | 1 |", file.trim_end_matches(".ron"));

@@ -1,7 +1,9 @@
 //! The robustness campaign (`tsm-contact robust`): seeded random drives of every built-in scene
 //! (the scene's own mesh or, for a one-body scene, half or twice as many elements; either
 //! formulation; steps from 3e-4 to 50 times the scene's; down only, or down and back up; friction
-//! mu in [0, 1] on every contact) counted by how they end, with the Newton iterations of every
+//! mu in [0, 1] on every contact), and of two families with a plain answer (a pin pressed onto
+//! the midspan node of a pinned-pinned beam, two cantilevers pressed onto each other, on 8 to
+//! 128 elements) counted by how they end, with the Newton iterations of every
 //! increment (its failed attempts and cut-backs included) and what the independent audit
 //! (`crate::audit`) finds in every accepted state. A measurement, not a test: it reports.
 
@@ -40,6 +42,70 @@ pub struct Case {
     pub reverse: bool,
     /// Friction coefficient on every contact pair and obstacle.
     pub mu: f64,
+    /// The scene's text, for a family that is no built-in scene.
+    pub text: Option<String>,
+}
+
+/// A family of scenes with a plain answer.
+pub struct Family {
+    /// Its name in the report.
+    pub name: &'static str,
+    /// Its own number of steps.
+    pub steps: usize,
+    /// The scene on `n` elements per body.
+    pub scene: fn(usize) -> String,
+}
+
+/// The families of the campaign.
+pub const FAMILIES: [Family; 2] = [
+    Family {
+        name: "pin on a mesh node",
+        steps: 20,
+        scene: pin_on_a_node,
+    },
+    Family {
+        name: "stacked cantilevers",
+        steps: 30,
+        scene: stacked_cantilevers,
+    },
+];
+
+/// A pin pressed onto the midspan node of a pinned-pinned beam of `n` elements (n even), EA =
+/// 1e3 EI / L^2.
+fn pin_on_a_node(n: usize) -> String {
+    format!(
+        r#"(
+    name: "pin on a mesh node",
+    sections: [(name: "s", E: 1.0, A: 1.0e3, I: 1.0, G: 400.0)],
+    nodes: [(id: 100000, x: 0.5, y: 0.001, rotation: false)],
+    bodies: [(name: "beam", section: "s", path: [(0.0, 0.0), (1.0, 0.0)], elements: {n}, first_node: 1)],
+    supports: [(node: 1, u: true, v: true), (node: {last}, u: true, v: true), (node: 100000, u: true)],
+    prescribed: [(node: 100000, dof: V, per_step: -0.01)],
+    contacts: [(nodes: [100000], bodies: ["beam"])],
+    control: (steps: 20),
+)"#,
+        last = n + 1
+    )
+}
+
+/// Two cantilevers of `n` elements, one above the other and overlapping by 0.7 of their
+/// length; the upper one's clamp is driven down onto the lower one.
+fn stacked_cantilevers(n: usize) -> String {
+    format!(
+        r#"(
+    name: "stacked cantilevers",
+    sections: [(name: "s", E: 1.0, A: 1.0e3, I: 1.0, G: 400.0)],
+    bodies: [
+        (name: "upper", section: "s", path: [(0.0, 0.0), (1.0, 0.0)], elements: {n}, first_node: 1),
+        (name: "lower", section: "s", path: [(1.3, -0.05), (0.3, -0.05)], elements: {n}, first_node: {lower}),
+    ],
+    supports: [(node: 1, u: true, phi: true), (node: {lower}, u: true, v: true, phi: true)],
+    prescribed: [(node: 1, dof: V, per_step: -0.01)],
+    contacts: [(node_bodies: ["upper"], bodies: ["lower"]), (node_bodies: ["lower"], bodies: ["upper"])],
+    control: (steps: 30),
+)"#,
+        lower = n + 2
+    )
 }
 
 /// How one drive ended.
@@ -67,7 +133,7 @@ impl Draw {
     }
 }
 
-/// `per_scene` drives of every built-in scene, drawn from `seed`.
+/// `per_scene` drives of every built-in scene and of every family, drawn from `seed`.
 pub fn cases(per_scene: usize, seed: u64) -> Vec<Case> {
     let mut out = Vec::new();
     for (k, (file, _)) in BUILTIN.iter().enumerate() {
@@ -102,6 +168,37 @@ pub fn cases(per_scene: usize, seed: u64) -> Vec<Case> {
                 steps,
                 reverse: d.next() < 0.5,
                 mu: if d.next() < 0.5 { 0.0 } else { d.next() },
+                text: None,
+            });
+        }
+    }
+    for (k, family) in FAMILIES.iter().enumerate() {
+        let (name, own) = (family.name, family.steps);
+        for j in 0..per_scene {
+            let s = seed
+                ^ ((k as u64 + 101) << 32)
+                ^ (j as u64 + 1).wrapping_mul(0x9e37_79b9_7f4a_7c15);
+            let mut d = Draw(s | 1);
+            for _ in 0..4 {
+                d.next();
+            }
+            let (lo, hi) = STEP_RANGE;
+            let factor = lo * (hi / lo).powf(d.next());
+            let n = 8 << ((d.next() * 5.0) as usize).min(4);
+            out.push(Case {
+                scene: name.to_string(),
+                seed: s,
+                formulation: if d.next() < 0.5 {
+                    Formulation::Timoshenko
+                } else {
+                    Formulation::BernoulliEuler
+                },
+                elements: Some(n),
+                factor,
+                steps: ((own as f64 / factor).ceil() as usize).clamp(1, MAX_INCREMENTS),
+                reverse: d.next() < 0.5,
+                mu: if d.next() < 0.5 { 0.0 } else { 0.2 },
+                text: Some((family.scene)(n)),
             });
         }
     }
@@ -120,9 +217,10 @@ fn single_body_elements(name: &str) -> Option<usize> {
 /// The scene of `case`: re-meshed, its formulation and friction set. `None` where the mesh
 /// cannot be made.
 fn scene_of(case: &Case) -> Option<Scene> {
-    let mut scene = match case.elements {
-        Some(n) => with_elements(&case.scene, n)?.ok()?,
-        None => builtin(&case.scene)?.ok()?,
+    let mut scene = match (&case.text, case.elements) {
+        (Some(text), _) => crate::scene::parse(text, &case.scene).ok()?,
+        (None, Some(n)) => with_elements(&case.scene, n)?.ok()?,
+        (None, None) => builtin(&case.scene)?.ok()?,
     };
     scene.model.formulation = case.formulation;
     for pair in &mut scene.model.contacts {
@@ -237,7 +335,7 @@ pub fn report(outcomes: &[Outcome], per_scene: usize, seed: u64) -> String {
     all.sort_unstable();
     let findings: usize = outcomes.iter().map(|o| o.findings.len()).sum();
     text += &format!(
-        "{} drives ({per_scene} per built-in scene, seed {seed}): {done} complete ({:.1} %), {} accepted increments, {findings} audit finding(s).\n\n",
+        "{} drives ({per_scene} per built-in scene and family, seed {seed}): {done} complete ({:.1} %), {} accepted increments, {findings} audit finding(s).\n\n",
         outcomes.len(),
         100.0 * done as f64 / outcomes.len().max(1) as f64,
         all.len()
