@@ -68,9 +68,10 @@ fn spread(n: usize, lo: f64, hi: f64) -> Vec<f64> {
         .collect()
 }
 
-/// Example 3.2 with the pin driven 0.0098 m a step: a history that ends with the pin under
-/// beam A, every increment accepted (kept as written by a solver that released the pin in a
-/// cascade of releases). The oracle finds the pin through A where it happened.
+/// A stored history of Example 3.2 with the pin driven 0.0098 m a step, every increment marked
+/// converged, in which beam A springs back up through the pin at increment 13 (the pin rests
+/// inside the sag of A's element 9, then A is straight above it). The oracle finds the pin
+/// through A there.
 #[test]
 fn the_oracle_finds_the_stored_pass_through() {
     let text = include_str!("fixtures/example_3_2_pin_through_a.json");
