@@ -54,21 +54,74 @@ pub struct Family {
     pub steps: usize,
     /// The scene on `n` elements per body.
     pub scene: fn(usize) -> String,
+    /// Its friction coefficient, where it is the point of the family (else drawn).
+    pub mu: Option<f64>,
 }
 
 /// The families of the campaign.
-pub const FAMILIES: [Family; 2] = [
+pub const FAMILIES: [Family; 4] = [
     Family {
         name: "pin on a mesh node",
         steps: 20,
         scene: pin_on_a_node,
+        mu: None,
     },
     Family {
         name: "stacked cantilevers",
         steps: 30,
         scene: stacked_cantilevers,
+        mu: None,
+    },
+    Family {
+        name: "bar on a rough beam floor",
+        steps: 10,
+        scene: bar_on_a_beam_floor,
+        mu: Some(0.3),
+    },
+    Family {
+        name: "bar on a rough line",
+        steps: 10,
+        scene: bar_on_a_line,
+        mu: Some(0.3),
     },
 ];
+
+/// A steel bar of `n` elements lying on a clamped floor beam (zero gap, declared above it),
+/// its left end held along the floor, under its own weight.
+fn bar_on_a_beam_floor(n: usize) -> String {
+    bar_on(
+        n,
+        r#"(name: "floor", section: "floor", path: [(0.0, 0.0), (1.2, 0.0)], elements: 12, first_node: 1001),"#,
+        r#"(node: 1001, u: true, v: true, phi: true), (node: 1013, u: true, v: true, phi: true),"#,
+        r#"contacts: [(node_bodies: ["bar"], bodies: ["floor"], side: Left)],"#,
+    )
+}
+
+/// The bar of `bar_on_a_beam_floor` on a rigid line instead.
+fn bar_on_a_line(n: usize) -> String {
+    bar_on(
+        n,
+        "",
+        "",
+        r#"obstacles: [(name: "floor", shape: Line(from: (0.0, 0.0), to: (1.2, 0.0)), bodies: ["bar"])],"#,
+    )
+}
+
+/// The bar with a floor body, its supports, and the contact or obstacle entry.
+fn bar_on(n: usize, floor: &str, held: &str, contact: &str) -> String {
+    format!(
+        r#"(
+    name: "bar on a floor", units: N_m, formulation: BernoulliEuler,
+    sections: [(name: "bar", E: 2.0e11, A: 1.0e-4, I: 8.3333e-10, density: 7850.0),
+               (name: "floor", E: 2.0e11, A: 1.0e-3, I: 8.3333e-8)],
+    bodies: [(name: "bar", section: "bar", path: [(0.1, 0.0), (1.1, 0.0)], elements: {n}, first_node: 1),
+             {floor}],
+    supports: [{held} (node: 1, u: true)],
+    {contact}
+    control: (steps: 10, gravity: (0.0, -9.81)),
+)"#
+    )
+}
 
 /// A pin pressed onto the midspan node of a pinned-pinned beam of `n` elements (n even), EA =
 /// 1e3 EI / L^2.
@@ -197,7 +250,7 @@ pub fn cases(per_scene: usize, seed: u64) -> Vec<Case> {
                 factor,
                 steps: ((own as f64 / factor).ceil() as usize).clamp(1, MAX_INCREMENTS),
                 reverse: d.next() < 0.5,
-                mu: if d.next() < 0.5 { 0.0 } else { 0.2 },
+                mu: family.mu.unwrap_or(if d.next() < 0.5 { 0.0 } else { 0.2 }),
                 text: Some((family.scene)(n)),
             });
         }
@@ -214,13 +267,22 @@ fn single_body_elements(name: &str) -> Option<usize> {
     }
 }
 
-/// The scene of `case`: re-meshed, its formulation and friction set. `None` where the mesh
-/// cannot be made.
-fn scene_of(case: &Case) -> Option<Scene> {
+/// The scene of `case`: re-meshed, its formulation and friction set; or why there is none
+/// (the kind, `Refused` where validation refuses it, and the text).
+fn scene_of(case: &Case) -> Result<Scene, (String, String)> {
+    let refused = |e: crate::scene::SceneError| ("Refused".to_string(), e.to_string());
+    let unknown = || {
+        (
+            "NoMesh".to_string(),
+            "the scene cannot be re-meshed so".to_string(),
+        )
+    };
     let mut scene = match (&case.text, case.elements) {
-        (Some(text), _) => crate::scene::parse(text, &case.scene).ok()?,
-        (None, Some(n)) => with_elements(&case.scene, n)?.ok()?,
-        (None, None) => builtin(&case.scene)?.ok()?,
+        (Some(text), _) => crate::scene::parse(text, &case.scene).map_err(refused)?,
+        (None, Some(n)) => with_elements(&case.scene, n)
+            .ok_or_else(unknown)?
+            .map_err(refused)?,
+        (None, None) => builtin(&case.scene).ok_or_else(unknown)?.map_err(refused)?,
     };
     scene.model.formulation = case.formulation;
     for pair in &mut scene.model.contacts {
@@ -229,7 +291,7 @@ fn scene_of(case: &Case) -> Option<Scene> {
     for ob in &mut scene.model.obstacles {
         ob.mu = case.mu;
     }
-    Some(scene)
+    Ok(scene)
 }
 
 /// Counts the Newton iterations of each increment number, every attempt included.
@@ -253,9 +315,12 @@ pub fn run(case: &Case) -> Outcome {
         iterations: Vec::new(),
         findings: Vec::new(),
     };
-    let Some(scene) = scene_of(case) else {
-        outcome.stop = Some(("NoMesh".into(), "the scene cannot be re-meshed so".into()));
-        return outcome;
+    let scene = match scene_of(case) {
+        Ok(scene) => scene,
+        Err(stop) => {
+            outcome.stop = Some(stop);
+            return outcome;
+        }
     };
     let mut solver = match scene.solver() {
         Ok(s) => s,
