@@ -11,22 +11,6 @@ use tsm_contact::scene::builtin::builtin;
 use tsm_contact::solver::IncrementRecord;
 use tsm_contact::worker::{Command, Message, Worker};
 
-/// Collect messages until `Idle` arrives after the work started (`Busy`), or time runs out.
-fn until_idle(w: &Worker, limit: Duration) -> (Vec<IncrementRecord>, Vec<String>) {
-    let t0 = Instant::now();
-    let (mut incs, mut errors, mut busy) = (Vec::new(), Vec::new(), false);
-    while t0.elapsed() < limit {
-        match w.recv_timeout(Duration::from_millis(50)) {
-            Some(Message::Increment(r)) => incs.push(*r),
-            Some(Message::Error(e)) => errors.push(e),
-            Some(Message::Busy) => busy = true,
-            Some(Message::Idle) if busy => return (incs, errors),
-            _ => {}
-        }
-    }
-    panic!("the worker did not become idle within {limit:?}");
-}
-
 /// The frames of a drag, in scene steps: down to `depth` steps in uneven jumps of 0.1 to 1.9
 /// steps (a hand on the mouse, frame by frame), then back up to `back` steps (negative: past
 /// the start). `seed` picks the jumps.
@@ -77,7 +61,7 @@ fn drag(name: &str, frames: &[f64]) -> (Vec<IncrementRecord>, Vec<String>) {
                 value: f * p.per_step,
             });
         }
-        let (r, e) = until_idle(&w, Duration::from_secs(120));
+        let (r, e) = common::until_idle(&w, Duration::from_secs(120));
         records.extend(r);
         errors.extend(e);
     }

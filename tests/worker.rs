@@ -2,33 +2,15 @@
 //! value after N steps is N * per_step, `SetTarget` marches in increments no larger than
 //! `|per_step|` and stops exactly at the target, and `Cancel` stops promptly.
 
+mod common;
+
 use std::time::{Duration, Instant};
 
 use tsm_contact::scene::builtin::builtin;
-use tsm_contact::solver::IncrementRecord;
 use tsm_contact::worker::{Command, Message, Worker};
 
 fn scene(name: &str) -> tsm_contact::scene::Scene {
     builtin(name).expect("built-in scene").expect("valid scene")
-}
-
-/// Collect messages until `Idle` arrives after the work started (`Busy`), or time runs out.
-fn until_idle(w: &Worker, limit: Duration) -> (Vec<IncrementRecord>, Vec<String>) {
-    let t0 = Instant::now();
-    let (mut incs, mut errors, mut busy) = (Vec::new(), Vec::new(), false);
-    while t0.elapsed() < limit {
-        match w.recv_timeout(Duration::from_millis(50)) {
-            Some(Message::Increment(r)) => incs.push(*r),
-            Some(Message::Error(e)) => errors.push(e),
-            Some(Message::Busy) => busy = true,
-            Some(Message::Idle) if busy => return (incs, errors),
-            _ => {}
-        }
-    }
-    panic!(
-        "worker did not become idle within {limit:?} ({} increments so far)",
-        incs.len()
-    );
 }
 
 /// Load a scene and wait for its `Loaded` and `Idle`.
@@ -54,7 +36,7 @@ fn run_streams_increments_in_order() {
     let s = scene("example_3_2");
     let steps = 12;
     w.send(Command::RunSteps(steps));
-    let (incs, errors) = until_idle(&w, Duration::from_secs(120));
+    let (incs, errors) = common::until_idle(&w, Duration::from_secs(120));
     assert!(errors.is_empty(), "{errors:?}");
     assert!(
         incs.len() >= steps,
@@ -83,7 +65,7 @@ fn set_target_marches_in_small_increments_and_stops_exactly() {
         index: 0,
         value: target,
     });
-    let (incs, errors) = until_idle(&w, Duration::from_secs(120));
+    let (incs, errors) = common::until_idle(&w, Duration::from_secs(120));
     assert!(errors.is_empty(), "{errors:?}");
     assert!(
         incs.len() >= 5,
@@ -115,7 +97,7 @@ fn set_target_marches_in_small_increments_and_stops_exactly() {
         index: 0,
         value: back,
     });
-    let (incs, errors) = until_idle(&w, Duration::from_secs(120));
+    let (incs, errors) = common::until_idle(&w, Duration::from_secs(120));
     assert!(errors.is_empty(), "{errors:?}");
     let last = incs.last().map_or(prev, |r| r.prescribed[0]);
     assert!(
@@ -174,7 +156,7 @@ fn errors_do_not_kill_the_worker() {
     ));
     load(&w, "mattiasson");
     w.send(Command::Step);
-    let (incs, errors) = until_idle(&w, Duration::from_secs(60));
+    let (incs, errors) = common::until_idle(&w, Duration::from_secs(60));
     assert!(errors.is_empty(), "{errors:?}");
     assert_eq!(incs.first().map(|r| r.increment), Some(1));
     w.send(Command::Reset);
@@ -209,7 +191,7 @@ fn arc_length_scene_runs_as_arcs() {
     let w = Worker::spawn(None);
     load(&w, "lee_frame");
     w.send(Command::RunSteps(steps));
-    let (incs, errors) = until_idle(&w, Duration::from_secs(120));
+    let (incs, errors) = common::until_idle(&w, Duration::from_secs(120));
     assert!(errors.is_empty(), "{errors:?}");
     assert_eq!(incs.len(), lambdas.len());
     for (r, l) in incs.iter().zip(&lambdas) {
@@ -252,7 +234,7 @@ fn stretch_correction_mode_reloads_and_runs_in_that_mode() {
         }
         assert_eq!(loaded, Some(mode));
         w.send(Command::Run);
-        let (incs, errors) = until_idle(&w, Duration::from_secs(60));
+        let (incs, errors) = common::until_idle(&w, Duration::from_secs(60));
         assert!(errors.is_empty(), "{errors:?}");
         let want = direct(mode);
         assert_eq!(incs.len(), want.len());

@@ -46,3 +46,28 @@ impl Rng {
         (self.0 >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
     }
 }
+
+/// Collect a worker's messages until `Idle` arrives after the work started (`Busy`), or time
+/// runs out: the increments and the errors.
+#[allow(dead_code)]
+pub fn until_idle(
+    w: &tsm_contact::worker::Worker,
+    limit: std::time::Duration,
+) -> (Vec<IncrementRecord>, Vec<String>) {
+    use tsm_contact::worker::Message;
+    let t0 = std::time::Instant::now();
+    let (mut incs, mut errors, mut busy) = (Vec::new(), Vec::new(), false);
+    while t0.elapsed() < limit {
+        match w.recv_timeout(std::time::Duration::from_millis(50)) {
+            Some(Message::Increment(r)) => incs.push(*r),
+            Some(Message::Error(e)) => errors.push(e),
+            Some(Message::Busy) => busy = true,
+            Some(Message::Idle) if busy => return (incs, errors),
+            _ => {}
+        }
+    }
+    panic!(
+        "worker did not become idle within {limit:?} ({} increments so far)",
+        incs.len()
+    );
+}

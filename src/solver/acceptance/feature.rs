@@ -69,14 +69,14 @@ pub fn feature_through(
             None => origin,
         };
         let (t0, t1) = (offset(before), offset(after));
-        let touching = |b: usize| {
-            model.bodies[b].elements.iter().any(|&e| {
-                let beam = &model.beams[e];
-                ob.nodes.contains(&beam.i) || ob.nodes.contains(&beam.j)
-            })
-        };
+        // The bodies with a node that may touch the obstacle (its nodes are ascending).
+        let mut touching = vec![false; model.bodies.len()];
+        for beam in &model.beams {
+            let candidate = |n: usize| ob.nodes.binary_search(&n).is_ok();
+            touching[beam.body] |= candidate(beam.i) || candidate(beam.j);
+        }
         for (e, beam) in model.beams.iter().enumerate() {
-            if !touching(beam.body) {
+            if !touching[beam.body] {
                 continue;
             }
             for &f in &points {

@@ -248,8 +248,8 @@ impl ContactSet {
     /// and `d`: the probe now and the side the node came from.
     ///
     /// With a remembered side, a crossing is a node now on the other side of an element next to
-    /// the one the side was measured against, found either shallow or with a swept path through
-    /// a chord. Without one, because at the last converged state the node projected onto no
+    /// the one the side was measured against (at any depth, unless it lay over the outer half of
+    /// an end element), or with a swept path through a chord. Without one, because at the last converged state the node projected onto no
     /// element (it lay past an end node of the body: beyond a free tip, or beyond a clamped
     /// end), a crossing is a swept path through a chord: a node that passes the body right at
     /// an end node (li/l = 0 or 1) goes from the region no element covers straight to the other
@@ -265,25 +265,17 @@ impl ContactSet {
     ) -> Option<(Probe, f64)> {
         let p = self.probe_near(cv, d, n, b, Some(&views.now))?;
         if let Some((side, was)) = self.side_of(cv, n, b, Some(&views.before)) {
-            // On the other side of an element next to the remembered one, shallow or with a
-            // swept path; on the other side of one further along (a beam springing back past a
-            // node that let go two elements away), only with a swept path: a beam that curls
-            // brings far elements round a node without passing through it.
-            // A node that rested on the body at the last converged state keeps the side it
-            // touched from: found beyond the element it rested on (or a neighbour) at any
-            // depth, it is a contact again, never a release through the body (a beam that
-            // springs back past a node resting inside its sag crosses no chord).
-            //
-            // Beyond an element next to the one its side was measured against, at any depth,
-            // a node went through, unless it lay over the outer half of an end element of the
-            // body, from where it may have gone round that end within the increment (the
-            // chords swept in a straight line cannot tell): then only shallow, or with a
-            // swept path. A beam that springs back past a node resting inside the sag of its
-            // chord, or a node that crosses inside the sag, crosses no chord.
+            // Beyond an element next to the one its side was measured against, a node went
+            // through at any depth: a beam that springs back past a node resting inside the sag
+            // of its chord, or a node that crosses inside the sag, crosses no chord. Beyond one
+            // further along (a beam springing back past a node that let go two elements away),
+            // only with a swept path: a beam that curls brings far elements round a node
+            // without passing through it. A node that lay over the outer half of an end element
+            // may have gone round that end within the increment, which a straight sweep of the
+            // chords cannot tell: there, only shallow or with a swept path; and if it rested on
+            // the body there, it may have slid off the end, and its side is open again.
             let wrong_side = p.gap * side < -cv.touching(THROUGH, p.length);
             let round_an_end = Self::over_an_end_half(cv, n, b, was);
-            // Resting there, it may have slid off that end and the body sprung back past it:
-            // a straight sweep of the chords cannot follow that, and its side is open again.
             if round_an_end && cv.contacts.is_active(n, b) {
                 return None;
             }
