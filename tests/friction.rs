@@ -15,8 +15,9 @@ use tsm_contact::scene::builtin::BUILTIN;
 use tsm_contact::scene::parse;
 use tsm_contact::solver::acceptance::{friction_law, FrictionRecord};
 use tsm_contact::solver::element::beam::BeamElement;
-use tsm_contact::solver::element::contact_element::{contact_response, ContactOptions};
-use tsm_contact::solver::element::friction::{add_friction, obstacle_friction, Grip, ObstacleGrip};
+use tsm_contact::solver::element::contact_element::ContactOptions;
+use tsm_contact::solver::element::contact_law::contact_outcome;
+use tsm_contact::solver::element::friction::{obstacle_friction, Grip, ObstacleGrip};
 use tsm_contact::solver::report::ContactState;
 use tsm_contact::solver::{
     ContactChange, Event, Friction, IncrementRecord, Section, Shape, Silent, SolverParams,
@@ -27,9 +28,9 @@ use tsm_contact::solver::{
 fn response(el: &BeamElement, x: &[f64; 8], grip: Grip) -> (Vec<f64>, DMatrix<f64>, bool) {
     let (pi, pj, pc) = ([x[0], x[1]], [x[3], x[4]], [x[6], x[7]]);
     let opts = ContactOptions::default();
-    let mut r = contact_response(el, pi, pj, [x[2], x[5]], &[pc], opts, true);
-    let t = add_friction(&mut r, el.length, (pi, pj), &[pc], &[Some(grip)]);
-    let t = t[0].expect("frictional");
+    let out = contact_outcome(el, (pi, pj), [x[2], x[5]], &[pc], opts, &[Some(grip)], true);
+    let r = out.response;
+    let t = out.friction[0].expect("frictional");
     // The mode evaluated is the one the return mapping asks for.
     assert_eq!(t.mode(grip.slip, false), grip.slip);
     let slipping = t.slipping;

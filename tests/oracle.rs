@@ -180,7 +180,7 @@ fn a_tip_landing_exactly_on_a_line_is_a_contact() {
             .iter()
             .position(|r| !r.contacts.is_empty() || !r.obstacle_contacts.is_empty());
         assert!(
-            touched.is_some_and(|k| k + 1 >= 30 && k + 1 <= 31),
+            touched.is_some_and(|k| (29..=30).contains(&k)),
             "{floor}: contact at {touched:?}"
         );
         // On the rigid line the tip stays on it; the beam floor gives under it.

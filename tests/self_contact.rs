@@ -1,8 +1,8 @@
 //! Self-contact: a body touching itself, away from each node's own and neighbouring elements.
 //! The reference is the same structure cut into two bodies at the bend and solved with contact
 //! between the bodies: the same nodes, elements and loads, another path through the code (no
-//! self-contact windows). A folded strip pressed shut gives the same states, contacts and
-//! forces both ways.
+//! self-contact windows). A folded strip pressed shut gives the same state, contacts and
+//! forces at the end of every step both ways.
 
 mod common;
 
@@ -39,11 +39,13 @@ fn folded(bodies: &str, nodes: &str, contacts: &str) -> Vec<IncrementRecord> {
     let mut out = Vec::new();
     let mut records = Vec::new();
     for _ in 0..10 {
-        for mut r in solver.step(&mut Silent).expect("converges") {
-            records.push(r.clone());
-            r.nodes = order.iter().map(|&k| r.nodes[k]).collect();
-            out.push(r);
-        }
+        let step = solver.step(&mut Silent).expect("converges");
+        records.extend(step.iter().cloned());
+        // The state at the end of the step: the cut-backs on the way (their failed attempts
+        // are iterates far from equilibrium) may differ between two models of one structure.
+        let mut r = step.last().expect("an increment").clone();
+        r.nodes = order.iter().map(|&k| r.nodes[k]).collect();
+        out.push(r);
     }
     common::assert_audited(&scene, &records);
     out
@@ -67,7 +69,7 @@ fn a_strip_folded_shut_touches_itself_as_two_bodies_touch_each_other() {
         &format!("(id: {corner}, x: 1.0, y: 0.05)"),
         r#"(node_bodies: ["upper"], bodies: ["lower"]), (node_bodies: ["lower"], bodies: ["upper"])"#,
     );
-    assert_eq!(one.len(), two.len(), "the same increments");
+    assert_eq!(one.len(), two.len(), "the same steps");
     let mut touched = 0;
     for (a, b) in one.iter().zip(&two) {
         let scale = 0.07;

@@ -148,6 +148,19 @@ fn forces(
         [p[0], p[1]]
     };
     let rest: HashMap<u32, [f64; 2]> = topology.nodes.iter().map(|n| (n.id, [n.x, n.y])).collect();
+    // The angle from element (i, j)'s chord to the beam's surface at fraction xi: each end's
+    // rotation relative to the chord, interpolated linearly, within 45 degrees. The chord's
+    // turn since rest is taken on the branch nearest the mean of the end rotations.
+    let surface_turn = |i: u32, j: u32, xi: f64| {
+        let (a, b, ra, rb) = (pos(i), pos(j), rest[&i], rest[&j]);
+        let (pi, pj) = (r.nodes[slot[&i]][2], r.nodes[slot[&j]][2]);
+        let turned = (b[1] - a[1]).atan2(b[0] - a[0]) - (rb[1] - ra[1]).atan2(rb[0] - ra[0]);
+        let tau = std::f64::consts::TAU;
+        let mean = 0.5 * (pi + pj);
+        let chord = turned + tau * ((mean - turned) / tau).round();
+        let quarter = std::f64::consts::FRAC_PI_4;
+        ((1.0 - xi) * (pi - chord) + xi * (pj - chord)).clamp(-quarter, quarter)
+    };
     for d in &topology.distributed {
         let e = &topology.elements[d.element];
         let (a, b) = (pos(e.i), pos(e.j));
@@ -190,12 +203,19 @@ fn forces(
         let (a, b) = (pos(e.i), pos(e.j));
         let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
         let l = dx.hypot(dy);
-        slack += c.force.hypot(c.tangential) * 64.0 * f64::EPSILON * scale / l;
         // Yc is the force on the beam along its chord's left normal: the node takes -Yc
-        // there, and the friction force along the chord from end i to end j.
+        // there, and the friction force along the chord from end i to end j. Normal to the
+        // surface, the frictionless force leans along the chord by Yc tan(t).
+        let along = if params.surface_normal {
+            let turn = surface_turn(e.i, e.j, c.xi);
+            c.tangential + c.force * turn.tan()
+        } else {
+            c.tangential
+        };
+        slack += c.force.hypot(along) * 64.0 * f64::EPSILON * scale / l;
         let f = [
-            (dy * c.force + dx * c.tangential) / l,
-            (-dx * c.force + dy * c.tangential) / l,
+            (dy * c.force + dx * along) / l,
+            (-dx * c.force + dy * along) / l,
         ];
         let s = slot[&c.node];
         on[s][0] += f[0];

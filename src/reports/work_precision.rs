@@ -188,19 +188,19 @@ pub fn pin_errors(sc: &Scene, recs: &[IncrementRecord]) -> Option<[f64; 2]> {
             (q[0] - p[0]).hypot(q[1] - p[1])
         })
         .sum();
+    let timoshenko = sc.model.formulation == Formulation::Timoshenko;
+    let gae = if timoshenko { beam.gae } else { f64::INFINITY };
     let stiffness = Stiffness {
         ea: beam.ea,
         ei: beam.ei,
-        gae: match sc.model.formulation {
-            Formulation::Timoshenko => beam.gae,
-            Formulation::BernoulliEuler => f64::INFINITY,
-        },
+        gae,
     };
     let last = recs.last()?;
     let contact = last.contacts.first()?;
-    // The shear kink under the pin: the element's force is normal to its chord, which weights
-    // the tangents on either side of the pin by li / l (`pin_elastica`'s module comment).
-    let reference = pin_on_cantilever(at, length, stiffness, contact.xi)?;
+    // The shear kink under the pin (`pin_elastica`'s module comment): the force is normal to
+    // the section (`surface_normal`), or to the chord, which weights the two sides by li / l.
+    let share = contact.xi * f64::from(u8::from(!sc.params.surface_normal));
+    let reference = pin_on_cantilever(at, length, stiffness, share)?;
     let user = sc.model.nodes[pin.node].id;
     let reaction = |dof: &str| {
         (last.reactions.iter())

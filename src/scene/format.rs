@@ -319,6 +319,22 @@ pub struct ControlDef {
     /// The largest gap (either way) of a node resting on an obstacle, as a fraction of the
     /// model's size (default 1e-9).
     pub obstacle_gap: Option<f64>,
+    /// The direction a frictionless node-to-beam contact pushes in: `Surface` (the default),
+    /// normal to the beam's surface at the contact point, continuous from one element to the
+    /// next; `Chord`, normal to the element's chord, as the paper's element.
+    pub contact_normal: ContactNormal,
+}
+
+/// The direction of a frictionless node-to-beam contact force (`ControlDef::contact_normal`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum ContactNormal {
+    /// Normal to the beam's surface at the contact point: the element's end rotations
+    /// interpolated along it.
+    #[default]
+    Surface,
+    /// Normal to the element's chord (the paper's element): the direction turns abruptly where
+    /// the contact passes a mesh node of a bent beam.
+    Chord,
 }
 
 impl Default for ControlDef {
@@ -328,6 +344,7 @@ impl Default for ControlDef {
             load_per_step: None,
             tolerance: None,
             roundoff_bound: None,
+            contact_normal: ContactNormal::Surface,
             max_step: None,
             stretch_correction: StretchCorrection::AfterCutBack,
             arc_length: None,

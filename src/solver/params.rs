@@ -37,11 +37,19 @@ pub struct SolverParams {
     pub unsymmetric_from: usize,
     /// Contact fractions are kept within [xi_min, 1 - xi_min] inside the stiffness.
     pub xi_min: f64,
-    /// The contact spring in series with a Bernoulli-Euler element's contact force, in units
-    /// of the element's EI / l^3 (`contact_element::contact_compliance`): it keeps the contact
-    /// stiffness finite on and near the element's nodes (3 EI / li^3 without it). A node in
-    /// contact sits inside the shape by Yc l^3 / (contact_stiffness EI). Infinite: none.
+    /// The contact spring in series with an element's contact force, in units of the
+    /// element's EI / l^3 (`contact_element::contact_compliance`): it keeps the contact
+    /// stiffness finite on and near the element's nodes (3 EI / li^3 for Bernoulli-Euler, G Ae /
+    /// li for Timoshenko without it). A node in contact sits inside the shape by Yc l^3 /
+    /// (contact_stiffness EI). Infinite: none.
     pub contact_stiffness: f64,
+    /// Whether a frictionless contact pushes normal to the beam's surface at the contact point
+    /// (the element's end rotations interpolated along it: continuous from one element to the
+    /// next) rather than normal to the element's chord, as the paper's element does; see
+    /// `element::contact_law`. Parameters read without it (histories written before the
+    /// surface normal) mean the chord's normal.
+    #[serde(default)]
+    pub surface_normal: bool,
     /// Tolerance for "li/l left (0, 1)" when deciding a transfer, as a fraction of the element.
     pub transfer_tolerance: f64,
     /// A contact within this fraction of an element end that has no neighbouring element (a
@@ -98,6 +106,7 @@ impl Default for SolverParams {
             unsymmetric_from: 1,
             xi_min: 1e-6,
             contact_stiffness: 1e4,
+            surface_normal: true,
             transfer_tolerance: 1e-9,
             free_end_margin: 1e-3,
             roundoff_factor: 0.0,
@@ -145,6 +154,7 @@ impl SolverParams {
                 0.0
             },
             contact_stiffness: self.contact_stiffness,
+            surface_normal: self.surface_normal,
         }
     }
 }

@@ -3,7 +3,7 @@
 
 use super::conditions::Conditions;
 use super::errors::{positive, within, Ctx, SceneError};
-use crate::scene::format::SceneFile;
+use crate::scene::format::{ContactNormal, SceneFile};
 use crate::solver::SolverParams;
 
 /// The range of a bound on the relative residual (the tolerance, the round-off bound): above
@@ -42,6 +42,7 @@ pub(super) fn control(ctx: &Ctx, sf: &SceneFile, c_: &Conditions) -> Result<Cont
         params.max_step = s;
     }
     params.stretch_correction = c.stretch_correction;
+    params.surface_normal = c.contact_normal == ContactNormal::Surface;
     if let Some(s) = c.arc_length {
         positive(
             ctx,

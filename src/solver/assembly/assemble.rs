@@ -8,8 +8,9 @@ use super::internal::{add_element, add_plain_beam, Internal};
 use super::obstacles::{add_obstacles, ObstacleLink};
 use super::packed::PackedBeam;
 use crate::solver::element::beam::BeamElement;
-use crate::solver::element::contact_element::{contact_response, ContactOptions};
-use crate::solver::element::friction::{add_friction, Grip, Traction};
+use crate::solver::element::contact_element::ContactOptions;
+use crate::solver::element::contact_law::contact_outcome;
+use crate::solver::element::friction::{Grip, Traction};
 use crate::solver::linear::reduce::sum_squares;
 use crate::solver::linear::simd::{dispatch_wide, Avx2};
 use crate::solver::linear::BandMatrix;
@@ -29,6 +30,10 @@ pub struct ElementResults {
     /// For every contact link, in the order given: its friction (`None`: frictionless); empty
     /// where the assembly had no grips.
     pub contact_friction: Vec<Option<Traction>>,
+    /// For every contact link, in the order given: the force along the chord on the contact
+    /// node that turns its frictionless force to the beam's surface normal (N; 0 where the
+    /// force stays normal to the chord).
+    pub contact_turn: Vec<f64>,
 }
 
 /// The assembled global quantities at one state.
@@ -183,6 +188,8 @@ pub(super) fn assemble_kernel(
     results.contact_forces.resize(ord.links.len(), (0.0, 0.0));
     results.contact_friction.clear();
     results.contact_friction.resize(ctx.grips.len(), None);
+    results.contact_turn.clear();
+    results.contact_turn.resize(ord.links.len(), 0.0);
     let held = (&dofs.held[..], &mut out.held_internal[..]);
     let coupling = &mut out.coupling;
     if !ctx.obstacles.is_empty() {
@@ -298,25 +305,27 @@ pub(super) fn assemble_kernel(
                 gdofs.push(dofs.dof(c, 0));
                 gdofs.push(dofs.dof(c, 1));
             }
-            let mut r = contact_response(
+            let grips: Vec<Option<Grip>> = if ctx.grips.is_empty() {
+                vec![None; on_this.len()]
+            } else {
+                on_this.iter().map(|&k| ctx.grips[k]).collect()
+            };
+            let out = contact_outcome(
                 &ctx.elements[e],
-                xi,
-                xj,
+                (xi, xj),
                 [phi_i, phi_j],
                 &xc,
                 ctx.contact,
+                &grips,
                 with_tangent,
             );
-            if !ctx.grips.is_empty() {
-                let grips: Vec<Option<Grip>> = on_this.iter().map(|&k| ctx.grips[k]).collect();
-                if grips.iter().any(Option::is_some) {
-                    let length = ctx.elements[e].length;
-                    let t = add_friction(&mut r, length, (xi, xj), &xc, &grips);
-                    for (&k, t) in on_this.iter().zip(t) {
-                        results.contact_friction[k] = t;
-                    }
+            for (m, &k) in on_this.iter().enumerate() {
+                results.contact_turn[k] = out.turn[m];
+                if !ctx.grips.is_empty() {
+                    results.contact_friction[k] = out.friction[m];
                 }
             }
+            let r = out.response;
             results.beam_forces[e] = [r.forces[0], r.forces[1], r.forces[2]];
             for (m, &k) in on_this.iter().enumerate() {
                 results.contact_forces[k] = (r.forces[3 + m], r.xi[m]);

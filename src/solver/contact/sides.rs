@@ -21,6 +21,10 @@ pub(super) const SIDE: f64 = 1e-10;
 /// wrong side of an element to have crossed it.
 pub(super) const THROUGH: f64 = 1e-10;
 
+/// Steps of the straight path between two states on which a node on the wrong side of a
+/// distant element is followed (`crossed_on_the_way`).
+const WAY_STEPS: usize = 16;
+
 impl ContactSet {
     /// Whether node `n` passed through a chord of body `b` between the last converged state and
     /// `d`, with every position interpolated linearly in between (continuous collision test):
@@ -282,7 +286,8 @@ impl ContactSet {
             let crossed = wrong_side
                 && ((Self::adjacent(cv, b, was, p.beam)
                     && (!round_an_end || -p.gap * side < SHAPE_MARGIN * p.length))
-                    || Self::swept_through(cv, d, n, b));
+                    || Self::swept_through(cv, d, n, b)
+                    || self.crossed_on_the_way(cv, d, (n, b), side, was));
             return crossed.then_some((p, side));
         }
         if p.gap.abs() <= cv.touching(THROUGH, p.length) {
@@ -319,6 +324,50 @@ impl ContactSet {
         let l = (dx * dx + dy * dy).sqrt();
         (clear > cv.touching(THROUGH, l) && Self::adjacent(cv, b, e, p.beam))
             .then_some((p, -p.gap.signum()))
+    }
+
+    /// Whether node `n`, now on the wrong side of body `b` (its side `side`, measured against
+    /// element `was` at the last converged state) two or more elements from there, went through
+    /// the body on the way: the straight path from the last converged state to `d`, in
+    /// `WAY_STEPS` steps, finds it on the wrong side of the element it lay over at the step
+    /// before or of a neighbour, away from the body's ends. A body that rolls along the node
+    /// moves the element under it by more than one within an increment; a beam that curls
+    /// round the node brings the far element from beyond its end, which the steps see.
+    fn crossed_on_the_way(
+        &self,
+        cv: &ContactView<'_>,
+        d: &[f64],
+        (n, b): (usize, usize),
+        side: f64,
+        was: usize,
+    ) -> bool {
+        // The element the node lay over at the step before, and its side there: carried from
+        // element to neighbour, and taken afresh where the node jumps to an element that is
+        // no neighbour or lies far (a side against a distant element of a curled beam says
+        // nothing about one against this).
+        let (mut at, mut local) = (was, side);
+        let mut s = cv.d.to_vec();
+        for k in 1..=WAY_STEPS {
+            let f = k as f64 / WAY_STEPS as f64;
+            for (x, (a, z)) in s.iter_mut().zip(cv.d.iter().zip(d)) {
+                *x = a + f * (z - a);
+            }
+            let Some(p) = self.probe_near(cv, &s, n, b, None) else {
+                continue;
+            };
+            let near = p.gap.abs() <= FAR * p.length;
+            if !near || !Self::adjacent(cv, b, at, p.beam) {
+                (at, local) = (p.beam, p.gap.signum());
+                continue;
+            }
+            if p.gap * local < -cv.touching(THROUGH, p.length)
+                && !Self::over_an_end_half(cv, n, b, at)
+            {
+                return true;
+            }
+            at = p.beam;
+        }
+        false
     }
 
     /// A node that passed through a chord of a body since the last converged state but now

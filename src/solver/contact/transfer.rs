@@ -114,6 +114,23 @@ impl ContactSet {
                 } else {
                     break;
                 };
+                // In a hollow at a mesh node, a node pressed a little into the beam (the contact
+                // spring) lies past the end of each element and before the start of the other:
+                // it rests on the node, and stays on its element rather than hop between them.
+                if let Some(e) = next {
+                    let other = &m.beams[e];
+                    let (oi, _) = current(m, &cv.dofs, d, other.i);
+                    let (oj, _) = current(m, &cv.dofs, d, other.j);
+                    let there = chord_fraction_of(p, oi, oj);
+                    let hollow = if t > 1.0 {
+                        there < -tol
+                    } else {
+                        there > 1.0 + tol
+                    };
+                    if hollow {
+                        break;
+                    }
+                }
                 match next {
                     Some(e) => {
                         a.beam = e;

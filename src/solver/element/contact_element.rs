@@ -98,21 +98,18 @@ pub fn contact_stiffness(beam: &BeamElement, xi: &[f64], compliance: f64) -> DMa
 }
 
 /// The compliance in series with the contact force of `beam` for a contact spring of
-/// `stiffness` EI / l^3 (`SolverParams::contact_stiffness`): Bernoulli-Euler elements only.
+/// `stiffness` EI / l^3 (`SolverParams::contact_stiffness`).
 ///
-/// A Bernoulli-Euler element's stiffness against its contact force grows as 3 EI / li^3 as
-/// the contact point nears an end node (no shear to soften it), and is infinite on the node:
-/// the residual's round-off floor goes with it, far above any tolerance, and first touch
-/// exactly on a node has no stiffness matrix at all. With the spring the stiffness stays
-/// finite everywhere, on the nodes too, and a node in contact sits inside the beam's shape by
-/// Yc l^3 / (stiffness EI), of order h^3 (below the h^2 error of the mesh). Timoshenko elements,
-/// whose shear keeps the stiffness at G Ae / li, get none.
+/// An element's stiffness against its contact force grows without bound as the contact point
+/// nears an end node: as 3 EI / li^3 for Bernoulli-Euler, as G Ae / li for Timoshenko (shear
+/// softens it, but only so far). On the node it is infinite, and first touch exactly on a node
+/// has no stiffness matrix at all; near it the residual's round-off floor goes with it, far
+/// above any tolerance: a pin pressed straight onto a mesh node stalls there. With the spring
+/// the stiffness stays finite everywhere, on the nodes too, and a node in contact sits inside
+/// the beam's shape by Yc l^3 / (stiffness EI), of order h^3 (below the h^2 error of the
+/// mesh).
 pub fn contact_compliance(beam: &BeamElement, stiffness: f64) -> f64 {
-    if beam.psi == 0.0 {
-        beam.length.powi(3) / (stiffness * beam.section.ei)
-    } else {
-        0.0
-    }
+    beam.length.powi(3) / (stiffness * beam.section.ei)
 }
 
 fn inverse_stiffness(beam: &BeamElement) -> (f64, f64) {
@@ -165,6 +162,9 @@ pub struct ContactOptions {
     /// The contact spring of Bernoulli-Euler elements in EI / l^3 (`contact_compliance`);
     /// infinite: none (the exact element, singular with the contact on a node).
     pub contact_stiffness: f64,
+    /// Whether a frictionless contact force is normal to the beam's surface at the contact
+    /// point (`contact_law.rs`) rather than to the chord (the paper's element).
+    pub surface_normal: bool,
 }
 
 impl Default for ContactOptions {
@@ -173,6 +173,7 @@ impl Default for ContactOptions {
             xi_min: 1e-6,
             unsymmetric: 1.0,
             contact_stiffness: 1e4,
+            surface_normal: true,
         }
     }
 }

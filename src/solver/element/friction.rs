@@ -58,7 +58,7 @@ pub struct Traction {
 
 /// The gradient of xi = (a . d) / (d . d), with a = x_c - x_i and d = x_j - x_i, over the
 /// dofs (u_i, v_i, phi_i, u_j, v_j, phi_j, u_c1, v_c1, ...) for contact `m`.
-fn xi_gradient(a: Vector2<f64>, d: Vector2<f64>, nd: usize, m: usize) -> DVector<f64> {
+pub(super) fn xi_gradient(a: Vector2<f64>, d: Vector2<f64>, nd: usize, m: usize) -> DVector<f64> {
     let l2 = d.dot(&d);
     let xi = a.dot(&d) / l2;
     let ga = d / l2;
@@ -73,7 +73,7 @@ fn xi_gradient(a: Vector2<f64>, d: Vector2<f64>, nd: usize, m: usize) -> DVector
 }
 
 /// The Hessian of xi over the same dofs.
-fn xi_hessian(a: Vector2<f64>, d: Vector2<f64>, nd: usize, m: usize) -> DMatrix<f64> {
+pub(super) fn xi_hessian(a: Vector2<f64>, d: Vector2<f64>, nd: usize, m: usize) -> DMatrix<f64> {
     let l2 = d.dot(&d);
     let xi = a.dot(&d) / l2;
     let gd = (a - d * (2.0 * xi)) / l2;
@@ -109,29 +109,21 @@ fn xi_hessian(a: Vector2<f64>, d: Vector2<f64>, nd: usize, m: usize) -> DMatrix<
 /// Add the friction of the contacts with a `Grip` (one entry per contact node of `r`, `None`
 /// for a frictionless one) to the frictionless response `r` of a contact element of undeformed
 /// length `length`, with its ends at `ends` and its contact nodes at `xc` (the positions `r`
-/// was evaluated at). Returns the traction of each contact.
+/// was evaluated at), given the gradient of each contact's Yc (`normal_gradients`, read from
+/// the frictionless tangent). Returns the traction of each contact.
 pub fn add_friction(
     r: &mut ContactResponse,
     length: f64,
     ends: ([f64; 2], [f64; 2]),
     xc: &[[f64; 2]],
     grips: &[Option<Grip>],
+    normal_gradients: &[Option<DVector<f64>>],
 ) -> Vec<Option<Traction>> {
     let nd = r.nodal.len();
     let xi_pos = Vector2::new(ends.0[0], ends.0[1]);
     let d = Vector2::new(ends.1[0], ends.1[1]) - xi_pos;
     let l = d.norm();
     let e = d / l;
-    // Frictionless, the force on contact node m is Yc n: the gradient of Yc is n^T times the
-    // node's rows of the tangent (n . dn = 0), read before any friction goes in.
-    let n = Vector2::new(-e[1], e[0]);
-    let normal_gradients: Vec<Option<DVector<f64>>> = (0..xc.len())
-        .map(|m| {
-            let k = r.tangent.as_ref()?;
-            grips[m]?;
-            Some((k.row(6 + 2 * m) * n[0] + k.row(7 + 2 * m) * n[1]).transpose())
-        })
-        .collect();
     let mut grad_l = DVector::zeros(nd);
     for k in 0..2 {
         grad_l[k] = -e[k];
