@@ -9,6 +9,7 @@ use super::assembly::{
     PackedBeam,
 };
 use super::element::beam::BeamElement;
+use super::element::friction::Grip;
 use super::index_map::IndexMap;
 use super::model::Model;
 use super::params::SolverParams;
@@ -288,20 +289,22 @@ impl Structure {
     }
 
     /// The free dofs (global numbers) that have no stiffness at displacements `d` under
-    /// equation ordering `ord` with the obstacle contacts `obstacles` (empty if the structure
-    /// is stable), and whether they are all of
-    /// them: small models get every dof of the null space; large ones the first failing pivot.
+    /// equation ordering `ord` (with its contact links) with the obstacle contacts and the
+    /// grips of the frictional contacts given (empty if the structure is stable), and whether
+    /// they are all of them: small models get every dof of the null space; large ones the first
+    /// failing pivot.
     pub fn mechanism_dofs(
         &self,
         ord: &Ordering,
         d: &[f64],
-        obstacles: &[ObstacleLink],
+        (obstacles, grips): (&[ObstacleLink], &[Option<Grip>]),
     ) -> (Vec<usize>, bool) {
         if ord.n_eq == 0 {
             return (Vec::new(), true);
         }
         let ctx = AssemblyContext {
             obstacles,
+            grips,
             ..self.context(ord)
         };
         let asm = assemble(&ctx, d, true, None);

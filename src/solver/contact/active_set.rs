@@ -8,7 +8,8 @@
 use super::probe::{PassViews, Probe};
 use super::set::ContactView;
 use super::set::{ActiveContact, ContactSet};
-use crate::solver::assembly::Assembled;
+use super::sides::SIDE;
+use crate::solver::assembly::{current, Assembled};
 use crate::solver::index_map::IndexMap;
 use crate::solver::report::{ContactChange, Event};
 
@@ -182,5 +183,57 @@ impl ContactSet {
         which.sort_unstable();
         self.release(cv, asm, &which, increment, iteration, events);
         which.len()
+    }
+}
+
+impl ContactSet {
+    /// Start in contact every candidate pair whose node rests on its body at the undeformed
+    /// state (within the touching tolerance of the deformed shape) on the side the scene
+    /// declares for it: a bar laid on a floor beam is held by it from the first iteration, as a
+    /// node resting on an obstacle is. A contact that pulls lets go at the first converged
+    /// pass.
+    pub(crate) fn beams_at_rest(&mut self, cv: &ContactView<'_>) {
+        for &(n, b) in Self::candidates(cv) {
+            let Some(&side) = cv.declared_sides.get(&(n, b)) else {
+                continue;
+            };
+            if self.is_active(n, b) {
+                continue;
+            }
+            let Some(p) = self.probe_near(cv, cv.d, n, b, None) else {
+                continue;
+            };
+            if p.gap.abs() > cv.touching(SIDE, p.length) {
+                continue;
+            }
+            let stick = Self::stick_at(cv, n, b, p.beam, p.xi);
+            self.active.push(ActiveContact {
+                node: n,
+                beam: p.beam,
+                body: b,
+                side,
+                stick,
+            });
+        }
+    }
+
+    /// The nodes resting on beams and the directions the beams hold them in (what holds a body
+    /// up before it is loaded): the chord's normal, and its direction too where the contact has
+    /// friction (it sticks).
+    pub(crate) fn resting_on_beams(&self, cv: &ContactView<'_>) -> Vec<(usize, [f64; 2])> {
+        let m = &cv.model;
+        let mut out = Vec::new();
+        for a in &self.active {
+            let beam = &m.beams[a.beam];
+            let (xi, _) = current(m, &cv.dofs, cv.d, beam.i);
+            let (xj, _) = current(m, &cv.dofs, cv.d, beam.j);
+            let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
+            let l = dx.hypot(dy);
+            out.push((a.node, [-dy / l, dx / l]));
+            if a.stick.is_some() {
+                out.push((a.node, [dx / l, dy / l]));
+            }
+        }
+        out
     }
 }

@@ -50,12 +50,10 @@ impl Solver {
             prescribed: vec![0.0; structure.model.prescribed.len()],
             ..State::default()
         };
-        // The ordering without contacts, kept in the workspace for the first attempt.
-        let work = Workspace::default();
-        let ord = work.ordering_for(&structure, &state.contacts);
         // Rigid motions left free by the supports, from geometry; then what the tangent has no
         // stiffness for (inner mechanisms, and lone nodes).
-        // Nodes resting on obstacles at rest start in contact: the obstacles hold them.
+        // Nodes resting on obstacles at rest start in contact, and nodes resting on beams on a
+        // declared side: what they rest on holds them.
         let mut state = state;
         let mut contacts = std::mem::take(&mut state.contacts);
         let view = ContactView {
@@ -64,13 +62,20 @@ impl Solver {
             contacts: &ContactSet::default(),
         };
         contacts.obstacles_at_rest(&view);
-        let normals = contacts.resting_normals(&view);
+        contacts.beams_at_rest(&view);
+        let mut normals = contacts.resting_normals(&view);
+        normals.extend(contacts.resting_on_beams(&view));
+        let grips = contacts.grips(&view);
         state.contacts = contacts;
         let free = free_parts(&structure.model, &normals);
         if !free.is_empty() {
             return Err(structure.rigid_motion(&free));
         }
-        let (free, complete) = structure.mechanism_dofs(&ord, &state.d, &state.contacts.obstacle);
+        // The ordering with the contacts at rest, kept in the workspace for the first attempt.
+        let work = Workspace::default();
+        let ord = work.ordering_for(&structure, &state.contacts);
+        let (free, complete) =
+            structure.mechanism_dofs(&ord, &state.d, (&state.contacts.obstacle, &grips));
         if !free.is_empty() {
             return Err(structure.mechanism(&free, complete));
         }
