@@ -288,7 +288,8 @@ fn example_3_2_at_200_step_sizes_never_passes_through() {
         bad.len(),
         bad.join("\n")
     );
-    assert!(done >= 188, "{done} of 200 runs complete");
+    eprintln!("example_3_2: {done} of 200 runs complete");
+    assert!(done >= 191, "{done} of 200 runs complete");
 }
 
 /// Every built-in contact scene at 40 step sizes from 0.5 to 3 times its own: the oracle
