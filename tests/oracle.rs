@@ -3,7 +3,10 @@
 //! land exactly on a beam's line or an obstacle's, and the oracle's teeth: pass-throughs
 //! planted in real histories, and a stored history with the pin through beam A.
 
-use tsm_contact::audit::{audit, audit_history, Finding, Run};
+mod common;
+
+use common::findings;
+use tsm_contact::audit::audit_history;
 use tsm_contact::history::{History, Topology};
 use tsm_contact::scene::{builtin::builtin, parse, Scene};
 use tsm_contact::solver::{IncrementRecord, SolveError};
@@ -22,16 +25,14 @@ fn solve(scene: &Scene, steps: usize) -> (Vec<IncrementRecord>, Option<SolveErro
     (history.increments, error)
 }
 
-/// The oracle's findings on the records of `scene`.
-fn findings(scene: &Scene, records: &[IncrementRecord]) -> Vec<Finding> {
-    let topology = Topology::of(&scene.model);
-    let ids: Vec<u32> = scene.model.nodes.iter().map(|n| n.id).collect();
-    let run = Run {
-        topology: &topology,
-        node_ids: &ids,
-        params: &scene.params,
-    };
-    audit(&run, None, records)
+/// Panics listing every finding in `bad` (one line each), if any.
+fn assert_none(bad: &[String]) {
+    assert!(
+        bad.is_empty(),
+        "{} finding(s):\n{}",
+        bad.len(),
+        bad.join("\n")
+    );
 }
 
 /// `scene` with every prescribed step and the load step scaled by `f`, and as many steps as
@@ -282,12 +283,7 @@ fn example_3_2_at_200_step_sizes_never_passes_through() {
         .map(|s| s / own)
         .collect();
     let (done, bad) = sweep("example_3_2", &scene, &factors);
-    assert!(
-        bad.is_empty(),
-        "{} finding(s):\n{}",
-        bad.len(),
-        bad.join("\n")
-    );
+    assert_none(&bad);
     eprintln!("example_3_2: {done} of 200 runs complete");
     assert!(done >= 191, "{done} of 200 runs complete");
 }
@@ -310,12 +306,7 @@ fn every_builtin_contact_scene_at_40_step_sizes_never_passes_through() {
         eprintln!("{name}: {done} of 40 complete, {} finding(s)", found.len());
         bad.extend(found);
     }
-    assert!(
-        bad.is_empty(),
-        "{} finding(s):\n{}",
-        bad.len(),
-        bad.join("\n")
-    );
+    assert_none(&bad);
 }
 
 /// One-step loads onto small circles: a roller (R = 20 mm, pilot-driven) pushed 0.1 m down in
@@ -370,7 +361,7 @@ fn one_step_loads_onto_small_circles_never_pass_through() {
             }
         }
     }
-    assert!(bad.is_empty(), "{}", bad.join("\n"));
+    assert_none(&bad);
 }
 
 /// Every built-in scene, in both formulations, at its own step: the oracle finds nothing (the
@@ -393,12 +384,7 @@ fn every_builtin_scene_in_both_formulations_passes_the_audit() {
             }
         }
     }
-    assert!(
-        bad.is_empty(),
-        "{} finding(s):\n{}",
-        bad.len(),
-        bad.join("\n")
-    );
+    assert_none(&bad);
 }
 
 /// A plank laid on a floor beam (zero gap over a metre) is refused without a side, since no

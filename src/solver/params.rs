@@ -46,8 +46,8 @@ pub struct SolverParams {
     /// Whether a frictionless contact pushes normal to the beam's surface at the contact point
     /// (the element's end rotations interpolated along it: continuous from one element to the
     /// next) rather than normal to the element's chord, as the paper's element does; see
-    /// `element::contact_law`. Parameters read without it (histories written before the
-    /// surface normal) mean the chord's normal.
+    /// `element::contact_law`. Parameters read without it (a history that does not name it)
+    /// mean the chord's normal.
     #[serde(default)]
     pub surface_normal: bool,
     /// Tolerance for "li/l left (0, 1)" when deciding a transfer, as a fraction of the element.

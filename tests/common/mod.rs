@@ -1,16 +1,15 @@
 //! Helpers shared by the integration tests: a reproducible random sequence, and the oracle's
 //! audit of a run's records (`tsm_contact::audit`, which shares no code with the solver).
 
-use tsm_contact::audit::{audit, Run};
+use tsm_contact::audit::{audit, Finding, Run};
 use tsm_contact::history::Topology;
 use tsm_contact::scene::Scene;
 use tsm_contact::solver::IncrementRecord;
 
-/// The oracle on `records` of `scene`, which follow one another from the undeformed state:
-/// panics naming every finding (a node through a body, a group out of balance, a node inside
-/// an obstacle, a contact beyond the friction law, a status its residual does not earn).
+/// The oracle's findings on `records` of `scene`, which follow one another from the
+/// undeformed state.
 #[allow(dead_code)]
-pub fn assert_audited(scene: &Scene, records: &[IncrementRecord]) {
+pub fn findings(scene: &Scene, records: &[IncrementRecord]) -> Vec<Finding> {
     let topology = Topology::of(&scene.model);
     let ids: Vec<u32> = scene.model.nodes.iter().map(|n| n.id).collect();
     let run = Run {
@@ -18,7 +17,15 @@ pub fn assert_audited(scene: &Scene, records: &[IncrementRecord]) {
         node_ids: &ids,
         params: &scene.params,
     };
-    let found = audit(&run, None, records);
+    audit(&run, None, records)
+}
+
+/// The oracle on `records` of `scene` (`findings`): panics naming every finding (a node
+/// through a body, a group out of balance, a node inside an obstacle, a contact beyond the
+/// friction law, a status its residual does not earn).
+#[allow(dead_code)]
+pub fn assert_audited(scene: &Scene, records: &[IncrementRecord]) {
+    let found = findings(scene, records);
     assert!(
         found.is_empty(),
         "{} finding(s):\n{}",

@@ -5,6 +5,7 @@
 //! onto an element's chord at both ends of the increment and changes side of it went through
 //! the element. A drum that a chord cuts by its sag keeps its centre on one side.
 
+use super::obstacle::pilot_offset;
 use crate::solver::model::{Model, Shape};
 use crate::solver::report::NodeState;
 
@@ -61,14 +62,10 @@ pub fn feature_through(
         if points.is_empty() {
             continue;
         }
-        let offset = |states: &[NodeState]| match ob.pilot {
-            Some(p) => [
-                states[p][0] - model.nodes[p].x,
-                states[p][1] - model.nodes[p].y,
-            ],
-            None => origin,
-        };
-        let (t0, t1) = (offset(before), offset(after));
+        let (t0, t1) = (
+            pilot_offset(model, ob.pilot, origin, before),
+            pilot_offset(model, ob.pilot, origin, after),
+        );
         // The bodies with a node that may touch the obstacle (its nodes are ascending).
         let mut touching = vec![false; model.bodies.len()];
         for beam in &model.beams {

@@ -31,14 +31,10 @@ pub fn inside_obstacle(
     tol: f64,
 ) -> Option<ObstacleCrossing> {
     for (o, ob) in model.obstacles.iter().enumerate() {
-        let offset = |states: &[NodeState]| match ob.pilot {
-            Some(p) => [
-                states[p][0] - model.nodes[p].x,
-                states[p][1] - model.nodes[p].y,
-            ],
-            None => origin,
-        };
-        let (t0, t1) = (offset(before), offset(after));
+        let (t0, t1) = (
+            pilot_offset(model, ob.pilot, origin, before),
+            pilot_offset(model, ob.pilot, origin, after),
+        );
         // Beyond the tolerance by more than the round-off of the positions and the shape's
         // coordinates (64 units of the largest), which the contact code's gap and this
         // check's depth may each be off by.
@@ -66,6 +62,23 @@ pub fn inside_obstacle(
         }
     }
     None
+}
+
+/// How far an obstacle has moved in state `states`: its pilot node's displacement, or
+/// `origin` for an obstacle without one.
+pub(super) fn pilot_offset(
+    model: &Model,
+    pilot: Option<usize>,
+    origin: [f64; 2],
+    states: &[NodeState],
+) -> [f64; 2] {
+    match pilot {
+        Some(p) => [
+            states[p][0] - model.nodes[p].x,
+            states[p][1] - model.nodes[p].y,
+        ],
+        None => origin,
+    }
 }
 
 /// How far outside the shape point `x` lies (m; 0 or less where it is inside or on it): the

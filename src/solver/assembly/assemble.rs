@@ -30,10 +30,6 @@ pub struct ElementResults {
     /// For every contact link, in the order given: its friction (`None`: frictionless); empty
     /// where the assembly had no grips.
     pub contact_friction: Vec<Option<Traction>>,
-    /// For every contact link, in the order given: the force along the chord on the contact
-    /// node that turns its frictionless force to the beam's surface normal (N; 0 where the
-    /// force stays normal to the chord).
-    pub contact_turn: Vec<f64>,
 }
 
 /// The assembled global quantities at one state.
@@ -188,8 +184,6 @@ pub(super) fn assemble_kernel(
     results.contact_forces.resize(ord.links.len(), (0.0, 0.0));
     results.contact_friction.clear();
     results.contact_friction.resize(ctx.grips.len(), None);
-    results.contact_turn.clear();
-    results.contact_turn.resize(ord.links.len(), 0.0);
     let held = (&dofs.held[..], &mut out.held_internal[..]);
     let coupling = &mut out.coupling;
     if !ctx.obstacles.is_empty() {
@@ -305,8 +299,9 @@ pub(super) fn assemble_kernel(
                 gdofs.push(dofs.dof(c, 0));
                 gdofs.push(dofs.dof(c, 1));
             }
+            // No grips (a frictionless model): an empty slice, nothing to gather.
             let grips: Vec<Option<Grip>> = if ctx.grips.is_empty() {
-                vec![None; on_this.len()]
+                Vec::new()
             } else {
                 on_this.iter().map(|&k| ctx.grips[k]).collect()
             };
@@ -319,9 +314,8 @@ pub(super) fn assemble_kernel(
                 &grips,
                 with_tangent,
             );
-            for (m, &k) in on_this.iter().enumerate() {
-                results.contact_turn[k] = out.turn[m];
-                if !ctx.grips.is_empty() {
+            if !ctx.grips.is_empty() {
+                for (m, &k) in on_this.iter().enumerate() {
                     results.contact_friction[k] = out.friction[m];
                 }
             }

@@ -29,16 +29,13 @@ use super::friction::{add_friction, xi_gradient, xi_hessian, Grip, Traction};
 pub struct ContactOutcome {
     /// Forces, nodal forces and tangent, turn and friction included.
     pub response: ContactResponse,
-    /// The chord-tangential force on each contact node that turns its force to the surface
-    /// normal (N).
-    pub turn: Vec<f64>,
     /// The friction of each contact (`None`: frictionless).
     pub friction: Vec<Option<Traction>>,
 }
 
 /// `contact_response`, then the turn to the surface normal (above) and the
-/// friction of the contacts with a `Grip` (`friction.rs`), in that order: the element as the
-/// assembly adds it.
+/// friction of the contacts with a `Grip` (`friction.rs`; `grips` empty: none), in that
+/// order: the element as the assembly adds it.
 pub fn contact_outcome(
     beam: &BeamElement,
     ends: ([f64; 2], [f64; 2]),
@@ -55,11 +52,9 @@ pub fn contact_outcome(
     } else {
         vec![None; xc.len()]
     };
-    let turn = if opts.surface_normal {
-        turn_to_surface(&mut r, ends, xc, &gradients)
-    } else {
-        vec![0.0; xc.len()]
-    };
+    if opts.surface_normal {
+        turn_to_surface(&mut r, ends, xc, &gradients);
+    }
     let friction = if gripped {
         add_friction(&mut r, beam.length, ends, xc, grips, &gradients)
     } else {
@@ -67,7 +62,6 @@ pub fn contact_outcome(
     };
     ContactOutcome {
         response: r,
-        turn,
         friction,
     }
 }
@@ -84,20 +78,19 @@ pub fn surface_turn(theta_i: f64, theta_j: f64, xi: f64) -> f64 {
 
 /// Turn the frictionless forces of `r` (evaluated with ends at `ends` and contact nodes at
 /// `xc`) to the surface normal. `normal_gradients` are the gradients of each Yc, read before
-/// the turn. Returns the chord-tangential force T on each contact node.
+/// the turn.
 pub fn turn_to_surface(
     r: &mut ContactResponse,
     ends: ([f64; 2], [f64; 2]),
     xc: &[[f64; 2]],
     normal_gradients: &[Option<DVector<f64>>],
-) -> Vec<f64> {
+) {
     let nd = r.nodal.len();
     let xi_pos = Vector2::new(ends.0[0], ends.0[1]);
     let d = Vector2::new(ends.1[0], ends.1[1]) - xi_pos;
     let l = d.norm();
     let e = d / l;
     let (ti, tj) = (r.deformation[1], r.deformation[2]);
-    let mut out = Vec::with_capacity(xc.len());
     for (m, &c) in xc.iter().enumerate() {
         let a = Vector2::new(c[0], c[1]) - xi_pos;
         let xi = a.dot(&d) / d.dot(&d);
@@ -134,9 +127,7 @@ pub fn turn_to_surface(
                 *k += xi_hessian(a, d, nd, m) * g;
             }
         }
-        out.push(-g / l);
     }
-    out
 }
 
 /// The gradient of each contact force Yc of a frictionless response over its dofs: the
