@@ -1,6 +1,7 @@
 //! A pin pressed straight onto a mesh node: the midspan node of a pinned-pinned beam, meshed
 //! with 8 to 128 elements, both formulations, with and without friction. Every run completes,
-//! the oracle finds nothing in its history, and the pin's force follows the elastica of the
+//! the oracle finds nothing in its history, its recorded contact force (turn included) is the
+//! size of the pin's reactions, and the pin's force follows the elastica of the
 //! beam (Reissner's plane beam with axial and shear strain, solved by shooting in this file),
 //! to the mesh's O(h^2). Also Example 3.2 at the two step sizes where A's tip lands on a mesh
 //! node of B.
@@ -168,6 +169,19 @@ fn a_pin_pressed_onto_a_mesh_node_completes_on_every_mesh_with_both_formulations
                     error.map(|e| e.to_string()).unwrap_or_default()
                 );
                 common::assert_audited(&s, &records);
+                // The recorded contact force (Yc along the chord's normal, Yc tan(turn) and
+                // the friction along the chord) is what holds the pin: its size is that of
+                // the pin's reactions, the only other forces on it.
+                let last = records.last().expect("records");
+                let c = &last.contacts[0];
+                let size = c.force.hypot(c.force * c.turn.tan() + c.tangential);
+                let held = (last.reactions.iter())
+                    .filter(|r| r.node == 100000)
+                    .fold(0.0f64, |a, r| a.hypot(r.value));
+                assert!(
+                    (size - held).abs() < 1e-8 * held,
+                    "{formulation}, {n} elements, mu {mu}: contact {size}, reactions {held}"
+                );
             }
         }
     }

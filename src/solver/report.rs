@@ -290,6 +290,12 @@ pub struct ContactState {
     /// its end j (N); 0 where the contact is frictionless.
     #[serde(default)]
     pub tangential: f64,
+    /// The angle (rad, counter-clockwise) from the chord's normal to the beam's surface normal
+    /// at the contact point, along which the frictionless force acts (`SolverParams::
+    /// surface_normal`): the node takes Yc tan(turn) along the chord besides -Yc along the
+    /// normal. 0 with the chord normal, and where a history does not name it.
+    #[serde(default)]
+    pub turn: f64,
     /// Whether the contact sticks or slips.
     #[serde(default)]
     pub friction: Friction,

@@ -154,15 +154,22 @@ pub(crate) fn contacts(
             s([r.nodes[b.j][0], r.nodes[b.j][1]]),
         );
         let chord = (pj - pi).normalized();
-        // Force of the node on the beam: Yc along the chord normal (screen y points down).
-        let normal = Vec2::new(chord.y, -chord.x);
+        // Force of the node on the beam: along the chord normal turned by the surface's turn
+        // (counter-clockwise on the page, clockwise on the screen, whose y points down), of
+        // size Yc / cos(turn).
+        let (sin, cos) = (c.turn as f32).sin_cos();
+        let normal = Vec2::new(
+            chord.y * cos - chord.x * sin,
+            -chord.y * sin - chord.x * cos,
+        );
         let dir = normal * c.force.signum() as f32;
-        let len = 14.0 + 36.0 * (c.force.abs() / fmax) as f32;
+        let size = c.force.abs() / c.turn.cos();
+        let len = 14.0 + 36.0 * (size / fmax).min(1.0) as f32;
         let tail = at - dir * (len + 6.0);
         p.arrow(tail, dir * len, Stroke::new(2.5, ACTIVE));
         p.circle(at, 6.0, ACTIVE, Stroke::new(1.5, INK));
         friction_arrow(p, at, chord, (c.tangential, c.friction), fmax);
-        let label = format!("{} N", num(c.force.abs()));
+        let label = format!("{} N", num(size));
         let centre = tail - dir * 4.0;
         let rect = Rect::from_center_size(centre, Vec2::new(6.5 * label.len() as f32, 13.0));
         if placed.iter().any(|q| q.intersects(rect)) {

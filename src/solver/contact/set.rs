@@ -9,7 +9,9 @@
 use std::collections::HashSet;
 use std::ops::Deref;
 
-use crate::solver::assembly::{Assembled, ContactLink, ObstacleLink};
+use crate::solver::assembly::{current, Assembled, ContactLink, ObstacleLink};
+use crate::solver::element::beam::Chord;
+use crate::solver::element::contact_law::surface_turn;
 use crate::solver::index_map::IndexMap;
 use crate::solver::report::{ContactState, Friction};
 use crate::solver::structure::Structure;
@@ -130,6 +132,17 @@ impl ContactSet {
     pub fn states(&self, cv: &ContactView<'_>, asm: &Assembled) -> Vec<ContactState> {
         let m = &cv.model;
         let friction = |k: usize| asm.elements.contact_friction.get(k).copied().flatten();
+        // The surface's turn from the chord at the contact point, from the state recorded.
+        let turn = |a: &ActiveContact, xi: f64| {
+            if !cv.params.surface_normal {
+                return 0.0;
+            }
+            let beam = &m.beams[a.beam];
+            let (pi, fi) = current(m, &cv.dofs, cv.d, beam.i);
+            let (pj, fj) = current(m, &cv.dofs, cv.d, beam.j);
+            let ch = Chord::new(pi, pj, cv.elements[a.beam].alpha0, 0.5 * (fi + fj));
+            surface_turn(fi - ch.beta, fj - ch.beta, xi)
+        };
         self.active
             .iter()
             .zip(&asm.elements.contact_forces)
@@ -145,6 +158,7 @@ impl ContactSet {
                 force: yc,
                 pressure: -a.side * yc,
                 tangential: friction(k).map_or(0.0, |t| t.tangential),
+                turn: turn(a, xi),
                 friction: match a.stick {
                     Some(Stick { slip: Some(_), .. }) => Friction::Slipping,
                     Some(_) => Friction::Sticking,
