@@ -90,11 +90,12 @@ fn slider_update(c: &mut Criterion) {
     for scene in tsm_contact::reports::interactive::SCENES {
         let states = converged_states(scene);
         let state = states[states.len() / 2].clone();
-        let (targets, lambda) = (state.step_targets().0, state.load_factor());
+        let targets = state.step_targets().expect("a scene without stages").0;
+        let factors = state.load_factors().to_vec();
         g.bench_function(scene, |b| {
             b.iter_batched(
                 || state.clone(),
-                |mut s| s.advance_to(&targets, lambda, &mut Silent).unwrap(),
+                |mut s| s.advance_to(&targets, &factors, &mut Silent).unwrap(),
                 criterion::BatchSize::LargeInput,
             )
         });

@@ -210,6 +210,7 @@ fn a_load_on_a_held_dof_changes_nothing() {
     loaded.model.loads.push(tsm_contact::solver::Load {
         node,
         force: [0.0, 1.0e6, 0.0],
+        group: 0,
     });
     assert!(plain.model.loads.is_empty() && plain.model.distributed.is_empty());
     // The load factor grows 0.1 a step: the held load reaches 3e6 N.

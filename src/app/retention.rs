@@ -239,6 +239,8 @@ mod tests {
             increment,
             prescribed: Vec::new(),
             load_factor: 0.0,
+            load_factors: Vec::new(),
+            stage: None,
             iterations: 1,
             iterations_8_orders: None,
             relative_residual: 0.0,

@@ -120,7 +120,8 @@ fn forces(
     r: &IncrementRecord,
 ) -> Forces {
     let n = r.nodes.len();
-    let lam = r.load_factor;
+    // A load's factor: its group's where the record carries one per group.
+    let lam = |group: usize| r.load_factors.get(group).copied().unwrap_or(r.load_factor);
     let mut on = vec![[0.0; 3]; n];
     let mut at_points = vec![Vec::new(); n];
     let dof = |d: &str| match d {
@@ -134,7 +135,7 @@ fn forces(
     for l in &topology.loads {
         let at = slot[&l.node];
         for (k, f) in l.force.iter().enumerate() {
-            let v = lam * f;
+            let v = lam(l.group) * f;
             on[at][k] += v;
             if held.contains(&(l.node, k)) {
                 *held_at.entry((l.node, k)).or_default() += v;
@@ -179,8 +180,8 @@ fn forces(
             )
         };
         for k in 0..2 {
-            let fi = lam * (2.0 * qi[k] + qj[k]) / 6.0;
-            let fj = lam * (qi[k] + 2.0 * qj[k]) / 6.0;
+            let fi = lam(d.group) * (2.0 * qi[k] + qj[k]) / 6.0;
+            let fj = lam(d.group) * (qi[k] + 2.0 * qj[k]) / 6.0;
             on[slot[&e.i]][k] += fi;
             on[slot[&e.j]][k] += fj;
             free2 += fi * fi + fj * fj;

@@ -187,7 +187,12 @@ fn load_sag(topology: &Topology, chains: &Chains, r: &IncrementRecord) -> Vec<f6
         let e = &topology.elements[d.element];
         let (a, b) = (r.nodes[chains.slot[&e.i]], r.nodes[chains.slot[&e.j]]);
         let l = (b[0] - a[0]).hypot(b[1] - a[1]);
-        let q = r.load_factor.abs() * d.q.iter().fold(0.0f64, |m, q| m.max(q[0].hypot(q[1])));
+        let lam = r
+            .load_factors
+            .get(d.group)
+            .copied()
+            .unwrap_or(r.load_factor);
+        let q = lam.abs() * d.q.iter().fold(0.0f64, |m, q| m.max(q[0].hypot(q[1])));
         let q = if d.follower { q * l } else { q };
         if e.ei > 0.0 {
             sag[d.element] += q * l.powi(4) / (384.0 * e.ei);

@@ -22,6 +22,8 @@ struct Printer {
     write_error: Option<std::io::Error>,
     tally: Tally,
     verbose: bool,
+    /// The stage of the last increment printed.
+    stage: Option<usize>,
 }
 
 /// What the closing lines say of the increments: how many, their iterations, how many were
@@ -49,7 +51,18 @@ impl Observer for Printer {
         Flow::Continue
     }
     fn increment(&mut self, r: &IncrementRecord) -> Flow {
-        let driven = if r.prescribed.is_empty() {
+        if let (Some(s), Some(path)) = (r.stage, &self.model.path) {
+            if self.stage != Some(s) {
+                let st = &path.stages[s];
+                out!("# stage {}: {} ({} steps)", s + 1, st.name, st.steps);
+            }
+        }
+        self.stage = r.stage;
+        let driven = if !r.load_factors.is_empty() {
+            let factors = (r.load_factors.iter()).map(|v| format!("{v:>7.4}"));
+            let values = r.prescribed.iter().map(|v| format!("{v:>+10.5}"));
+            values.chain(factors).collect::<Vec<_>>().join(" ")
+        } else if r.prescribed.is_empty() {
             format!("lambda {:>9.4}", r.load_factor)
         } else {
             r.prescribed
@@ -179,6 +192,7 @@ pub(super) fn solve(args: SolveArgs) -> i32 {
         write_error: None,
         tally: Tally::default(),
         verbose,
+        stage: None,
     };
     let t0 = Instant::now();
     let mut code = 0;

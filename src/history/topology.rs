@@ -1,6 +1,6 @@
 //! The model's topology as a history carries it (`History::topology`): nodes at rest, elements
 //! with their sections, bodies as ordered node chains, contact candidate pairs, obstacles with
-//! their shape and pilot, loads and the held dofs. With it a history describes itself: an
+//! their shape and pilot, loads and their groups, the held dofs and the stages of the load path. With it a history describes itself: an
 //! independent checker (`tsm-contact check`) needs nothing else.
 
 use serde::{Deserialize, Serialize};
@@ -34,6 +34,27 @@ pub struct Topology {
     pub distributed: Vec<TopologyDistributed>,
     /// The held dofs: supported or prescribed, (node id, "u" | "v" | "phi").
     pub held: Vec<(u32, String)>,
+    /// The names of the load groups, in the order of `IncrementRecord::load_factors`; empty
+    /// where every load has the one load factor.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub load_groups: Vec<String>,
+    /// The stages of the load path, in the order `IncrementRecord::stage` counts them.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub stages: Vec<TopologyStage>,
+}
+
+/// A stage of the load path.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TopologyStage {
+    /// Name.
+    pub name: String,
+    /// Number of steps.
+    pub steps: usize,
+}
+
+/// Whether a load group index is the first (left out of the file).
+fn first_group(g: &usize) -> bool {
+    *g == 0
 }
 
 /// A node at rest.
@@ -112,6 +133,9 @@ pub struct TopologyLoad {
     pub node: u32,
     /// (Fx, Fy, M) (N, N m).
     pub force: [f64; 3],
+    /// Its load group (index into `Topology::load_groups`; 0 where there is one factor).
+    #[serde(default, skip_serializing_if = "first_group")]
+    pub group: usize,
 }
 
 /// A distributed load at load factor 1 on one element.
@@ -124,6 +148,9 @@ pub struct TopologyDistributed {
     pub q: [[f64; 2]; 2],
     /// Whether it turns with the element.
     pub follower: bool,
+    /// Its load group (index into `Topology::load_groups`; 0 where there is one factor).
+    #[serde(default, skip_serializing_if = "first_group")]
+    pub group: usize,
 }
 
 impl Topology {
@@ -198,6 +225,7 @@ impl Topology {
                 .map(|l| TopologyLoad {
                     node: id(l.node),
                     force: l.force,
+                    group: l.group,
                 })
                 .collect(),
             distributed: (model.distributed.iter())
@@ -205,9 +233,17 @@ impl Topology {
                     element: d.beam,
                     q: d.q,
                     follower: d.follower,
+                    group: d.group,
                 })
                 .collect(),
             held,
+            load_groups: model.load_groups.clone(),
+            stages: (model.path.iter().flat_map(|p| &p.stages))
+                .map(|s| TopologyStage {
+                    name: s.name.clone(),
+                    steps: s.steps,
+                })
+                .collect(),
         }
     }
 }

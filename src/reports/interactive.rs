@@ -45,10 +45,11 @@ pub fn converged_states(scene: &str) -> Vec<Solver> {
 /// Time one slider update from `state` (seconds); `None` if it does not converge.
 pub fn time_update(state: &Solver) -> Option<f64> {
     // A slider step: the prescribed values one step on, at the current load factor.
-    let (targets, lambda) = (state.step_targets().0, state.load_factor());
+    let targets = state.step_targets()?.0;
     let mut s = state.clone();
     let t = Instant::now();
-    s.advance_to(&targets, lambda, &mut Silent).ok()?;
+    s.advance_to(&targets, state.load_factors(), &mut Silent)
+        .ok()?;
     Some(t.elapsed().as_secs_f64())
 }
 

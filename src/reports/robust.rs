@@ -344,7 +344,8 @@ pub fn run(case: &Case) -> Outcome {
                 .map(|(v, s)| v + sign * s)
                 .collect();
             let lambda = solver.load_factor() + sign * load_step;
-            match solver.advance_to(&targets, lambda, &mut count) {
+            let factors = solver.model.uniform_factors(lambda);
+            match solver.advance_to(&targets, &factors, &mut count) {
                 Ok(r) => records.extend(r),
                 Err(e) => {
                     outcome.stop = Some((kind(&e), e.to_string()));

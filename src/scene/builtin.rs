@@ -129,6 +129,7 @@ pub fn long_beam(n: usize) -> Scene {
         fx: 0.0,
         fy: -1.0,
         m: 0.0,
+        group: None,
     });
     file.loads.splice(0..0, spans);
     let mut sc = from_scene_file(file, "long beam").expect("valid");

@@ -51,6 +51,65 @@ pub struct SceneFile {
     /// Increment control.
     #[serde(default)]
     pub control: ControlDef,
+    /// The load path, stage after stage (weight first, then a pull; a press, then a drag to and
+    /// fro; loading, unloading, reversal). Without stages every step adds `load_per_step` to
+    /// the one load factor and `per_step` to each prescribed dof.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub stages: Vec<StageDef>,
+}
+
+/// One stage of the load path: over its steps, what it names moves linearly from where the
+/// previous stage left it to its target; every load group and prescribed dof it does not name
+/// holds its value.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StageDef {
+    /// Name shown on the timeline and in reports (default "stage N", from 1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    /// Number of steps, at least one (with `values`, the number of values; may be left out).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub steps: Option<usize>,
+    /// The load groups' factors.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub loads: Vec<GroupChangeDef>,
+    /// The prescribed dofs' values.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub prescribed: Vec<DofChangeDef>,
+}
+
+/// A load group's factor over a stage: exactly one of `to` and `by`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GroupChangeDef {
+    /// The group: a `group` of the loads, "loads" for the loads that name none, or
+    /// "gravity" for the self-weight.
+    pub group: String,
+    /// The factor at the stage's end.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub to: Option<f64>,
+    /// The change of the factor over the stage.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub by: Option<f64>,
+}
+
+/// A prescribed dof's value over a stage: exactly one of `to`, `by` and `values`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DofChangeDef {
+    /// Node id.
+    pub node: u32,
+    /// Dof: U, V or Phi.
+    pub dof: Dof,
+    /// The value at the stage's end (m or rad).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub to: Option<f64>,
+    /// The change over the stage.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub by: Option<f64>,
+    /// The value at the end of each step, one per step (a drag kept as it was made).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub values: Option<Vec<f64>>,
 }
 
 /// A section and material.
@@ -151,6 +210,9 @@ pub struct LoadDef {
     /// Moment (N m).
     #[serde(default)]
     pub m: f64,
+    /// The load group whose factor scales it along the stages (default "loads").
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub group: Option<String>,
 }
 
 /// A load distributed along a body's elements, per unit of undeformed length, in fixed
@@ -174,6 +236,9 @@ pub struct DistributedDef {
     /// (to the left). Default false: per undeformed length, in fixed x and y.
     #[serde(default)]
     pub follower: bool,
+    /// The load group whose factor scales it along the stages (default "loads").
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub group: Option<String>,
 }
 
 /// A prescribed displacement.
@@ -184,7 +249,8 @@ pub struct PrescribedDef {
     pub node: u32,
     /// Dof: U, V or Phi.
     pub dof: Dof,
-    /// Increment per step (m or rad).
+    /// Increment per step (m or rad) of a scene without stages; in a scene with stages, the
+    /// largest step a drag of it takes in the app.
     pub per_step: f64,
 }
 

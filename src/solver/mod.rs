@@ -6,7 +6,7 @@
 //! `contact/` (the contact set and its life cycle), `newton/` (one Newton iteration for every
 //! increment control), `acceptance/` (the check every increment passes before it is
 //! committed) and `control/` (the `Solver`: increment control and cut-backs). `model.rs`,
-//! `params.rs` and `report.rs` are the vocabulary they share; `structure.rs` and `state.rs`
+//! `load_path.rs`, `params.rs` and `report.rs` are the vocabulary they share; `structure.rs` and `state.rs`
 //! the prepared model and the converged state.
 
 pub mod acceptance;
@@ -17,6 +17,7 @@ pub mod element;
 pub mod errors;
 pub mod index_map;
 pub mod linear;
+pub mod load_path;
 pub mod model;
 pub mod newton;
 pub mod params;
@@ -27,6 +28,7 @@ pub mod structure;
 
 pub use acceptance::{Crossing, CrossingCheck};
 pub use control::{Checkpoint, Solver};
+pub use load_path::{LoadPath, PathPoint, Stage, StageMotion};
 pub use model::{
     Beam, Body, ContactPair, DistributedLoad, Dof, Formulation, Load, Model, Node, Obstacle,
     Prescribed, Section, Shape, Support,

@@ -3,6 +3,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::load_path::LoadPath;
+
 /// Which beam theory an element's force equation follows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
 pub enum Formulation {
@@ -118,6 +120,10 @@ pub struct Load {
     pub node: usize,
     /// Force along x (N), force along y (N), moment (N m).
     pub force: [f64; 3],
+    /// The load group whose factor scales it (index into `Model::load_groups`; 0 where the
+    /// model has one group).
+    #[serde(default)]
+    pub group: usize,
 }
 
 /// A load distributed along a beam element, varying linearly from end i to end j, scaled by
@@ -135,6 +141,9 @@ pub struct DistributedLoad {
     /// Whether it follows the element.
     #[serde(default)]
     pub follower: bool,
+    /// The load group whose factor scales it (index into `Model::load_groups`).
+    #[serde(default)]
+    pub group: usize,
 }
 
 /// A prescribed ("compulsory") displacement of one dof.
@@ -301,6 +310,15 @@ pub struct Model {
     /// Rigid obstacles.
     #[serde(default)]
     pub obstacles: Vec<Obstacle>,
+    /// The names of the load groups, each scaled by its own factor along a load path; empty
+    /// where every load has the one load factor (group 0).
+    #[serde(default)]
+    pub load_groups: Vec<String>,
+    /// The stages a run goes through, if the scene has any: then each step lands where the
+    /// path says, and `load_per_step` and the `per_step` of the prescribed dofs do not drive
+    /// the run.
+    #[serde(default)]
+    pub path: Option<LoadPath>,
 }
 
 impl Model {
@@ -394,6 +412,16 @@ impl Model {
         (self.obstacles.iter().enumerate())
             .flat_map(|(o, ob)| ob.nodes.iter().map(move |&n| (n, o)))
             .collect()
+    }
+
+    /// The number of load factors a state carries: one per load group, at least one.
+    pub fn group_count(&self) -> usize {
+        self.load_groups.len().max(1)
+    }
+
+    /// Every group's factor equal to `lambda` (a run with one load factor).
+    pub fn uniform_factors(&self, lambda: f64) -> Vec<f64> {
+        vec![lambda; self.group_count()]
     }
 
     /// Whether the model has loads (nodal or distributed) for the load factor to scale.

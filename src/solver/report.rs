@@ -336,8 +336,17 @@ pub struct IncrementRecord {
     pub increment: usize,
     /// Values of the prescribed displacements after this increment.
     pub prescribed: Vec<f64>,
-    /// Load factor after this increment.
+    /// Load factor after this increment: the first load group's where the model has several
+    /// (`load_factors`).
     pub load_factor: f64,
+    /// Every load group's factor after this increment, in the order of the model's load
+    /// groups; empty where the model has one load factor.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub load_factors: Vec<f64>,
+    /// The stage of the load path this increment belongs to (index into the path's stages);
+    /// none where the scene has no stages, or for an increment a drag made off the path.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stage: Option<usize>,
     /// Newton iterations used (all passes of the active set together).
     pub iterations: usize,
     /// Iterations needed to reduce the unbalanced force by 8 orders of magnitude from its value

@@ -1,5 +1,5 @@
-//! The converged state of a run: displacements, prescribed values, load factor, contact set,
-//! increment count, and what the increment control remembers between increments (the arc
+//! The converged state of a run: displacements, prescribed values, load factors, contact set,
+//! increment count, steps along the load path, and what the increment control remembers between increments (the arc
 //! length and its direction, whether the run has cut back).
 
 use super::contact::ContactSet;
@@ -21,8 +21,10 @@ pub struct State {
     pub d: Vec<f64>,
     /// Values of the prescribed displacements, one per `Model::prescribed`.
     pub prescribed: Vec<f64>,
-    /// Load factor.
-    pub load_factor: f64,
+    /// Load factors, one per load group (`Model::group_count`).
+    pub load_factors: Vec<f64>,
+    /// Steps of the model's load path completed (`Model::path`).
+    pub path_step: usize,
     /// The active contacts and remembered sides.
     pub contacts: ContactSet,
     /// Number of converged increments.

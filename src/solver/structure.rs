@@ -236,9 +236,9 @@ impl Structure {
         &self.dofs
     }
 
-    /// The external force at load factor `lambda`.
-    pub fn external_force(&self, lambda: f64) -> ExternalForce {
-        ExternalForce::of(&self.model, &self.dofs, lambda)
+    /// The external force at the load factors `factors` (one per load group).
+    pub fn external_force(&self, factors: &[f64]) -> ExternalForce {
+        ExternalForce::of(&self.model, &self.dofs, factors)
     }
 
     /// The assembly's view of the structure under equation ordering `ord`, without loads.

@@ -36,13 +36,16 @@ pub(super) fn reached(solver: &Solver, targets: &[f64]) -> bool {
         .all(|((p, c), t)| (t - c).abs() <= 1e-12 * p.per_step.abs().max(t.abs()).max(1e-300))
 }
 
-/// How many of the scene's `steps` the solver's state lies along: the largest share of its
-/// total reached by any prescribed dof, or by the load factor, in whole steps (for an
-/// arc-length run, its increments). What "Run" counts the remaining steps from after a
+/// How many of the scene's `steps` the solver's state lies along: the steps of its load path
+/// completed, or the largest share of its total reached by any prescribed dof or by the load
+/// factor, in whole steps (for an arc-length run, its increments). What "Run" counts the remaining steps from after a
 /// restore.
 pub(super) fn steps_along(solver: &Solver, steps: usize) -> usize {
     if solver.params.arc_length.is_some() {
         return solver.increment().min(steps);
+    }
+    if solver.model.path.is_some() {
+        return solver.path_step().min(steps);
     }
     let mut along = 0.0f64;
     for (p, v) in solver
@@ -69,6 +72,12 @@ pub fn initial_record(solver: &Solver) -> IncrementRecord {
         increment: 0,
         prescribed: solver.prescribed_values().to_vec(),
         load_factor: solver.load_factor(),
+        load_factors: if model.load_groups.len() > 1 {
+            solver.load_factors().to_vec()
+        } else {
+            Vec::new()
+        },
+        stage: None,
         iterations: 0,
         iterations_8_orders: None,
         relative_residual: 0.0,

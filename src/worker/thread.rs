@@ -212,16 +212,27 @@ impl Thread {
         let Some(mut solver) = self.solver.take() else {
             return self.go_idle();
         };
-        let (goal, lambda) = match &self.mode {
-            Mode::Running(_) => solver.step_targets(),
-            Mode::Targeting(t) => (t.clone(), solver.load_factor()),
+        let (goal, factors) = match &self.mode {
+            Mode::Running(_) => match solver.step_targets() {
+                Some(t) => t,
+                // Past the end of the load path: nothing left to run.
+                None => {
+                    self.solver = Some(solver);
+                    return self.go_idle();
+                }
+            },
+            Mode::Targeting(t) => (t.clone(), solver.load_factors().to_vec()),
             Mode::Idle => {
                 self.solver = Some(solver);
                 return;
             }
         };
-        // Scene steps of an arc-length scene are arcs: the solver picks the load factor.
-        let arc = matches!(self.mode, Mode::Running(_)) && solver.params.arc_length.is_some();
+        // Scene steps of an arc-length scene are arcs (the solver picks the load factor), and
+        // those of a load path are its points, each in its stage: the solver takes them whole.
+        let running = matches!(self.mode, Mode::Running(_));
+        let staged = running && solver.model.path.is_some();
+        let by_step = staged || (running && solver.params.arc_length.is_some());
+        let path_before = solver.path_step();
         let next = next_target(&solver, &goal);
         let mut obs = Relay {
             rx: &self.rx,
@@ -231,16 +242,20 @@ impl Thread {
             closed: false,
         };
         let result = catch_unwind(AssertUnwindSafe(|| {
-            if arc {
+            if by_step {
                 solver.step(&mut obs)
             } else {
-                solver.advance_to(&next, lambda, &mut obs)
+                solver.advance_to(&next, &factors, &mut obs)
             }
         }));
         if obs.closed {
             self.alive = false;
         }
-        let done = reached(&solver, &goal);
+        let done = if staged {
+            solver.path_step() > path_before
+        } else {
+            reached(&solver, &goal)
+        };
         let kept = solver.take_checkpoints();
         self.solver = Some(solver);
         for c in kept {

@@ -6,6 +6,7 @@ use std::collections::HashSet;
 
 use super::errors::{Ctx, SceneError};
 use super::geometry::Geometry;
+use super::stages::group_index;
 use crate::scene::format::SceneFile;
 use crate::solver::{DistributedLoad, Dof, Load, Prescribed, Support};
 
@@ -17,11 +18,12 @@ pub(super) struct Conditions {
     pub(super) distributed: Vec<DistributedLoad>,
 }
 
-/// The conditions of `sf` on geometry `g`.
+/// The conditions of `sf` on geometry `g`, its loads in the load groups `groups`.
 pub(super) fn conditions(
     ctx: &Ctx,
     sf: &SceneFile,
     g: &Geometry,
+    groups: &[String],
 ) -> Result<Conditions, SceneError> {
     let mut supports = Vec::new();
     // (node, dof offset) of every support and prescribed dof, for the checks below in constant
@@ -55,6 +57,7 @@ pub(super) fn conditions(
         loads.push(Load {
             node: n,
             force: [l.fx, l.fy, l.m],
+            group: group_index(groups, l.group.as_deref()),
         });
     }
     let mut prescribed: Vec<Prescribed> = Vec::new();
@@ -82,6 +85,6 @@ pub(super) fn conditions(
         supports,
         loads,
         prescribed,
-        distributed: super::distributed::distributed(ctx, sf, g)?,
+        distributed: super::distributed::distributed(ctx, sf, g, groups)?,
     })
 }

@@ -4,7 +4,7 @@
 use super::conditions::Conditions;
 use super::errors::{positive, within, Ctx, SceneError};
 use crate::scene::format::{ContactNormal, SceneFile};
-use crate::solver::SolverParams;
+use crate::solver::{LoadPath, SolverParams};
 
 /// The range of a bound on the relative residual (the tolerance, the round-off bound): above
 /// 1e-2 an increment a hundredth out of equilibrium would count as converged.
@@ -21,28 +21,18 @@ pub(super) struct Control {
     pub(super) load_per_step: f64,
 }
 
-/// The control settings of `sf`, whose conditions are `c_`.
-pub(super) fn control(ctx: &Ctx, sf: &SceneFile, c_: &Conditions) -> Result<Control, SceneError> {
+/// The control settings of `sf`, whose conditions are `c_` and load path `path`.
+pub(super) fn control(
+    ctx: &Ctx,
+    sf: &SceneFile,
+    c_: &Conditions,
+    path: Option<&LoadPath>,
+) -> Result<Control, SceneError> {
     let c = &sf.control;
-    let mut params = SolverParams::default();
-    if let Some(t) = c.tolerance {
-        within(ctx, "control.tolerance", t, RELATIVE_RESIDUAL)?;
-        params.tolerance = t;
+    let mut params = parameters(ctx, sf)?;
+    if let Some(path) = path {
+        return staged(ctx, sf, params, path);
     }
-    if let Some(b) = c.roundoff_bound {
-        within(ctx, "control.roundoff_bound", b, RELATIVE_RESIDUAL)?;
-        params.roundoff_bound = b;
-    }
-    if let Some(g) = c.obstacle_gap {
-        within(ctx, "control.obstacle_gap", g, OBSTACLE_GAP)?;
-        params.obstacle_gap = g;
-    }
-    if let Some(s) = c.max_step {
-        positive(ctx, "control.max_step".into(), Some("max_step".into()), s)?;
-        params.max_step = s;
-    }
-    params.stretch_correction = c.stretch_correction;
-    params.surface_normal = c.contact_normal == ContactNormal::Surface;
     if let Some(s) = c.arc_length {
         positive(
             ctx,
@@ -83,5 +73,61 @@ pub(super) fn control(ctx: &Ctx, sf: &SceneFile, c_: &Conditions) -> Result<Cont
         params,
         steps,
         load_per_step,
+    })
+}
+
+/// The solver parameters `control` sets, whatever drives the run.
+fn parameters(ctx: &Ctx, sf: &SceneFile) -> Result<SolverParams, SceneError> {
+    let c = &sf.control;
+    let mut params = SolverParams::default();
+    if let Some(t) = c.tolerance {
+        within(ctx, "control.tolerance", t, RELATIVE_RESIDUAL)?;
+        params.tolerance = t;
+    }
+    if let Some(b) = c.roundoff_bound {
+        within(ctx, "control.roundoff_bound", b, RELATIVE_RESIDUAL)?;
+        params.roundoff_bound = b;
+    }
+    if let Some(g) = c.obstacle_gap {
+        within(ctx, "control.obstacle_gap", g, OBSTACLE_GAP)?;
+        params.obstacle_gap = g;
+    }
+    if let Some(s) = c.max_step {
+        positive(ctx, "control.max_step".into(), Some("max_step".into()), s)?;
+        params.max_step = s;
+    }
+    params.stretch_correction = c.stretch_correction;
+    params.surface_normal = c.contact_normal == ContactNormal::Surface;
+    Ok(params)
+}
+
+/// The control of a scene driven by its stages: as many steps as the path has; arc length and
+/// `load_per_step`, which drive a run by one load factor, are refused.
+fn staged(
+    ctx: &Ctx,
+    sf: &SceneFile,
+    params: SolverParams,
+    path: &LoadPath,
+) -> Result<Control, SceneError> {
+    let c = &sf.control;
+    if c.arc_length.is_some() {
+        return Err(ctx.err(
+            "control.arc_length",
+            Some("arc_length".into()),
+            "arc-length control solves for one load factor and cannot follow stages: remove \
+             `arc_length`, or the stages",
+        ));
+    }
+    if c.load_per_step.is_some() {
+        return Err(ctx.err(
+            "control.load_per_step",
+            Some("load_per_step".into()),
+            "a scene with stages has its load factors set by the stages: remove `load_per_step`",
+        ));
+    }
+    Ok(Control {
+        params,
+        steps: path.total_steps(),
+        load_per_step: 0.0,
     })
 }

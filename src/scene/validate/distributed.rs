@@ -6,6 +6,7 @@
 
 use super::errors::{Ctx, SceneError};
 use super::geometry::Geometry;
+use super::stages::{group_index, GRAVITY_GROUP};
 use crate::scene::format::SceneFile;
 use crate::solver::DistributedLoad;
 
@@ -14,6 +15,7 @@ pub(super) fn distributed(
     ctx: &Ctx,
     sf: &SceneFile,
     g: &Geometry,
+    groups: &[String],
 ) -> Result<Vec<DistributedLoad>, SceneError> {
     let mut out = Vec::new();
     for (k, d) in sf.distributed.iter().enumerate() {
@@ -64,11 +66,18 @@ pub(super) fn distributed(
                 beam: e,
                 q: [at(s), at(s + l)],
                 follower: d.follower,
+                group: group_index(groups, d.group.as_deref()),
             });
             s += l;
         }
     }
-    self_weight(ctx, sf, g, &mut out)?;
+    self_weight(
+        ctx,
+        sf,
+        g,
+        group_index(groups, Some(GRAVITY_GROUP)),
+        &mut out,
+    )?;
     // By element (`Model::distributed_on` looks them up so).
     out.sort_by_key(|d| d.beam);
     Ok(out)
@@ -81,11 +90,13 @@ fn length(g: &Geometry, e: usize) -> f64 {
     (q.x - p.x).hypot(q.y - p.y)
 }
 
-/// The self-weight density A g of every body whose section has a density.
+/// The self-weight density A g of every body whose section has a density, in load group
+/// `group`.
 fn self_weight(
     ctx: &Ctx,
     sf: &SceneFile,
     g: &Geometry,
+    group: usize,
     out: &mut Vec<DistributedLoad>,
 ) -> Result<(), SceneError> {
     let heavy = sf.sections.iter().any(|s| s.density.is_some());
@@ -124,6 +135,7 @@ fn self_weight(
                 beam: e,
                 q: [q, q],
                 follower: false,
+                group,
             });
         }
     }

@@ -11,6 +11,7 @@ use super::errors::{Ctx, SceneError};
 use super::geometry::geometry;
 use super::obstacles::obstacles;
 use super::sections::sections;
+use super::stages::{load_groups, load_path};
 use crate::scene::format::SceneFile;
 use crate::solver::{Model, SolveError, Solver, SolverParams};
 
@@ -104,10 +105,12 @@ fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
     let ctx = Ctx { text, file };
     let sections = sections(&ctx, &sf)?;
     let g = geometry(&ctx, &sf, &sections)?;
-    let c = conditions(&ctx, &sf, &g)?;
+    let groups = load_groups(&sf);
+    let c = conditions(&ctx, &sf, &g, &groups)?;
     let contacts = contacts(&ctx, &sf, &g)?;
     let obstacles = obstacles(&ctx, &sf, &g, (&c.supports, &c.prescribed))?;
-    let run = control(&ctx, &sf, &c)?;
+    let path = load_path(&ctx, &sf, &g, &groups, &c.prescribed)?;
+    let run = control(&ctx, &sf, &c, path.as_ref())?;
     if g.beams.is_empty() {
         return Err(ctx.err("bodies", None, "the scene has no beam elements"));
     }
@@ -123,6 +126,8 @@ fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
         formulation: sf.formulation,
         contacts,
         obstacles,
+        load_groups: groups,
+        path,
     };
     let scene = Scene {
         file: sf,

@@ -9,6 +9,10 @@ use crate::solver::model::Model;
 /// round-off of a converged state, far below any error a user would see.
 pub const FRICTION_LAW_TOLERANCE: f64 = 1e-6;
 
+/// How many units in the last place of a stick point its recomputation may move it: a
+/// sticking node's place is found again from its position and the body's, a few roundings.
+const STICK_ROUNDOFF_ULPS: f64 = 4.0;
+
 /// One frictional contact as the check reads it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FrictionRecord {
@@ -63,9 +67,13 @@ pub fn friction_law(records: &[FrictionRecord]) -> Option<FrictionViolation> {
     records.iter().find_map(|r| {
         let limit = r.mu * r.pressure.max(0.0);
         let t = r.tangential.abs();
-        let slipped = r.stick_before.map_or(0.0, |b| r.stick_after - b);
+        let before = r.stick_before.unwrap_or(r.stick_after);
+        let slipped = r.stick_after - before;
         let over = t > limit * (1.0 + FRICTION_LAW_TOLERANCE);
-        let moved = slipped != 0.0;
+        // A stick point is a place along a body: a move within a few units in the last place
+        // of it is the round-off of recomputing it, not a slip with a direction.
+        let roundoff = STICK_ROUNDOFF_ULPS * f64::EPSILON * before.abs().max(r.stick_after.abs());
+        let moved = slipped.abs() > roundoff;
         let short = moved && t < limit * (1.0 - FRICTION_LAW_TOLERANCE);
         let along = moved && r.tangential * slipped > 0.0;
         (over || short || along).then_some(FrictionViolation {

@@ -91,9 +91,9 @@ pub struct AssemblyContext<'a> {
     /// The external forces at their equations (ascending), for the unbalanced force; none
     /// leaves it `-sum J S`.
     pub loads: &'a [(usize, f64)],
-    /// The load factor the follower loads are assembled at (`None`: the model has none, or
-    /// they are left out).
-    pub follower: Option<f64>,
+    /// The load factors (one per load group) the follower loads are assembled at (`None`:
+    /// the model has none, or they are left out).
+    pub follower: Option<&'a [f64]>,
     /// The nodes resting on rigid obstacles.
     pub obstacles: &'a [ObstacleLink],
     /// The penalty of the obstacle contacts (N/m).
@@ -336,12 +336,12 @@ pub(super) fn assemble_kernel(
             );
             add_element(&gdofs, r.nodal.as_slice(), k, ord, dofs, dp, sink);
         }
-        if let Some(lambda) = ctx.follower {
+        if let Some(factors) = ctx.follower {
             let on = model.distributed_on(e);
             if on.iter().any(|l| l.follower) {
                 let (xi, _) = relative(model, dofs, d, beam.i, beam.i);
                 let (xj, _) = relative(model, dofs, d, beam.j, beam.i);
-                let (nodal, k) = follower_response(on, [xj[0] - xi[0], xj[1] - xi[1]], lambda);
+                let (nodal, k) = follower_response(on, [xj[0] - xi[0], xj[1] - xi[1]], factors);
                 gdofs.clear();
                 gdofs.extend(
                     [beam.i, beam.j]

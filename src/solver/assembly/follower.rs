@@ -8,18 +8,19 @@
 
 use crate::solver::model::DistributedLoad;
 
-/// The follower loads `loads` of one element at chord `chord` (x_j - x_i) and load factor
-/// `lambda`, as internal forces over (u_i, v_i, u_j, v_j) (minus the loads, which is how the
+/// The follower loads `loads` of one element at chord `chord` (x_j - x_i) and load factors
+/// `factors` (one per load group), as internal forces over (u_i, v_i, u_j, v_j) (minus the loads, which is how the
 /// assembly subtracts them from the unbalanced force), and their tangent (the derivative of
 /// those internal forces by the same four dofs).
 pub fn follower_response(
     loads: &[DistributedLoad],
     chord: [f64; 2],
-    lambda: f64,
+    factors: &[f64],
 ) -> ([f64; 4], [[f64; 4]; 4]) {
     // Per node, the weights (along, across) of the chord.
     let (mut a, mut b) = ([0.0; 2], [0.0; 2]);
     for d in loads.iter().filter(|d| d.follower) {
+        let lambda = factors[d.group];
         for o in 0..2 {
             a[o] += lambda * (2.0 * d.q[0][o] + d.q[1][o]) / 6.0;
             b[o] += lambda * (d.q[0][o] + 2.0 * d.q[1][o]) / 6.0;
@@ -63,9 +64,10 @@ mod tests {
             beam: 0,
             q: [[0.4, -1.3], [-0.2, 0.7]],
             follower: true,
+            group: 0,
         }];
-        let (chord, lambda) = ([0.8, 0.35], 1.7);
-        let (_, k) = follower_response(&loads, chord, lambda);
+        let (chord, lambda) = ([0.8, 0.35], [1.7]);
+        let (_, k) = follower_response(&loads, chord, &lambda);
         let h = 1e-6;
         for c in 0..4 {
             // Dof c moves node i (c < 2) or node j: the chord changes by -e or +e.
@@ -74,8 +76,8 @@ mod tests {
             let mut minus = chord;
             plus[c % 2] += sign * h;
             minus[c % 2] -= sign * h;
-            let (fp, _) = follower_response(&loads, plus, lambda);
-            let (fm, _) = follower_response(&loads, minus, lambda);
+            let (fp, _) = follower_response(&loads, plus, &lambda);
+            let (fm, _) = follower_response(&loads, minus, &lambda);
             for r in 0..4 {
                 let fd = (fp[r] - fm[r]) / (2.0 * h);
                 assert!(
@@ -95,8 +97,9 @@ mod tests {
             beam: 0,
             q: [[0.0, -3.0], [0.0, -3.0]],
             follower: true,
+            group: 0,
         }];
-        let (nodal, _) = follower_response(&loads, [2.0, 0.0], 1.0);
+        let (nodal, _) = follower_response(&loads, [2.0, 0.0], &[1.0]);
         assert_eq!(nodal, [0.0, 3.0, 0.0, 3.0]);
     }
 }

@@ -38,12 +38,13 @@ impl ExternalForce {
 }
 
 impl ExternalForce {
-    /// The external force of `model`'s loads at load factor `lambda`.
-    pub fn of(model: &Model, dofs: &DofMap, lambda: f64) -> ExternalForce {
+    /// The external force of `model`'s loads at the load factors `factors` (one per load
+    /// group).
+    pub fn of(model: &Model, dofs: &DofMap, factors: &[f64]) -> ExternalForce {
         let mut entries: Vec<(usize, f64)> = Vec::new();
         for l in &model.loads {
             for o in 0..model.node_dofs(l.node) {
-                entries.push((dofs.dof(l.node, o), lambda * l.force[o]));
+                entries.push((dofs.dof(l.node, o), factors[l.group] * l.force[o]));
             }
         }
         for d in model.distributed.iter().filter(|d| !d.follower) {
@@ -53,7 +54,7 @@ impl ExternalForce {
             for (node, (a, c)) in [(b.i, (2.0, 1.0)), (b.j, (1.0, 2.0))] {
                 for o in 0..2 {
                     let f = l * (a * d.q[0][o] + c * d.q[1][o]) / 6.0;
-                    entries.push((dofs.dof(node, o), lambda * f));
+                    entries.push((dofs.dof(node, o), factors[d.group] * f));
                 }
             }
         }
@@ -81,10 +82,12 @@ mod tests {
         s.structure.model.loads.push(crate::solver::Load {
             node: tip,
             force: [2.0, -0.5, 0.25],
+            group: 0,
         });
         s.structure.model.loads.push(crate::solver::Load {
             node: 1,
             force: [0.0, 3.0, 0.0],
+            group: 0,
         });
         let lambda = 0.7;
         let mut dense = vec![0.0; s.dofs.len()];
@@ -93,7 +96,7 @@ mod tests {
                 dense[s.dofs.dof(l.node, o)] += lambda * l.force[o];
             }
         }
-        let f = s.external_force(lambda);
+        let f = s.external_force(&[lambda]);
         assert!(f.0.windows(2).all(|w| w[0].0 < w[1].0), "ascending, once");
         for (g, &v) in dense.iter().enumerate() {
             assert_eq!(f.at(g), v, "dof {g}");
@@ -118,9 +121,10 @@ mod tests {
                 beam: 2,
                 q,
                 follower: false,
+                group: 0,
             });
         let (l, b) = (s.model.beam_length(2), s.model.beams[2].clone());
-        let f = s.external_force(1.0);
+        let f = s.external_force(&[1.0]);
         let pieces = 10_000;
         for (node, weight) in [
             (b.i, (|t: f64| 1.0 - t) as fn(f64) -> f64),

@@ -112,7 +112,8 @@ fn the_unbalanced_force_settled_during_assembly_is_the_separate_pass() {
             bare.unbalanced_norm2.to_bits(),
             sum_squares(&bare.unbalanced).to_bits()
         );
-        let scene = crate::solver::newton::Newton::loads_at_equations(&s.external_force(1.0), &ord);
+        let scene =
+            crate::solver::newton::Newton::loads_at_equations(&s.external_force(&[1.0]), &ord);
         let mut spread: Vec<(usize, f64)> = [0, 3, 4, n / 2, n - 2, n - 1]
             .iter()
             .map(|&k| (k, 0.25 + k as f64))

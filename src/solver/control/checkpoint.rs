@@ -24,16 +24,26 @@ impl Checkpoint {
         &self.state.prescribed
     }
 
-    /// The load factor at this state.
+    /// The load factor at this state (the first load group's).
     pub fn load_factor(&self) -> f64 {
-        self.state.load_factor
+        self.state.load_factors[0]
+    }
+
+    /// The load factors at this state, one per load group.
+    pub fn load_factors(&self) -> &[f64] {
+        &self.state.load_factors
+    }
+
+    /// The steps of the load path completed at this state.
+    pub fn path_step(&self) -> usize {
+        self.state.path_step
     }
 
     /// Bytes held (an estimate, for memory budgets).
     pub fn bytes(&self) -> usize {
         let s = &self.state;
         let arc = s.arc.last.as_ref().map_or(0, Vec::len);
-        (s.d.len() + s.prescribed.len() + arc) * 8
+        (s.d.len() + s.prescribed.len() + s.load_factors.len() + arc) * 8
             + s.contacts.active.len() * 32
             + self.crossing.bytes()
             + std::mem::size_of::<Checkpoint>()

@@ -19,12 +19,11 @@ impl Solver {
         cutbacks: usize,
         seconds: f64,
     ) -> IncrementRecord {
-        let tl = c.load_factor;
         self.state.increment += 1;
         self.work.spare.get_mut().d = std::mem::replace(&mut self.state.d, c.d);
         self.state.contacts = c.contacts;
         self.state.prescribed = tp;
-        self.state.load_factor = tl;
+        self.state.load_factors = c.load_factors;
         let max_penetration = c.max_penetration;
         let mut contacts = std::mem::take(&mut self.state.contacts);
         contacts.remember_sides(&self.view(), &self.state.d);
@@ -35,7 +34,7 @@ impl Solver {
             self.crossing
                 .accept(&self.structure.model, nodes.clone(), &active);
         }
-        let fext = self.external_force(tl);
+        let fext = self.external_force(&self.state.load_factors);
         let reactions = self
             .dofs
             .held
@@ -77,7 +76,13 @@ impl Solver {
         IncrementRecord {
             increment: self.state.increment,
             prescribed: self.state.prescribed.clone(),
-            load_factor: tl,
+            load_factor: self.state.load_factors[0],
+            load_factors: if self.model.load_groups.len() > 1 {
+                self.state.load_factors.clone()
+            } else {
+                Vec::new()
+            },
+            stage: self.marching,
             iterations: c.iterations,
             iterations_8_orders: c.iterations_8_orders,
             relative_residual: c.relative_residual,

@@ -1,5 +1,5 @@
 //! Displacement and load control: a scene step advances the prescribed displacements and the
-//! load factor; a step that finds no equilibrium is halved (reported as cut-back events) and
+//! load factor, or goes to the next point of the model's load path; a step that finds no equilibrium is halved (reported as cut-back events) and
 //! grows again once Newton has it easy, with one last attempt that slides contacts off the
 //! tips they are about to leave before the run gives up.
 
@@ -18,37 +18,58 @@ const TIP_SLIDE_OFF: f64 = 1e-2;
 pub(super) const GROW_ITERATIONS: usize = 6;
 
 impl Solver {
-    /// Advance by one scene step (prescribed values += per_step, load factor += load_per_step),
-    /// or by one arc length if `params.arc_length` is set.
+    /// Advance by one scene step: to the next point of the model's load path if it has one
+    /// (nothing past its end), else prescribed values += per_step and load factor +=
+    /// load_per_step; or by one arc length if `params.arc_length` is set.
     pub fn step(&mut self, obs: &mut dyn Observer) -> Result<Vec<IncrementRecord>, SolveError> {
         if self.params.arc_length.is_some() {
             return self.arc_length_step(obs);
         }
-        let (targets, lambda) = self.step_targets();
-        self.advance_to(&targets, lambda, obs)
+        let Some((targets, factors)) = self.step_targets() else {
+            return Ok(Vec::new());
+        };
+        let stage = (self.model.path.as_ref()).and_then(|p| p.locate(self.state.path_step));
+        self.marching = stage.map(|(s, _)| s);
+        let out = self.advance_to(&targets, &factors, obs);
+        self.marching = None;
+        // A step the observer stopped halfway is taken again, toward the same point.
+        if stage.is_some() && self.state.prescribed == targets && self.state.load_factors == factors
+        {
+            self.state.path_step += 1;
+        }
+        out
     }
 
-    /// Where one scene step from the converged state goes: every prescribed value moved by its
-    /// `per_step`, and the load factor by `load_per_step`.
-    pub fn step_targets(&self) -> (Vec<f64>, f64) {
+    /// Where one scene step from the converged state goes: the next point of the load path,
+    /// or every prescribed value moved by its `per_step` and the load factor by
+    /// `load_per_step`. None past the end of the path.
+    pub fn step_targets(&self) -> Option<(Vec<f64>, Vec<f64>)> {
+        if let Some(path) = &self.model.path {
+            let point = path.point(self.state.path_step)?;
+            return Some((point.prescribed, point.factors));
+        }
         let targets = (self.model.prescribed.iter())
             .zip(&self.state.prescribed)
             .map(|(p, v)| v + p.per_step)
             .collect();
-        (targets, self.state.load_factor + self.model.load_per_step)
+        let factors = (self.state.load_factors.iter())
+            .map(|l| l + self.model.load_per_step)
+            .collect();
+        Some((targets, factors))
     }
 
-    /// Advance from the converged state to the given prescribed values and load factor, halving
+    /// Advance from the converged state to the given prescribed values and load factors (one
+    /// per load group), halving
     /// the increment on failure (at most `max_cutbacks` times in all). Returns the converged
     /// increments (more than one if the step was cut back).
     pub fn advance_to(
         &mut self,
         targets: &[f64],
-        lambda: f64,
+        factors: &[f64],
         obs: &mut dyn Observer,
     ) -> Result<Vec<IncrementRecord>, SolveError> {
         let start_p = self.state.prescribed.clone();
-        let start_l = self.state.load_factor;
+        let start_l = self.state.load_factors.clone();
         let mut done = 0.0f64;
         let mut h = 1.0f64;
         let mut cutbacks = 0;
@@ -68,15 +89,17 @@ impl Solver {
                     .map(|(a, b)| a + next * (b - a))
                     .collect()
             };
-            let tl = if next >= 1.0 {
-                lambda
+            let tl: Vec<f64> = if next >= 1.0 {
+                factors.to_vec()
             } else {
-                start_l + next * (lambda - start_l)
+                (start_l.iter().zip(factors))
+                    .map(|(a, b)| a + next * (b - a))
+                    .collect()
             };
             let number = self.state.increment + 1;
             let constraint = Constraint::Prescribed {
                 targets: &tp,
-                lambda: tl,
+                factors: &tl,
             };
             let accepted = (self.newton())
                 .attempt(constraint, number, slide_off, obs)

@@ -30,6 +30,8 @@ pub struct Solver {
     pub(crate) crossing: CrossingCheck,
     /// Checkpoints of the accepted increments, when asked for (`keep_checkpoints`).
     pub(crate) kept: Option<Vec<Checkpoint>>,
+    /// The stage of the load path the increments being solved belong to (none off the path).
+    pub(crate) marching: Option<usize>,
 }
 
 impl Deref for Solver {
@@ -48,6 +50,7 @@ impl Solver {
         let state = State {
             d: vec![0.0; structure.dofs.len()],
             prescribed: vec![0.0; structure.model.prescribed.len()],
+            load_factors: vec![0.0; structure.model.group_count()],
             ..State::default()
         };
         // Rigid motions left free by the supports, from geometry; then what the tangent has no
@@ -85,6 +88,7 @@ impl Solver {
             work,
             crossing: CrossingCheck::default(),
             kept: None,
+            marching: None,
         };
         let mut contacts = std::mem::take(&mut solver.state.contacts);
         contacts.remember_sides(&solver.view(), &solver.state.d);
@@ -126,7 +130,7 @@ impl Solver {
         }
     }
 
-    /// Unbalanced force `lambda F - sum J S` over the free dofs and the dense tangent over the
+    /// Unbalanced force `sum lambda_g F_g - sum J S` over the free dofs and the dense tangent over the
     /// same dofs, at displacements `d` with the current contacts and load factor. Returns the
     /// free global dofs too, in the order of the vector and matrix. For checks and tests.
     pub fn unbalanced_force_and_tangent(
@@ -138,13 +142,13 @@ impl Solver {
             .ordering_for(&self.structure, &self.state.contacts);
         let grips = self.state.contacts.grips(&self.view());
         let ctx = AssemblyContext {
-            follower: (self.model.has_followers()).then_some(self.state.load_factor),
+            follower: (self.model.has_followers()).then_some(&self.state.load_factors[..]),
             obstacles: &self.state.contacts.obstacle,
             grips: &grips,
             ..self.context(&ord)
         };
         let asm = assemble(&ctx, d, true, None);
-        let fext = self.external_force(self.state.load_factor);
+        let fext = self.external_force(&self.state.load_factors);
         let free: Vec<usize> = ord.dof_of.iter().map(|&g| g as usize).collect();
         // Assembled with no loads: the unbalanced force is -sum J S.
         let r = (free.iter().zip(&asm.unbalanced))
@@ -165,9 +169,19 @@ impl Solver {
         &self.state.prescribed
     }
 
-    /// Current load factor.
+    /// Current load factor (the first load group's where the model has several).
     pub fn load_factor(&self) -> f64 {
-        self.state.load_factor
+        self.state.load_factors[0]
+    }
+
+    /// Current load factors, one per load group.
+    pub fn load_factors(&self) -> &[f64] {
+        &self.state.load_factors
+    }
+
+    /// The steps of the load path completed (0 where the model has no path).
+    pub fn path_step(&self) -> usize {
+        self.state.path_step
     }
 
     /// Converged displacements over all dofs.

@@ -89,7 +89,7 @@ impl Newton<'_> {
             let ctx = AssemblyContext {
                 contact: p.contact_options(pass_iter + 1),
                 loads: &loads,
-                follower: self.model.has_followers().then(|| path.load_factor()),
+                follower: self.model.has_followers().then(|| path.load_factors()),
                 obstacles: &contacts.obstacle,
                 grips: &grips,
                 ..self.context(&ordering)
@@ -176,7 +176,7 @@ impl Newton<'_> {
                         return Ok(Converged {
                             max_penetration,
                             d,
-                            load_factor: path.lambda(),
+                            load_factors: path.load_factors().to_vec(),
                             contacts,
                             assembled: asm,
                             iterations,

@@ -15,12 +15,12 @@ use crate::solver::linear::BandMatrix;
 #[derive(Clone, Copy, Debug)]
 pub enum Constraint<'a> {
     /// The prescribed displacements reach `targets` (one per `Model::prescribed`) and the load
-    /// factor is `lambda`.
+    /// factors are `factors` (one per load group).
     Prescribed {
         /// Target values of the prescribed displacements.
         targets: &'a [f64],
-        /// Target load factor.
-        lambda: f64,
+        /// Target load factors.
+        factors: &'a [f64],
     },
     /// The free dofs move by `ds` (root-mean-square over the free dofs, so that one length
     /// means one path spacing on any mesh) from the converged state; the prescribed
@@ -38,7 +38,7 @@ pub(super) enum Path {
         /// The prescribed increments, one per `Model::prescribed` (0 where a later one on the
         /// same dof overrides it).
         dp: Vec<f64>,
-        lambda: f64,
+        factors: Vec<f64>,
         fext: ExternalForce,
     },
     /// See `Constraint::Arc`.
@@ -46,6 +46,8 @@ pub(super) enum Path {
         /// The arc length over all the free dofs.
         ds: f64,
         lambda: f64,
+        /// `lambda` for every load group (a run with one load factor).
+        factors: Vec<f64>,
         /// The reference load over all dofs.
         fref: Vec<f64>,
         /// The increment so far over all dofs (0 at dofs that are not free).
@@ -63,7 +65,7 @@ impl Path {
     /// `c` set up from the converged state of `n`.
     pub(super) fn new(c: Constraint<'_>, n: &Newton<'_>) -> Path {
         match c {
-            Constraint::Prescribed { targets, lambda } => {
+            Constraint::Prescribed { targets, factors } => {
                 let dp = (n.model.prescribed.iter().enumerate())
                     .map(|(k, pr)| {
                         let g = n.dofs.dof(pr.node, pr.dof.offset());
@@ -74,29 +76,28 @@ impl Path {
                         }
                     })
                     .collect();
-                let fext = n.external_force(lambda);
-                Path::Prescribed { dp, lambda, fext }
+                let fext = n.external_force(factors);
+                Path::Prescribed {
+                    dp,
+                    factors: factors.to_vec(),
+                    fext,
+                }
             }
             Constraint::Arc { ds } => {
                 let n_free = (n.dofs.kind.iter())
                     .filter(|k| **k == DofKind::Free)
                     .count();
-                let lambda = n.state.load_factor;
+                let lambda = n.state.load_factors[0];
+                let factors = n.model.uniform_factors(lambda);
                 Path::Arc {
                     ds: ds * (n_free.max(1) as f64).sqrt(),
                     lambda,
-                    fref: n.external_force(1.0).dense(n.dofs.len()),
+                    fref: (n.external_force(&n.model.uniform_factors(1.0))).dense(n.dofs.len()),
                     dd: vec![0.0; n.state.d.len()],
-                    fext: n.external_force(lambda),
+                    fext: n.external_force(&factors),
+                    factors,
                 }
             }
-        }
-    }
-
-    /// The load factor of the current iterate.
-    pub(super) fn lambda(&self) -> f64 {
-        match self {
-            Path::Prescribed { lambda, .. } | Path::Arc { lambda, .. } => *lambda,
         }
     }
 
@@ -113,10 +114,10 @@ impl Path {
         self.dp().is_none_or(|dp| dp.iter().all(|v| *v == 0.0))
     }
 
-    /// The load factor of the current iterate.
-    pub(super) fn load_factor(&self) -> f64 {
+    /// The load factors of the current iterate, one per load group.
+    pub(super) fn load_factors(&self) -> &[f64] {
         match self {
-            Path::Prescribed { lambda, .. } | Path::Arc { lambda, .. } => *lambda,
+            Path::Prescribed { factors, .. } | Path::Arc { factors, .. } => factors,
         }
     }
 
@@ -173,6 +174,7 @@ impl Path {
             Path::Arc {
                 ds,
                 lambda,
+                factors,
                 fref,
                 dd,
                 fext,
@@ -226,7 +228,8 @@ impl Path {
                     step2 += step * step;
                 }
                 *lambda += delta;
-                *fext = n.external_force(*lambda);
+                factors.fill(*lambda);
+                *fext = n.external_force(factors);
                 let step = step2.sqrt();
                 bound.moved(step);
                 Ok(step)

@@ -208,8 +208,8 @@ impl AttemptError {
 pub struct Converged {
     /// Displacements.
     pub d: Vec<f64>,
-    /// Load factor (the target's, or the one arc length found).
-    pub load_factor: f64,
+    /// Load factors, one per load group (the target's, or the one arc length found).
+    pub load_factors: Vec<f64>,
     /// Contact state.
     pub contacts: ContactSet,
     /// Final assembly at the converged state.

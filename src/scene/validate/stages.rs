@@ -1,0 +1,177 @@
+//! The load path of a scene: its load groups (each load's `group`, "loads" for those that name
+//! none, "gravity" for the self-weight) and its `stages`, each checked (at least one step; a
+//! group the scene has; a dof the scene prescribes; exactly one of `to`, `by` and `values`;
+//! finite values) and resolved into the solver's `LoadPath` of stage-end values.
+
+use super::errors::{Ctx, SceneError};
+use super::geometry::Geometry;
+use crate::scene::format::SceneFile;
+use crate::solver::{LoadPath, Prescribed, Stage, StageMotion};
+
+/// The group of the loads that name none.
+pub const DEFAULT_GROUP: &str = "loads";
+/// The group of the self-weight under `control.gravity`.
+pub const GRAVITY_GROUP: &str = "gravity";
+
+/// The load groups of `sf`, in order of first appearance (nodal loads, distributed loads, then
+/// gravity); none where the scene has no stages: every load then has the one load factor.
+pub(super) fn load_groups(sf: &SceneFile) -> Vec<String> {
+    if sf.stages.is_empty() {
+        return Vec::new();
+    }
+    let named = (sf.loads.iter().map(|l| l.group.as_deref()))
+        .chain(sf.distributed.iter().map(|d| d.group.as_deref()))
+        .map(|g| g.unwrap_or(DEFAULT_GROUP))
+        .chain(sf.control.gravity.map(|_| GRAVITY_GROUP));
+    let mut groups: Vec<String> = Vec::new();
+    for g in named {
+        if !groups.iter().any(|h| h == g) {
+            groups.push(g.to_string());
+        }
+    }
+    groups
+}
+
+/// The index of the load group `name` (default "loads") among `groups`; 0 where the scene has
+/// one load factor.
+pub(super) fn group_index(groups: &[String], name: Option<&str>) -> usize {
+    let name = name.unwrap_or(DEFAULT_GROUP);
+    groups.iter().position(|g| g == name).unwrap_or(0)
+}
+
+/// The load path of `sf` (none without stages), over its load groups `groups` and prescribed
+/// dofs `prescribed`.
+pub(super) fn load_path(
+    ctx: &Ctx,
+    sf: &SceneFile,
+    g: &Geometry,
+    groups: &[String],
+    prescribed: &[Prescribed],
+) -> Result<Option<LoadPath>, SceneError> {
+    if sf.stages.is_empty() {
+        return Ok(None);
+    }
+    let mut factors = vec![0.0; groups.len().max(1)];
+    let mut values = vec![0.0; prescribed.len()];
+    let mut stages = Vec::with_capacity(sf.stages.len());
+    for (k, st) in sf.stages.iter().enumerate() {
+        let at = format!("stages[{k}]");
+        let lists: Vec<usize> = (st.prescribed.iter())
+            .filter_map(|p| p.values.as_ref().map(Vec::len))
+            .collect();
+        let steps = match (st.steps, lists.first()) {
+            (Some(n), _) => n,
+            (None, Some(&n)) => n,
+            (None, None) => {
+                return Err(ctx.err(
+                    format!("{at}.steps"),
+                    Some(format!("stages[{k}]")),
+                    "a stage needs its number of steps (or listed values)",
+                ))
+            }
+        };
+        if steps == 0 {
+            return Err(ctx.err(
+                format!("{at}.steps"),
+                Some("steps:0".into()),
+                "a stage needs at least one step",
+            ));
+        }
+        if let Some(&n) = lists.iter().find(|&&n| n != steps) {
+            return Err(ctx.err(
+                format!("{at}.prescribed"),
+                Some("values".into()),
+                format!("{n} values for a stage of {steps} steps: give one value per step"),
+            ));
+        }
+        let mut named = vec![false; factors.len()];
+        for (j, c) in st.loads.iter().enumerate() {
+            let field = format!("{at}.loads[{j}] (group \"{}\")", c.group);
+            let needle = Some(format!("\"{}\"", c.group));
+            let Some(gi) = groups.iter().position(|h| *h == c.group) else {
+                let known = if groups.is_empty() {
+                    "the scene has no loads".to_string()
+                } else {
+                    format!("the scene's groups are {}", groups.join(", "))
+                };
+                return Err(ctx.err(
+                    field,
+                    needle,
+                    format!("no load group \"{}\": {known}", c.group),
+                ));
+            };
+            if std::mem::replace(&mut named[gi], true) {
+                return Err(ctx.err(field, needle, "named twice in one stage"));
+            }
+            factors[gi] = match (c.to, c.by) {
+                (Some(v), None) => finite(ctx, &field, "to", v)?,
+                (None, Some(d)) => factors[gi] + finite(ctx, &field, "by", d)?,
+                _ => return Err(ctx.err(field, needle, "give exactly one of `to` and `by`")),
+            };
+        }
+        let mut motions: Vec<StageMotion> = values.iter().map(|&v| StageMotion::To(v)).collect();
+        let mut moved = vec![false; prescribed.len()];
+        for (j, c) in st.prescribed.iter().enumerate() {
+            let field = format!("{at}.prescribed[{j}] (node {} {})", c.node, c.dof.name());
+            let needle = Some(format!("node:{}", c.node));
+            let n = g.node_of(ctx, field.clone(), c.node)?;
+            let Some(pk) = (prescribed.iter()).position(|p| p.node == n && p.dof == c.dof) else {
+                return Err(ctx.err(
+                    field,
+                    needle,
+                    format!(
+                        "node {} {} is not prescribed: list it in `prescribed` to drive it",
+                        c.node,
+                        c.dof.name()
+                    ),
+                ));
+            };
+            if std::mem::replace(&mut moved[pk], true) {
+                return Err(ctx.err(field, needle, "named twice in one stage"));
+            }
+            motions[pk] = match (c.to, c.by, &c.values) {
+                (Some(v), None, None) => StageMotion::To(finite(ctx, &field, "to", v)?),
+                (None, Some(d), None) => {
+                    StageMotion::To(values[pk] + finite(ctx, &field, "by", d)?)
+                }
+                (None, None, Some(list)) => {
+                    for &v in list {
+                        finite(ctx, &field, "values", v)?;
+                    }
+                    StageMotion::Values(list.clone())
+                }
+                _ => {
+                    return Err(ctx.err(
+                        field,
+                        needle,
+                        "give exactly one of `to`, `by` and `values`",
+                    ))
+                }
+            };
+            values[pk] = motions[pk].end();
+        }
+        stages.push(Stage {
+            name: st
+                .name
+                .clone()
+                .unwrap_or_else(|| format!("stage {}", k + 1)),
+            steps,
+            factors: factors.clone(),
+            prescribed: motions,
+        });
+    }
+    Ok(Some(LoadPath { stages }))
+}
+
+/// `v` if finite, else the error for `key` of `field`.
+fn finite(ctx: &Ctx, field: &str, key: &str, v: f64) -> Result<f64, SceneError> {
+    if v.is_finite() && v.abs() < 1e100 {
+        Ok(v)
+    } else {
+        Err(ctx.err(
+            format!("{field}.{key}"),
+            Some(key.into()),
+            format!("must be finite (below 1e100 in size), got {v}"),
+        ))
+    }
+}
