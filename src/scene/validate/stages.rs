@@ -5,7 +5,7 @@
 
 use super::errors::{Ctx, SceneError};
 use super::geometry::Geometry;
-use crate::scene::format::SceneFile;
+use crate::scene::format::{SceneFile, StageDef};
 use crate::solver::{LoadPath, Prescribed, Stage, StageMotion};
 
 /// The group of the loads that name none.
@@ -55,112 +55,191 @@ pub(super) fn load_path(
     let mut values = vec![0.0; prescribed.len()];
     let mut stages = Vec::with_capacity(sf.stages.len());
     for (k, st) in sf.stages.iter().enumerate() {
-        let at = format!("stages[{k}]");
-        let lists: Vec<usize> = (st.prescribed.iter())
-            .filter_map(|p| p.values.as_ref().map(Vec::len))
-            .collect();
-        let steps = match (st.steps, lists.first()) {
-            (Some(n), _) => n,
-            (None, Some(&n)) => n,
-            (None, None) => {
-                return Err(ctx.err(
-                    format!("{at}.steps"),
-                    Some(format!("stages[{k}]")),
-                    "a stage needs its number of steps (or listed values)",
-                ))
-            }
+        // Errors inside a stage are located from the line where it opens.
+        let from = stage_line(ctx.text, k);
+        let start = from.map_or(0, |l| line_offset(ctx.text, l));
+        let here = Ctx {
+            text: &ctx.text[start..],
+            file: ctx.file,
         };
-        if steps == 0 {
-            return Err(ctx.err(
-                format!("{at}.steps"),
-                Some("steps:0".into()),
-                "a stage needs at least one step",
-            ));
-        }
-        if let Some(&n) = lists.iter().find(|&&n| n != steps) {
-            return Err(ctx.err(
-                format!("{at}.prescribed"),
-                Some("values".into()),
-                format!("{n} values for a stage of {steps} steps: give one value per step"),
-            ));
-        }
-        let mut named = vec![false; factors.len()];
-        for (j, c) in st.loads.iter().enumerate() {
-            let field = format!("{at}.loads[{j}] (group \"{}\")", c.group);
-            let needle = Some(format!("\"{}\"", c.group));
-            let Some(gi) = groups.iter().position(|h| *h == c.group) else {
-                let known = if groups.is_empty() {
-                    "the scene has no loads".to_string()
-                } else {
-                    format!("the scene's groups are {}", groups.join(", "))
-                };
-                return Err(ctx.err(
-                    field,
-                    needle,
-                    format!("no load group \"{}\": {known}", c.group),
-                ));
+        let stage = one_stage(
+            &here,
+            k,
+            st,
+            (g, groups, prescribed),
+            (&mut factors, &mut values),
+        )
+        .map_err(|mut e| {
+            e.line = match (e.line, from) {
+                (Some(l), Some(f)) => Some(l + f - 1),
+                _ => from,
             };
-            if std::mem::replace(&mut named[gi], true) {
-                return Err(ctx.err(field, needle, "named twice in one stage"));
-            }
-            factors[gi] = match (c.to, c.by) {
-                (Some(v), None) => finite(ctx, &field, "to", v)?,
-                (None, Some(d)) => factors[gi] + finite(ctx, &field, "by", d)?,
-                _ => return Err(ctx.err(field, needle, "give exactly one of `to` and `by`")),
-            };
-        }
-        let mut motions: Vec<StageMotion> = values.iter().map(|&v| StageMotion::To(v)).collect();
-        let mut moved = vec![false; prescribed.len()];
-        for (j, c) in st.prescribed.iter().enumerate() {
-            let field = format!("{at}.prescribed[{j}] (node {} {})", c.node, c.dof.name());
-            let needle = Some(format!("node:{}", c.node));
-            let n = g.node_of(ctx, field.clone(), c.node)?;
-            let Some(pk) = (prescribed.iter()).position(|p| p.node == n && p.dof == c.dof) else {
-                return Err(ctx.err(
-                    field,
-                    needle,
-                    format!(
-                        "node {} {} is not prescribed: list it in `prescribed` to drive it",
-                        c.node,
-                        c.dof.name()
-                    ),
-                ));
-            };
-            if std::mem::replace(&mut moved[pk], true) {
-                return Err(ctx.err(field, needle, "named twice in one stage"));
-            }
-            motions[pk] = match (c.to, c.by, &c.values) {
-                (Some(v), None, None) => StageMotion::To(finite(ctx, &field, "to", v)?),
-                (None, Some(d), None) => {
-                    StageMotion::To(values[pk] + finite(ctx, &field, "by", d)?)
-                }
-                (None, None, Some(list)) => {
-                    for &v in list {
-                        finite(ctx, &field, "values", v)?;
-                    }
-                    StageMotion::Values(list.clone())
-                }
-                _ => {
-                    return Err(ctx.err(
-                        field,
-                        needle,
-                        "give exactly one of `to`, `by` and `values`",
-                    ))
-                }
-            };
-            values[pk] = motions[pk].end();
-        }
-        stages.push(Stage {
-            name: st
-                .name
-                .clone()
-                .unwrap_or_else(|| format!("stage {}", k + 1)),
-            steps,
-            factors: factors.clone(),
-            prescribed: motions,
-        });
+            e
+        })?;
+        stages.push(stage);
     }
     Ok(Some(LoadPath { stages }))
+}
+
+/// Stage `k` of the scene, `st`, checked and resolved from the load factors and prescribed
+/// values where the stage before it ended (`factors`, `values`, moved to where it ends).
+fn one_stage(
+    ctx: &Ctx,
+    k: usize,
+    st: &StageDef,
+    (g, groups, prescribed): (&Geometry, &[String], &[Prescribed]),
+    (factors, values): (&mut Vec<f64>, &mut Vec<f64>),
+) -> Result<Stage, SceneError> {
+    let at = format!("stages[{k}]");
+    let lists: Vec<usize> = (st.prescribed.iter())
+        .filter_map(|p| p.values.as_ref().map(Vec::len))
+        .collect();
+    let steps = match (st.steps, lists.first()) {
+        (Some(n), _) => n,
+        (None, Some(&n)) => n,
+        (None, None) => {
+            return Err(at_stage(
+                ctx,
+                format!("{at}.steps"),
+                "a stage needs its number of steps (or listed values)",
+            ))
+        }
+    };
+    if steps == 0 {
+        return Err(at_stage(
+            ctx,
+            format!("{at}.steps"),
+            "a stage needs at least one step",
+        ));
+    }
+    if let Some(&n) = lists.iter().find(|&&n| n != steps) {
+        return Err(ctx.err(
+            format!("{at}.prescribed"),
+            Some("values".into()),
+            format!("{n} values for a stage of {steps} steps: give one value per step"),
+        ));
+    }
+    let mut named = vec![false; factors.len()];
+    for (j, c) in st.loads.iter().enumerate() {
+        let field = format!("{at}.loads[{j}] (group \"{}\")", c.group);
+        let needle = Some(format!("\"{}\"", c.group));
+        let Some(gi) = groups.iter().position(|h| *h == c.group) else {
+            let known = if groups.is_empty() {
+                "the scene has no loads".to_string()
+            } else {
+                format!("the scene's groups are {}", groups.join(", "))
+            };
+            return Err(ctx.err(
+                field,
+                needle,
+                format!("no load group \"{}\": {known}", c.group),
+            ));
+        };
+        if std::mem::replace(&mut named[gi], true) {
+            return Err(ctx.err(field, needle, "named twice in one stage"));
+        }
+        factors[gi] = match (c.to, c.by) {
+            (Some(v), None) => finite(ctx, &field, "to", v)?,
+            (None, Some(d)) => factors[gi] + finite(ctx, &field, "by", d)?,
+            _ => return Err(ctx.err(field, needle, "give exactly one of `to` and `by`")),
+        };
+    }
+    let mut motions: Vec<StageMotion> = values.iter().map(|&v| StageMotion::To(v)).collect();
+    let mut moved = vec![false; prescribed.len()];
+    for (j, c) in st.prescribed.iter().enumerate() {
+        let field = format!("{at}.prescribed[{j}] (node {} {})", c.node, c.dof.name());
+        let needle = Some(format!("node:{}", c.node));
+        let n = g.node_of(ctx, field.clone(), c.node)?;
+        let Some(pk) = (prescribed.iter()).position(|p| p.node == n && p.dof == c.dof) else {
+            return Err(ctx.err(
+                field,
+                needle,
+                format!(
+                    "node {} {} is not prescribed: list it in `prescribed` to drive it",
+                    c.node,
+                    c.dof.name()
+                ),
+            ));
+        };
+        if std::mem::replace(&mut moved[pk], true) {
+            return Err(ctx.err(field, needle, "named twice in one stage"));
+        }
+        motions[pk] = match (c.to, c.by, &c.values) {
+            (Some(v), None, None) => StageMotion::To(finite(ctx, &field, "to", v)?),
+            (None, Some(d), None) => StageMotion::To(values[pk] + finite(ctx, &field, "by", d)?),
+            (None, None, Some(list)) => {
+                for &v in list {
+                    finite(ctx, &field, "values", v)?;
+                }
+                StageMotion::Values(list.clone())
+            }
+            _ => return Err(ctx.err(field, needle, "give exactly one of `to`, `by` and `values`")),
+        };
+        values[pk] = motions[pk].end();
+    }
+    Ok(Stage {
+        name: st
+            .name
+            .clone()
+            .unwrap_or_else(|| format!("stage {}", k + 1)),
+        steps,
+        factors: factors.clone(),
+        prescribed: motions,
+    })
+}
+
+/// The error `message` for `field` of a stage, located at the line where it opens (the first
+/// of `ctx`'s text).
+fn at_stage(ctx: &Ctx, field: String, message: &str) -> SceneError {
+    let mut e = ctx.err(field, None, message);
+    e.line = Some(1);
+    e
+}
+
+/// The byte offset where line `line` (from 1) of `text` starts.
+fn line_offset(text: &str, line: usize) -> usize {
+    (text.match_indices('\n').nth(line.saturating_sub(2))).map_or(0, |(i, _)| {
+        if line <= 1 {
+            0
+        } else {
+            i + 1
+        }
+    })
+}
+
+/// The line (from 1) where entry `k` of the `stages` list opens: the `k`-th parenthesis at the
+/// list's top level. Strings and comments are skipped.
+fn stage_line(text: &str, k: usize) -> Option<usize> {
+    let start = text.find("stages")?;
+    let open = start + text[start..].find('[')?;
+    let (mut depth, mut seen, mut line) = (0usize, 0usize, text[..open].lines().count().max(1));
+    let mut chars = text[open + 1..].chars().peekable();
+    let mut in_string = false;
+    while let Some(c) = chars.next() {
+        match c {
+            '\n' => line += 1,
+            '"' => in_string = !in_string,
+            _ if in_string => {}
+            '/' if chars.peek() == Some(&'/') => {
+                while chars.peek().is_some_and(|&c| c != '\n') {
+                    chars.next();
+                }
+            }
+            '(' | '[' => {
+                if depth == 0 && c == '(' {
+                    if seen == k {
+                        return Some(line);
+                    }
+                    seen += 1;
+                }
+                depth += 1;
+            }
+            ')' | ']' if depth == 0 => return None,
+            ')' | ']' => depth -= 1,
+            _ => {}
+        }
+    }
+    None
 }
 
 /// `v` if finite, else the error for `key` of `field`.
