@@ -241,6 +241,7 @@ mod tests {
             load_factor: 0.0,
             load_factors: Vec::new(),
             stage: None,
+            partial: false,
             iterations: 1,
             iterations_8_orders: None,
             relative_residual: 0.0,

@@ -78,7 +78,7 @@ pub struct StageDef {
     pub prescribed: Vec<DofChangeDef>,
 }
 
-/// A load group's factor over a stage: exactly one of `to` and `by`.
+/// A load group's factor over a stage: exactly one of `to`, `by` and `values`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct GroupChangeDef {
@@ -91,6 +91,9 @@ pub struct GroupChangeDef {
     /// The change of the factor over the stage.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub by: Option<f64>,
+    /// The factor at the end of each step, one per step (a drive kept as it was made).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub values: Option<Vec<f64>>,
 }
 
 /// A prescribed dof's value over a stage: exactly one of `to`, `by` and `values`.

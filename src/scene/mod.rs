@@ -1,11 +1,13 @@
-//! Scenes: the RON file format, validation with located errors, and the built-in scenes
-//! shipped in `assets/scenes/`.
+//! Scenes: the RON file format, validation with located errors, the built-in scenes shipped in
+//! `assets/scenes/`, writing a scene back as RON, and a run kept as the scene's load path.
 
 pub mod builtin;
 pub mod format;
+pub mod kept;
 pub mod remesh;
 pub mod units;
 pub mod validate;
+pub mod write;
 
 pub use builtin::open;
 pub use format::SceneFile;

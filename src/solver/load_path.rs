@@ -6,10 +6,11 @@
 
 use serde::{Deserialize, Serialize};
 
-/// How one prescribed dof moves over a stage.
+/// How one prescribed dof, or one load group's factor, moves over a stage.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum StageMotion {
-    /// Linearly from its value at the stage's start to this value at its end (m or rad).
+    /// Linearly from its value at the stage's start to this value at its end (m or rad, or a
+    /// factor).
     To(f64),
     /// Through these values, one at the end of each step of the stage.
     Values(Vec<f64>),
@@ -49,9 +50,8 @@ pub struct Stage {
     pub name: String,
     /// Number of steps, at least one.
     pub steps: usize,
-    /// The factor of each load group (`Model::load_groups`) at the stage's end, reached
-    /// linearly from the start.
-    pub factors: Vec<f64>,
+    /// How the factor of each load group (`Model::load_groups`) moves over the stage.
+    pub factors: Vec<StageMotion>,
     /// How each prescribed dof (`Model::prescribed`) moves over the stage.
     pub prescribed: Vec<StageMotion>,
 }
@@ -104,7 +104,7 @@ impl LoadPath {
             None => (vec![0.0; prescribed], vec![0.0; groups]),
             Some(prev) => (
                 prev.prescribed.iter().map(StageMotion::end).collect(),
-                prev.factors.clone(),
+                prev.factors.iter().map(StageMotion::end).collect(),
             ),
         }
     }
@@ -121,7 +121,7 @@ impl LoadPath {
                 .map(|(m, &a)| m.at(a, i, n))
                 .collect(),
             factors: (stage.factors.iter().zip(&f0))
-                .map(|(&b, &a)| ramp(a, b, i, n))
+                .map(|(m, &a)| m.at(a, i, n))
                 .collect(),
         })
     }
@@ -137,19 +137,19 @@ mod tests {
                 Stage {
                     name: "press".into(),
                     steps: 4,
-                    factors: vec![1.0],
+                    factors: vec![StageMotion::To(1.0)],
                     prescribed: vec![StageMotion::To(0.0)],
                 },
                 Stage {
                     name: "drag".into(),
                     steps: 3,
-                    factors: vec![1.0],
+                    factors: vec![StageMotion::To(1.0)],
                     prescribed: vec![StageMotion::Values(vec![0.1, 0.3, 0.2])],
                 },
                 Stage {
                     name: "back".into(),
                     steps: 2,
-                    factors: vec![0.0],
+                    factors: vec![StageMotion::To(0.0)],
                     prescribed: vec![StageMotion::To(-0.2)],
                 },
             ],

@@ -347,6 +347,10 @@ pub struct IncrementRecord {
     /// none where the scene has no stages, or for an increment a drag made off the path.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stage: Option<usize>,
+    /// Whether this increment is part of a step that was cut back and goes on toward its
+    /// target (not the step's last increment).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub partial: bool,
     /// Newton iterations used (all passes of the active set together).
     pub iterations: usize,
     /// Iterations needed to reduce the unbalanced force by 8 orders of magnitude from its value

@@ -78,6 +78,7 @@ pub fn initial_record(solver: &Solver) -> IncrementRecord {
             Vec::new()
         },
         stage: None,
+        partial: false,
         iterations: 0,
         iterations_8_orders: None,
         relative_residual: 0.0,

@@ -93,8 +93,7 @@ pub fn scene_text(scene: &Scene) -> Result<String, String> {
     let mut file = scene.file.clone();
     file.formulation = scene.model.formulation;
     file.control.stretch_correction = scene.params.stretch_correction;
-    let config = ron::ser::PrettyConfig::new().struct_names(false);
-    ron::ser::to_string_pretty(&file, config).map_err(|e| e.to_string())
+    crate::scene::write::scene_text(&file)
 }
 
 /// Save the scene as solved to `path` (atomically: a failed write leaves the old file).

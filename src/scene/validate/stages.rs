@@ -13,12 +13,18 @@ pub const DEFAULT_GROUP: &str = "loads";
 /// The group of the self-weight under `control.gravity`.
 pub const GRAVITY_GROUP: &str = "gravity";
 
-/// The load groups of `sf`, in order of first appearance (nodal loads, distributed loads, then
-/// gravity); none where the scene has no stages: every load then has the one load factor.
+/// The load groups of `sf` its model has: none where the scene has no stages (every load then
+/// has the one load factor), else `group_names`.
 pub(super) fn load_groups(sf: &SceneFile) -> Vec<String> {
     if sf.stages.is_empty() {
         return Vec::new();
     }
+    group_names(sf)
+}
+
+/// The names of the load groups of `sf`, in order of first appearance (nodal loads, distributed
+/// loads, then gravity).
+pub fn group_names(sf: &SceneFile) -> Vec<String> {
     let named = (sf.loads.iter().map(|l| l.group.as_deref()))
         .chain(sf.distributed.iter().map(|d| d.group.as_deref()))
         .map(|g| g.unwrap_or(DEFAULT_GROUP))
@@ -91,8 +97,9 @@ fn one_stage(
     (factors, values): (&mut Vec<f64>, &mut Vec<f64>),
 ) -> Result<Stage, SceneError> {
     let at = format!("stages[{k}]");
-    let lists: Vec<usize> = (st.prescribed.iter())
-        .filter_map(|p| p.values.as_ref().map(Vec::len))
+    let lists: Vec<usize> = (st.prescribed.iter().map(|p| &p.values))
+        .chain(st.loads.iter().map(|l| &l.values))
+        .filter_map(|v| v.as_ref().map(Vec::len))
         .collect();
     let steps = match (st.steps, lists.first()) {
         (Some(n), _) => n,
@@ -114,12 +121,13 @@ fn one_stage(
     }
     if let Some(&n) = lists.iter().find(|&&n| n != steps) {
         return Err(ctx.err(
-            format!("{at}.prescribed"),
+            format!("{at}.values"),
             Some("values".into()),
             format!("{n} values for a stage of {steps} steps: give one value per step"),
         ));
     }
     let mut named = vec![false; factors.len()];
+    let mut ramps: Vec<StageMotion> = factors.iter().map(|&v| StageMotion::To(v)).collect();
     for (j, c) in st.loads.iter().enumerate() {
         let field = format!("{at}.loads[{j}] (group \"{}\")", c.group);
         let needle = Some(format!("\"{}\"", c.group));
@@ -138,11 +146,8 @@ fn one_stage(
         if std::mem::replace(&mut named[gi], true) {
             return Err(ctx.err(field, needle, "named twice in one stage"));
         }
-        factors[gi] = match (c.to, c.by) {
-            (Some(v), None) => finite(ctx, &field, "to", v)?,
-            (None, Some(d)) => factors[gi] + finite(ctx, &field, "by", d)?,
-            _ => return Err(ctx.err(field, needle, "give exactly one of `to` and `by`")),
-        };
+        ramps[gi] = motion(ctx, (&field, &needle), factors[gi], (c.to, c.by, &c.values))?;
+        factors[gi] = ramps[gi].end();
     }
     let mut motions: Vec<StageMotion> = values.iter().map(|&v| StageMotion::To(v)).collect();
     let mut moved = vec![false; prescribed.len()];
@@ -164,17 +169,7 @@ fn one_stage(
         if std::mem::replace(&mut moved[pk], true) {
             return Err(ctx.err(field, needle, "named twice in one stage"));
         }
-        motions[pk] = match (c.to, c.by, &c.values) {
-            (Some(v), None, None) => StageMotion::To(finite(ctx, &field, "to", v)?),
-            (None, Some(d), None) => StageMotion::To(values[pk] + finite(ctx, &field, "by", d)?),
-            (None, None, Some(list)) => {
-                for &v in list {
-                    finite(ctx, &field, "values", v)?;
-                }
-                StageMotion::Values(list.clone())
-            }
-            _ => return Err(ctx.err(field, needle, "give exactly one of `to`, `by` and `values`")),
-        };
+        motions[pk] = motion(ctx, (&field, &needle), values[pk], (c.to, c.by, &c.values))?;
         values[pk] = motions[pk].end();
     }
     Ok(Stage {
@@ -183,8 +178,35 @@ fn one_stage(
             .clone()
             .unwrap_or_else(|| format!("stage {}", k + 1)),
         steps,
-        factors: factors.clone(),
+        factors: ramps,
         prescribed: motions,
+    })
+}
+
+/// How a value that stands at `start` moves over a stage: to `to`, by `by`, or through the
+/// listed `values` (exactly one of them, each finite).
+fn motion(
+    ctx: &Ctx,
+    (field, needle): (&str, &Option<String>),
+    start: f64,
+    (to, by, values): (Option<f64>, Option<f64>, &Option<Vec<f64>>),
+) -> Result<StageMotion, SceneError> {
+    Ok(match (to, by, values) {
+        (Some(v), None, None) => StageMotion::To(finite(ctx, field, "to", v)?),
+        (None, Some(d), None) => StageMotion::To(start + finite(ctx, field, "by", d)?),
+        (None, None, Some(list)) => {
+            for &v in list {
+                finite(ctx, field, "values", v)?;
+            }
+            StageMotion::Values(list.clone())
+        }
+        _ => {
+            return Err(ctx.err(
+                field,
+                needle.clone(),
+                "give exactly one of `to`, `by` and `values`",
+            ))
+        }
     })
 }
 

@@ -283,11 +283,21 @@ impl ContactSet {
             if round_an_end && cv.contacts.is_active(n, b) {
                 return None;
             }
-            let crossed = wrong_side
-                && ((Self::adjacent(cv, b, was, p.beam)
-                    && (!round_an_end || -p.gap * side < SHAPE_MARGIN * p.length))
-                    || Self::swept_through(cv, d, n, b)
-                    || self.crossed_on_the_way(cv, d, (n, b), side, was));
+            if !wrong_side {
+                return None;
+            }
+            // A side measured from afar (more than `FAR` element lengths from the element's line)
+            // tells which side of the line the node lay on, not of the beam: a beam that
+            // straightens swings its line past such a node without touching it.
+            let near_before = || {
+                self.probe_near(cv, cv.d, n, b, Some(&views.before))
+                    .is_some_and(|q| q.gap.abs() <= FAR * q.length)
+            };
+            let crossed = (Self::adjacent(cv, b, was, p.beam)
+                && (!round_an_end || -p.gap * side < SHAPE_MARGIN * p.length)
+                && near_before())
+                || Self::swept_through(cv, d, n, b)
+                || self.crossed_on_the_way(cv, d, (n, b), side, was, near_before());
             return crossed.then_some((p, side));
         }
         if p.gap.abs() <= cv.touching(THROUGH, p.length) {
@@ -340,12 +350,14 @@ impl ContactSet {
         (n, b): (usize, usize),
         side: f64,
         was: usize,
+        was_near: bool,
     ) -> bool {
         // The element the node lay over at the step before, and its side there: carried from
         // element to neighbour, and taken afresh where the node jumps to an element that is
         // no neighbour or lies far (a side against a distant element of a curled beam says
         // nothing about one against this).
-        let (mut at, mut local) = (was, side);
+        // A side measured from afar is not carried: it is taken where the node comes near.
+        let (mut at, mut local) = (was_near.then_some(was), side);
         let mut s = cv.d.to_vec();
         for k in 1..=WAY_STEPS {
             let f = k as f64 / WAY_STEPS as f64;
@@ -356,16 +368,16 @@ impl ContactSet {
                 continue;
             };
             let near = p.gap.abs() <= FAR * p.length;
-            if !near || !Self::adjacent(cv, b, at, p.beam) {
-                (at, local) = (p.beam, p.gap.signum());
+            let Some(from) = at.filter(|&e| near && Self::adjacent(cv, b, e, p.beam)) else {
+                (at, local) = (near.then_some(p.beam), p.gap.signum());
                 continue;
-            }
+            };
             if p.gap * local < -cv.touching(THROUGH, p.length)
-                && !Self::over_an_end_half(cv, n, b, at)
+                && !Self::over_an_end_half(cv, n, b, from)
             {
                 return true;
             }
-            at = p.beam;
+            at = Some(p.beam);
         }
         false
     }

@@ -50,7 +50,7 @@ impl Solver {
                     let easy = conv.iterations <= GROW_ITERATIONS;
                     let p = self.prescribed_values().to_vec();
                     let secs = clock.elapsed().as_secs_f64();
-                    let rec = self.commit(conv, checked, p, cutbacks, secs);
+                    let rec = self.commit(conv, checked, (p, false), cutbacks, secs);
                     let dd = (self.state.d.iter().zip(&before))
                         .map(|(a, b)| a - b)
                         .collect();

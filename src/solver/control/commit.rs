@@ -15,7 +15,7 @@ impl Solver {
         &mut self,
         c: Converged,
         checked: (IncrementStatus, Vec<NodeState>),
-        tp: Vec<f64>,
+        (tp, partial): (Vec<f64>, bool),
         cutbacks: usize,
         seconds: f64,
     ) -> IncrementRecord {
@@ -83,6 +83,7 @@ impl Solver {
                 Vec::new()
             },
             stage: self.marching,
+            partial,
             iterations: c.iterations,
             iterations_8_orders: c.iterations_8_orders,
             relative_residual: c.relative_residual,

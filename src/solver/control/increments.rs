@@ -117,7 +117,7 @@ impl Solver {
                         h *= 2.0;
                     }
                     let secs = clock.elapsed().as_secs_f64();
-                    let rec = self.commit(conv, checked, tp, cutbacks, secs);
+                    let rec = self.commit(conv, checked, (tp, next < 1.0), cutbacks, secs);
                     clock = Instant::now();
                     done = next;
                     self.keep_checkpoint();
