@@ -8,7 +8,7 @@ mod common;
 use std::time::{Duration, Instant};
 
 use tsm_contact::scene::builtin::builtin;
-use tsm_contact::solver::IncrementRecord;
+use tsm_contact::solver::{IncrementRecord, Silent};
 use tsm_contact::worker::{Command, Message, Worker};
 
 /// The frames of a drag, in scene steps: down to `depth` steps in uneven jumps of 0.1 to 1.9
@@ -39,20 +39,7 @@ fn frames(seed: u64, depth: f64, back: f64) -> Vec<f64> {
 /// with the worker, one frame at a time; audit everything it accepted. Returns the records
 /// and the errors.
 fn drag(name: &str, frames: &[f64]) -> (Vec<IncrementRecord>, Vec<String>) {
-    let scene = builtin(name).unwrap().unwrap();
-    let w = Worker::spawn(None);
-    w.send(Command::LoadScene(Box::new(scene.clone())));
-    let t0 = Instant::now();
-    let mut loaded = false;
-    while t0.elapsed() < Duration::from_secs(60) {
-        match w.recv_timeout(Duration::from_millis(50)) {
-            Some(Message::Loaded(_)) => loaded = true,
-            Some(Message::Error(e)) => panic!("{name}: {e}"),
-            Some(Message::Idle) if loaded => break,
-            _ => {}
-        }
-    }
-    assert!(loaded, "{name} did not load");
+    let (scene, w) = loaded(name);
     let (mut records, mut errors) = (Vec::new(), Vec::new());
     for &f in frames {
         for (index, p) in scene.model.prescribed.iter().enumerate() {
@@ -67,6 +54,25 @@ fn drag(name: &str, frames: &[f64]) -> (Vec<IncrementRecord>, Vec<String>) {
     }
     common::assert_audited(&scene, &records);
     (records, errors)
+}
+
+/// A worker with built-in scene `name` loaded, and the scene.
+fn loaded(name: &str) -> (tsm_contact::scene::Scene, Worker) {
+    let scene = builtin(name).unwrap().unwrap();
+    let w = Worker::spawn(None);
+    w.send(Command::LoadScene(Box::new(scene.clone())));
+    let t0 = Instant::now();
+    let mut loaded = false;
+    while t0.elapsed() < Duration::from_secs(60) {
+        match w.recv_timeout(Duration::from_millis(50)) {
+            Some(Message::Loaded(_)) => loaded = true,
+            Some(Message::Error(e)) => panic!("{name}: {e}"),
+            Some(Message::Idle) if loaded => break,
+            _ => {}
+        }
+    }
+    assert!(loaded, "{name} did not load");
+    (scene, w)
 }
 
 /// `drag` with the frames of eight seeds; returns every record, and the errors of the drags
@@ -141,4 +147,51 @@ fn example_3_1_dragged_down_and_back_up() {
 fn roller_dragged_along_and_back() {
     let (_, errors) = drag_seeds("roller", 48.0, 0.0);
     few_stops(&errors, 0);
+}
+
+/// A drag kept as the scene's path: Example 3.2 run 10 scene steps, then dragged in uneven
+/// frames down to 0.5 m and back up past the start, as the app does. The run becomes the
+/// scene's stages (`kept_path`), is written as RON and read back; solved headless to the end of
+/// its path, that scene lands on every state of the drag, bit for bit, increment by increment
+/// (its cut-backs included), and the kept stage lists one value per step of the drag.
+#[test]
+fn a_drag_kept_as_a_path_replays_to_the_same_states() {
+    use tsm_contact::scene::kept::{kept_path, KEPT_STAGE};
+    use tsm_contact::scene::{parse, write::scene_text};
+    let (scene, w) = loaded("example_3_2");
+    w.send(Command::RunSteps(10));
+    let (mut records, errors) = common::until_idle(&w, Duration::from_secs(60));
+    let per_step = scene.model.prescribed[0].per_step;
+    for f in frames(7, 50.0, -3.0) {
+        w.send(Command::SetTarget {
+            index: 0,
+            value: f * per_step,
+        });
+        let (r, e) = common::until_idle(&w, Duration::from_secs(120));
+        records.extend(r);
+        assert!(e.is_empty() && errors.is_empty(), "{e:?} {errors:?}");
+    }
+    let kept = kept_path(&scene.file, &scene.model, &records).unwrap();
+    assert_eq!(kept.stages.len(), 1);
+    assert_eq!(kept.stages[0].name.as_deref(), Some(KEPT_STAGE));
+    let text = scene_text(&kept).unwrap();
+    let again = parse(&text, "kept.ron").unwrap();
+    let steps = records.iter().filter(|r| !r.partial).count();
+    assert_eq!(again.steps, steps);
+    let mut solver = again.solver().unwrap();
+    let mut replay = Vec::new();
+    for _ in 0..again.steps {
+        replay.extend(solver.step(&mut Silent).unwrap());
+    }
+    assert_eq!(replay.len(), records.len(), "the same increments");
+    for (a, b) in records.iter().zip(&replay) {
+        assert_eq!(a.prescribed, b.prescribed, "increment {}", a.increment);
+        assert_eq!(a.nodes, b.nodes, "increment {}", a.increment);
+        assert_eq!(a.reactions, b.reactions, "increment {}", a.increment);
+    }
+    common::assert_audited(&again, &replay);
+    eprintln!(
+        "kept drive: {steps} steps, {} increments replayed bit for bit",
+        replay.len()
+    );
 }
