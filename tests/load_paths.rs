@@ -475,3 +475,35 @@ fn example_3_2_down_and_back_up_lifts_c_then_b_then_a_on_every_mesh() {
         h10[7][0], h20[7][0], h40[7][0]
     );
 }
+
+/// The load paths `docs/scene-format.md` shows (weight then pull; indent then drag to and fro;
+/// load, unload, reload, reverse) run to the end of their stages, every state audited, and end
+/// where their last stages say.
+#[test]
+fn the_documented_load_paths_run_to_their_end() {
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/scene-format.md"),
+    )
+    .unwrap();
+    let blocks: Vec<&str> = (text.split("```ron\n").skip(1))
+        .filter_map(|b| b.split("```").next())
+        .filter(|b| b.contains("stages:"))
+        .collect();
+    assert_eq!(blocks.len(), 3, "three documented paths");
+    for block in blocks {
+        let scene = parse(block, "scene-format.md").unwrap();
+        let records = run(&scene);
+        common::assert_audited(&scene, &records);
+        let path = scene.model.path.as_ref().unwrap();
+        let end = path.point(path.total_steps() - 1).unwrap();
+        let last = records.last().unwrap();
+        assert_eq!(last.prescribed, end.prescribed, "{}", scene.file.name);
+        let factors = if last.load_factors.is_empty() {
+            vec![last.load_factor; end.factors.len()]
+        } else {
+            last.load_factors.clone()
+        };
+        assert_eq!(factors, end.factors, "{}", scene.file.name);
+        assert_eq!(last.stage, Some(path.stages.len() - 1));
+    }
+}

@@ -70,6 +70,16 @@ fn file_menu(app: &mut TsmApp, ui: &mut egui::Ui) {
             }
         });
         ui.separator();
+        if ui
+            .add_enabled(app.last() > 0, egui::Button::new("Keep the drive as a path"))
+            .on_hover_text(
+                "make the run shown (steps, drags, reversals) the scene's stages, so that the saved \
+                 scene replays it",
+            )
+            .clicked()
+        {
+            crate::app::files::scenes::keep_drive(app);
+        }
         if ui.button("Save scene as...").clicked() {
             let folder = folder_of(&app.scene_name);
             app.dialogs

@@ -391,10 +391,15 @@ fn reaction(app: &TsmApp, ui: &mut egui::Ui) -> Option<usize> {
                 .map(|r| [r.nodes[n][o] - x0, r.load_factor])
                 .collect();
             let unit = units.of_dof(Dof::ALL[o]);
+            // Along a load path the first load group's factor, named.
+            let factor = match model.load_groups.first() {
+                Some(g) if model.load_groups.len() > 1 => format!("load factor of \"{g}\""),
+                _ => "load factor".into(),
+            };
             (
                 "Load factor against displacement of the loaded dof:",
                 format!("{} ({unit})", model.dof_label(n, o)),
-                "load factor".into(),
+                factor,
                 pts,
             )
         } else {

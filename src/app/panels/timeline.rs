@@ -3,7 +3,8 @@
 //! "Pause" (replay), "Run" (solve the scene's remaining steps), "Stop" (any run), "Reset" and
 //! "Undo" (bring back what a branch, a change or Reset set aside), "Redo" (what Undo replaced).
 //! Increments accepted at the round-off floor are ticked under the slider, branch points marked
-//! over it.
+//! over it; along a load path, a line across the slider where each stage begins, and the
+//! selected increment's stage named after the buttons.
 
 use crate::worker::Command;
 
@@ -26,6 +27,7 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui) {
         }
         roundoff_ticks(app, ui, r.rect, last);
         branch_marks(app, ui, r.rect, last);
+        stage_marks(app, ui, r.rect, last);
         let loaded = app.loaded.is_some();
         if ui
             .add_enabled(app.selected > 0, egui::Button::new("Previous"))
@@ -88,7 +90,53 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui) {
         if set_aside_button(ui, "Redo", app.redo.last(), "Ctrl+Y") {
             app.redo();
         }
+        if let Some(name) = stage_name(app, app.selected.min(last)) {
+            ui.label(egui::RichText::new(name).color(STAGE));
+        }
     });
+}
+
+/// "stage 2 of 5: pull" for the increment shown at `k`, along a load path; "off the path" for
+/// an increment a drag made there.
+fn stage_name(app: &TsmApp, k: usize) -> Option<String> {
+    let path = app.loaded.as_ref()?.scene.model.path.as_ref()?;
+    let r = app.history.get(k).filter(|_| k > 0)?;
+    Some(match r.stage {
+        Some(s) => format!(
+            "stage {} of {}: {}",
+            s + 1,
+            path.stages.len(),
+            path.stages.get(s).map_or("", |st| st.name.as_str())
+        ),
+        None => "off the path".into(),
+    })
+}
+
+/// The colour of stage boundaries and names.
+pub const STAGE: egui::Color32 = egui::Color32::from_rgb(150, 90, 20);
+
+/// A line across the slider at every increment that begins a stage of the load path.
+fn stage_marks(app: &TsmApp, ui: &egui::Ui, rect: egui::Rect, last: usize) {
+    if last == 0 {
+        return;
+    }
+    let track = ui.spacing().slider_width;
+    let x0 = rect.left() + 6.0;
+    let span = (track - 12.0).max(1.0);
+    let painter = ui.painter();
+    let mut before = None;
+    for (k, r) in app.history.iter().enumerate().skip(1) {
+        if r.stage.is_some() && r.stage != before {
+            // The boundary lies between the last increment of one stage and the first of the
+            // next.
+            let x = x0 + span * (k as f32 - 0.5) / last as f32;
+            painter.line_segment(
+                [egui::pos2(x, rect.top()), egui::pos2(x, rect.bottom())],
+                egui::Stroke::new(1.5, STAGE),
+            );
+        }
+        before = r.stage;
+    }
 }
 
 /// The Undo or Redo button: enabled when there is something to bring back, which its hover
