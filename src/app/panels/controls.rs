@@ -158,10 +158,19 @@ pub fn sliders(app: &mut TsmApp, ui: &mut egui::Ui) {
         let lambda = app.record().map_or(0.0, |r| r.load_factor);
         let control = if l.scene.params.arc_length.is_some() {
             "arc-length control: each step solved is one arc"
+        } else if model.path.is_some() {
+            "stages: Next or Run solves the path's steps"
         } else {
             "load control: Next or Run solves steps"
         };
-        ui.label(format!("load factor {lambda:.4} ({control})"));
+        if model.load_groups.len() > 1 {
+            ui.label(format!(
+                "{} load groups ({control})",
+                model.load_groups.len()
+            ));
+        } else {
+            ui.label(format!("load factor {lambda:.4} ({control})"));
+        }
         return;
     }
     let mut sends = Vec::new();

@@ -34,7 +34,25 @@ pub fn show(app: &TsmApp, ui: &mut egui::Ui) {
     for ((label, v), p) in (l.prescribed_labels.iter().zip(&r.prescribed)).zip(&model.prescribed) {
         ui.label(format!("{label} = {v:+.5} {}", units.of_dof(p.dof)));
     }
-    if l.scene.model.load_per_step != 0.0 {
+    if let Some(path) = &model.path {
+        let stage = match r.stage {
+            Some(s) => format!(
+                "stage {} of {}: {}",
+                s + 1,
+                path.stages.len(),
+                path.stages.get(s).map_or("", |st| st.name.as_str())
+            ),
+            None if r.increment == 0 => "before the first stage".into(),
+            None => "off the load path (a drag)".into(),
+        };
+        ui.label(RichText::new(stage).color(super::timeline::STAGE));
+    }
+    if model.load_groups.len() > 1 {
+        for (g, name) in model.load_groups.iter().enumerate() {
+            let f = r.load_factors.get(g).copied().unwrap_or(r.load_factor);
+            ui.label(format!("load factor of \"{name}\" {f:.4}"));
+        }
+    } else if l.scene.model.load_per_step != 0.0 || model.path.is_some() && model.has_loads() {
         ui.label(format!("load factor {:.4}", r.load_factor));
     }
     if r.increment > 0 {

@@ -3,8 +3,8 @@
 //! "Pause" (replay), "Run" (solve the scene's remaining steps), "Stop" (any run), "Reset" and
 //! "Undo" (bring back what a branch, a change or Reset set aside), "Redo" (what Undo replaced).
 //! Increments accepted at the round-off floor are ticked under the slider, branch points marked
-//! over it; along a load path, a line across the slider where each stage begins, and the
-//! selected increment's stage named after the buttons.
+//! over it; along a load path, a line across the slider where each stage begins (the details
+//! panel names the selected increment's stage).
 
 use crate::worker::Command;
 
@@ -90,26 +90,7 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui) {
         if set_aside_button(ui, "Redo", app.redo.last(), "Ctrl+Y") {
             app.redo();
         }
-        if let Some(name) = stage_name(app, app.selected.min(last)) {
-            ui.label(egui::RichText::new(name).color(STAGE));
-        }
     });
-}
-
-/// "stage 2 of 5: pull" for the increment shown at `k`, along a load path; "off the path" for
-/// an increment a drag made there.
-fn stage_name(app: &TsmApp, k: usize) -> Option<String> {
-    let path = app.loaded.as_ref()?.scene.model.path.as_ref()?;
-    let r = app.history.get(k).filter(|_| k > 0)?;
-    Some(match r.stage {
-        Some(s) => format!(
-            "stage {} of {}: {}",
-            s + 1,
-            path.stages.len(),
-            path.stages.get(s).map_or("", |st| st.name.as_str())
-        ),
-        None => "off the path".into(),
-    })
 }
 
 /// The colour of stage boundaries and names.
