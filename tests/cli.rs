@@ -265,3 +265,59 @@ fn robust_writes_a_row_per_scene_and_an_audit_count() {
         assert!(page.contains(&row), "no row {row}");
     }
 }
+
+/// `solve` on a scene with stages names each stage as its first increment comes, prints every
+/// load group's factor, makes the stages' steps (15: 5 + 10), and ends where the last stage
+/// says; `figure` draws the state after the path.
+#[test]
+fn solve_and_figure_follow_the_stages() {
+    let dir = std::env::temp_dir().join(format!("tsm-cli-stages-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("weight_then_pull.ron");
+    std::fs::write(
+        &scene,
+        r#"(
+    name: "weight, then a pull",
+    sections: [(name: "s", E: 2.0e11, A: 1.0e-4, I: 3.3e-11, density: 7850.0)],
+    bodies: [(name: "beam", section: "s", path: [(0.0, 0.0), (1.0, 0.0)], elements: 10, first_node: 1)],
+    supports: [(node: 1, u: true, v: true, phi: true)],
+    loads: [(node: 11, fy: 1.0, group: "pull")],
+    control: (gravity: (0.0, -9.81)),
+    stages: [
+        (name: "weight", steps: 5, loads: [(group: "gravity", to: 1.0)]),
+        (name: "pull", steps: 10, loads: [(group: "pull", to: 12.0)]),
+    ],
+)"#,
+    )
+    .unwrap();
+    let json = dir.join("h.json");
+    let out = Command::new(env!("CARGO_BIN_EXE_tsm-contact"))
+        .args(["solve"])
+        .arg(&scene)
+        .arg("--json")
+        .arg(&json)
+        .output()
+        .expect("runs");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{text}");
+    assert!(text.contains("# stage 1: weight (5 steps)"), "{text}");
+    assert!(text.contains("# stage 2: pull (10 steps)"), "{text}");
+    assert!(text.contains("15 steps"), "{text}");
+    let h: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let last = h["increments"].as_array().unwrap().last().unwrap().clone();
+    assert_eq!(last["stage"], 1);
+    assert_eq!(last["load_factors"][0].as_f64(), Some(12.0), "pull");
+    assert_eq!(last["load_factors"][1].as_f64(), Some(1.0), "gravity");
+    assert_eq!(h["topology"]["load_groups"][1], "gravity");
+    let png = dir.join("f.png");
+    let drawn = Command::new(env!("CARGO_BIN_EXE_tsm-contact"))
+        .args(["figure"])
+        .arg(&scene)
+        .arg("--out")
+        .arg(&png)
+        .output()
+        .expect("runs");
+    assert_eq!(drawn.status.code(), Some(0), "{}", String::from_utf8_lossy(&drawn.stderr));
+    assert!(png.is_file());
+    let _ = std::fs::remove_dir_all(dir);
+}
