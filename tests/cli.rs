@@ -303,7 +303,8 @@ fn solve_and_figure_follow_the_stages() {
     assert!(text.contains("# stage 1: weight (5 steps)"), "{text}");
     assert!(text.contains("# stage 2: pull (10 steps)"), "{text}");
     assert!(text.contains("15 steps"), "{text}");
-    let h: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let h: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let last = h["increments"].as_array().unwrap().last().unwrap().clone();
     assert_eq!(last["stage"], 1);
     assert_eq!(last["load_factors"][0].as_f64(), Some(12.0), "pull");
@@ -317,7 +318,12 @@ fn solve_and_figure_follow_the_stages() {
         .arg(&png)
         .output()
         .expect("runs");
-    assert_eq!(drawn.status.code(), Some(0), "{}", String::from_utf8_lossy(&drawn.stderr));
+    assert_eq!(
+        drawn.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&drawn.stderr)
+    );
     assert!(png.is_file());
     let _ = std::fs::remove_dir_all(dir);
 }

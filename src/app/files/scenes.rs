@@ -96,41 +96,6 @@ pub fn scene_text(scene: &Scene) -> Result<String, String> {
     crate::scene::write::scene_text(&file)
 }
 
-/// Keep the run shown as the scene's load path (`scene::kept::kept_path`): the loaded scene
-/// becomes the scene with those stages, which "Save scene as" then writes and which replays the
-/// run headless. Refused, with the reason shown, where the history kept in memory is not every
-/// increment of the run or the scene cannot take the path.
-pub fn keep_drive(app: &mut crate::app::state::TsmApp) {
-    let Some(loaded) = &app.loaded else { return };
-    if app.history.dropped() > 0 {
-        app.set_error(
-            "the run is longer than the history kept in memory: only whole runs can be kept as a \
-             path (export the history instead)"
-                .into(),
-        );
-        return;
-    }
-    let scene = &loaded.scene;
-    let mut file = scene.file.clone();
-    file.formulation = scene.model.formulation;
-    file.control.stretch_correction = scene.params.stretch_correction;
-    let records = app.history.get(1..).unwrap_or_default();
-    let kept = crate::scene::kept::kept_path(&file, &scene.model, records)
-        .and_then(|f| crate::scene::from_scene_file(f, &file.name).map_err(|e| e.to_string()));
-    match kept {
-        Ok(kept) => {
-            let steps = kept.steps;
-            if let Some(l) = &mut app.loaded {
-                l.scene = kept;
-            }
-            app.status = format!(
-                "the run is kept as the scene's path ({steps} steps): Save scene as... writes it"
-            );
-        }
-        Err(e) => app.set_error(format!("cannot keep the drive as a path: {e}")),
-    }
-}
-
 /// Save the scene as solved to `path` (atomically: a failed write leaves the old file).
 pub fn save_scene(path: &Path, scene: &Scene) -> Result<(), String> {
     let text = scene_text(scene)?;

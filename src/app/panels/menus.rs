@@ -1,5 +1,5 @@
 //! The menus of the toolbar and what they do: File (Open with the native dialog, recent
-//! files, the built-in scenes, a typed path, Save scene as), Export (the history as JSON and
+//! files, the built-in scenes, a typed path, Keep the drive as a path, Save scene as), Export (the history as JSON and
 //! CSV, the viewed increment as SVG and as a PNG of a chosen size, the window as a picture,
 //! under the name in "Export as", which "..." picks with a dialog) and Help (the shortcuts).
 //! Also the answers of the dialogs, and files dragged over and dropped on the window. Every write confirms with
@@ -78,7 +78,7 @@ fn file_menu(app: &mut TsmApp, ui: &mut egui::Ui) {
             )
             .clicked()
         {
-            crate::app::files::scenes::keep_drive(app);
+            keep_drive(app);
         }
         if ui.button("Save scene as...").clicked() {
             let folder = folder_of(&app.scene_name);
@@ -272,6 +272,41 @@ pub fn drop_hint(ctx: &egui::Context) {
         egui::FontId::proportional(22.0),
         egui::Color32::WHITE,
     );
+}
+
+/// Keep the run shown as the scene's load path (`scene::kept::kept_path`): the loaded scene
+/// becomes the scene with those stages, which "Save scene as" then writes and which replays the
+/// run headless. Refused, with the reason shown, where the history kept in memory is not every
+/// increment of the run or the scene cannot take the path.
+pub fn keep_drive(app: &mut TsmApp) {
+    let Some(loaded) = &app.loaded else { return };
+    if app.history.dropped() > 0 {
+        app.set_error(
+            "the run is longer than the history kept in memory: only whole runs can be kept as a \
+             path (export the history instead)"
+                .into(),
+        );
+        return;
+    }
+    let scene = &loaded.scene;
+    let mut file = scene.file.clone();
+    file.formulation = scene.model.formulation;
+    file.control.stretch_correction = scene.params.stretch_correction;
+    let records = app.history.get(1..).unwrap_or_default();
+    let kept = crate::scene::kept::kept_path(&file, &scene.model, records)
+        .and_then(|f| crate::scene::from_scene_file(f, &file.name).map_err(|e| e.to_string()));
+    match kept {
+        Ok(kept) => {
+            let steps = kept.steps;
+            if let Some(l) = &mut app.loaded {
+                l.scene = kept;
+            }
+            app.status = format!(
+                "the run is kept as the scene's path ({steps} steps): Save scene as... writes it"
+            );
+        }
+        Err(e) => app.set_error(format!("cannot keep the drive as a path: {e}")),
+    }
 }
 
 /// Save the scene as solved to `path` (the dialog's answer, or a test's path).
