@@ -70,6 +70,11 @@ fn a_bar_on_a_rough_floor_pulled_unloaded_and_reversed_follows_the_coulomb_found
         assert_eq!(scene.steps, 54);
         let records = run(&scene);
         common::assert_audited(&scene, &records);
+        let cut = records
+            .iter()
+            .filter(|r| r.cutbacks > 0 && r.stage >= Some(1))
+            .count();
+        eprintln!("bar of {n} elements: {cut} increments after a cut-back once pulled");
         // The end of each stage: (stage, pull, end displacement, slipping length).
         let ends: Vec<(usize, f64, f64)> = (0..5)
             .map(|s| {

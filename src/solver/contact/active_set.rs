@@ -23,6 +23,7 @@ impl ContactSet {
         self.obstacle_one_at_a_time = false;
         self.friction_seen.clear();
         self.friction_one_at_a_time = false;
+        self.friction_turned.clear();
         self.obstacle_touched.clear();
     }
 

@@ -32,6 +32,10 @@ fn least_axial(cv: &ContactView<'_>, node: usize, start: f64) -> f64 {
     own.fold(start, f64::min)
 }
 
+/// The turns of a slip from one direction to the other a contact may take within an attempt;
+/// at the next it sticks first.
+const MAX_TURNS: usize = 2;
+
 /// A mode as a small integer (0 stick, +1 or -1 slip), for telling a repeated set of modes.
 fn mode_code(slip: Option<f64>) -> i8 {
     slip.map_or(0, |s| if s < 0.0 { -1 } else { 1 })
@@ -120,11 +124,25 @@ impl ContactSet {
     pub(crate) fn friction_pass(&mut self, asm: &Assembled) -> usize {
         let tractions = &asm.elements.contact_friction;
         let mut changes = Vec::new();
+        // A slip that has turned to the other direction within the attempt sticks first at its
+        // next turn: an unloaded slipping zone whose every node turns at once overshoots, and
+        // would swing from one direction to the other, wider at each pass.
+        let mut turned = std::mem::take(&mut self.friction_turned);
+        let mut want = |key, now: Option<f64>, t: &crate::solver::element::friction::Traction| {
+            let swings = turned.get(&key).copied().unwrap_or(0);
+            let want = t.mode(now, self.friction_one_at_a_time || swings >= MAX_TURNS);
+            if let (Some(a), Some(b)) = (now, want) {
+                if a * b < 0.0 {
+                    turned.insert(key, swings + 1);
+                }
+            }
+            want
+        };
         for (k, a) in self.active.iter().enumerate() {
             let (Some(stick), Some(Some(t))) = (a.stick, tractions.get(k)) else {
                 continue;
             };
-            let want = t.mode(stick.slip, self.friction_one_at_a_time);
+            let want = want((a.node, a.body, false), stick.slip, t);
             if want != stick.slip {
                 changes.push((k, want));
             }
@@ -134,11 +152,12 @@ impl ContactSet {
             let (Some(grip), Some(Some(t))) = (link.grip, obstacle_tractions.get(k)) else {
                 continue;
             };
-            let want = t.mode(grip.slip, self.friction_one_at_a_time);
+            let want = want((link.node, link.obstacle, true), grip.slip, t);
             if want != grip.slip {
                 changes.push((self.active.len() + k, want));
             }
         }
+        self.friction_turned = turned;
         if self.friction_one_at_a_time {
             changes.truncate(1);
         }

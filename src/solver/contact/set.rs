@@ -6,7 +6,7 @@
 //! contact stage reads the solver through a `ContactView`: the structure, and the last
 //! converged displacements and contact set, nothing more.
 
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 use std::ops::Deref;
 
 use crate::solver::assembly::{current, Assembled, ContactLink, ObstacleLink};
@@ -91,6 +91,9 @@ pub struct ContactSet {
     /// Set once a set of modes repeats within an attempt: from then on each pass changes the
     /// mode of one contact.
     pub(super) friction_one_at_a_time: bool,
+    /// How often each frictional contact (node, body or obstacle, whether an obstacle) has
+    /// turned its slip to the other direction within the attempt (`friction_pass`).
+    pub(super) friction_turned: HashMap<(usize, usize, bool), usize>,
 }
 
 /// Whether node `n` is a node of body `body`.
