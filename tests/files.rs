@@ -177,13 +177,166 @@ fn the_history_is_streamed_and_an_unfinished_one_leaves_nothing() {
     assert_eq!(h.events.len(), out.matches("event:").count());
     assert!(h.error.is_none());
     let other = dir.join("unfinished.json");
-    let w = HistoryWriter::create(&other, &History::default()).unwrap();
+    let w = HistoryWriter::create(&other, &History::default(), 1 << 30).unwrap();
     drop(w);
     let left: Vec<_> = std::fs::read_dir(&dir)
         .unwrap()
         .filter_map(|e| e.ok())
         .map(|e| e.file_name().to_string_lossy().into_owned())
-        .filter(|n| n.starts_with("unfinished"))
+        .filter(|n| n.contains("unfinished"))
         .collect();
     assert!(left.is_empty(), "{left:?}");
+}
+
+/// The names in `dir`, sorted.
+fn names(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = (std::fs::read_dir(dir).unwrap())
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+/// A link put where a history's temporary file was once named (`OUT.tmp`, pointing at another
+/// file) is never written through: the history goes to a fresh name of its own, created
+/// exclusively, and lands whole at `OUT`; the file the link points to keeps its contents, and no
+/// temporary file is left.
+#[cfg(unix)]
+#[test]
+fn a_link_beside_the_output_is_never_written_through() {
+    let dir = scratch("link-tmp");
+    let victim = dir.join("victim.txt");
+    std::fs::write(&victim, "keep me").unwrap();
+    let out = dir.join("h.json");
+    std::os::unix::fs::symlink(&victim, dir.join("h.json.tmp")).unwrap();
+    let o = tsm(&[
+        "solve",
+        "example_3_1",
+        "--steps",
+        "3",
+        "--json",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{:?}", text(&o));
+    assert_eq!(std::fs::read_to_string(&victim).unwrap(), "keep me");
+    let h: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    assert_eq!(h["increments"].as_array().unwrap().len(), 3);
+    assert_eq!(names(&dir), ["h.json", "h.json.tmp", "victim.txt"]);
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// Two runs writing the same history at once, five times over: both succeed, and the file is
+/// always one whole history (each writes its own temporary file and renames it into place).
+#[test]
+fn two_runs_writing_one_history_at_once_leave_it_whole() {
+    let dir = scratch("concurrent");
+    let out = dir.join("h.json");
+    for _ in 0..5 {
+        let spawn = || {
+            Command::new(env!("CARGO_BIN_EXE_tsm-contact"))
+                .args(["solve", "example_3_2", "--steps", "20", "--json"])
+                .arg(&out)
+                .stdout(std::process::Stdio::null())
+                .spawn()
+                .expect("runs")
+        };
+        let (mut a, mut b) = (spawn(), spawn());
+        assert!(a.wait().unwrap().success());
+        assert!(b.wait().unwrap().success());
+        let h: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).expect("whole JSON");
+        assert_eq!(h["increments"].as_array().unwrap().len(), 20);
+        assert_eq!(names(&dir), ["h.json"], "no temporary file left");
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// SIGINT, SIGTERM and SIGHUP stop a long run at its next increment: the unfinished history is
+/// removed (no file is left in its folder), and the exit status is 128 plus the signal
+/// (130, 143, 129).
+#[cfg(unix)]
+#[test]
+fn a_signal_stops_the_run_and_leaves_no_file() {
+    use std::io::{BufRead, BufReader};
+    for (signal, code) in [("INT", 130), ("TERM", 143), ("HUP", 129)] {
+        let dir = scratch(&format!("signal-{signal}"));
+        let out = dir.join("h.json");
+        let mut child = Command::new(env!("CARGO_BIN_EXE_tsm-contact"))
+            .args(["solve", "mattiasson", "--steps", "100000000", "--json"])
+            .arg(&out)
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .expect("runs");
+        let mut lines = BufReader::new(child.stdout.take().unwrap()).lines();
+        // Well into the run: past the header and a few increments.
+        for _ in 0..6 {
+            lines.next().expect("a line").unwrap();
+        }
+        let killed = Command::new("kill")
+            .args([&format!("-{signal}"), &child.id().to_string()])
+            .status()
+            .unwrap();
+        assert!(killed.success());
+        // Keep reading, so that the run is never blocked on a full pipe.
+        for _ in lines {}
+        let status = child.wait().unwrap();
+        let mut err = String::new();
+        std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
+        assert_eq!(status.code(), Some(code), "SIG{signal}: {err}");
+        assert!(err.contains(&format!("stopped by SIG{signal}")), "{err}");
+        assert!(
+            names(&dir).is_empty(),
+            "SIG{signal}: left {:?}",
+            names(&dir)
+        );
+        let _ = std::fs::remove_dir_all(dir);
+    }
+}
+
+/// A history that would take more than `--max-output` bytes stops the run at that increment
+/// with an error naming the limit; nothing is left behind.
+#[test]
+fn a_history_beyond_its_bound_stops_the_run() {
+    let dir = scratch("max-output");
+    let out = dir.join("h.json");
+    let o = tsm(&[
+        "solve",
+        "mattiasson",
+        "--steps",
+        "1000",
+        "--max-output",
+        "20000",
+        "--json",
+        out.to_str().unwrap(),
+    ]);
+    let (stdout, stderr) = text(&o);
+    assert_eq!(o.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("would take more than 20000 bytes"),
+        "{stderr}"
+    );
+    let solved = increments(&stdout);
+    assert!(solved > 0 && solved < 1000, "stopped at once: {solved}");
+    assert!(names(&dir).is_empty(), "left {:?}", names(&dir));
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// `control: (steps: 0)` is refused at its line: a run needs at least one step.
+#[test]
+fn zero_steps_are_refused() {
+    let text = r#"(
+    name: "no steps",
+    sections: [(name: "s", E: 1.0, A: 1.0, I: 1.0)],
+    bodies: [(name: "b", section: "s", path: [(0.0, 0.0), (1.0, 0.0)], elements: 2, first_node: 1)],
+    supports: [(node: 1, u: true, v: true, phi: true)],
+    loads: [(node: 3, fy: -1.0)],
+    control: (steps: 0),
+)"#;
+    let e = parse(text, "steps.ron").expect_err("refused");
+    assert_eq!(e.field, "control.steps");
+    assert_eq!(e.line, Some(7), "{e}");
+    assert!(e.message.contains("at least one step"), "{e}");
 }

@@ -57,6 +57,10 @@ pub(super) struct SolveArgs {
     /// fine meshes of axially stiff beams in large rotation. Given without a value: always.
     #[arg(long, num_args = 0..=1, default_missing_value = "always")]
     pub(super) stretch_correction: Option<StretchArg>,
+    /// The most bytes the history (`--json`) may take; a run that would write more stops at
+    /// that increment with an error (default 1 GiB).
+    #[arg(long, default_value_t = tsm_contact::history::DEFAULT_MAX_OUTPUT)]
+    pub(super) max_output: u64,
 }
 
 /// The subcommands.

@@ -24,6 +24,7 @@ mod check;
 mod figure;
 #[cfg(feature = "reports")]
 mod reports;
+mod signals;
 mod solve;
 
 use clap::Parser;

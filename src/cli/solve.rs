@@ -6,11 +6,13 @@ use std::path::Path;
 use std::time::Instant;
 
 use super::args::{FormulationArg, SolveArgs, StretchArg};
+use super::signals;
 use tsm_contact::history::{History, HistoryWriter};
 use tsm_contact::scene;
 use tsm_contact::solver::report::Flow;
 use tsm_contact::solver::{
-    Event, Formulation, IncrementRecord, IncrementStatus, Model, Observer, StretchCorrection,
+    Event, Formulation, IncrementRecord, IncrementStatus, Model, Observer, SolveError,
+    StretchCorrection,
 };
 
 /// Prints the run, tallies it, and streams it into the history file (if one is asked for).
@@ -47,6 +49,9 @@ impl Observer for Printer {
                 r.step_norm,
                 r.active_contacts
             );
+        }
+        if signals::caught().is_some() {
+            return Flow::Stop;
         }
         Flow::Continue
     }
@@ -98,8 +103,13 @@ impl Observer for Printer {
         }
         if let Some(w) = &mut self.history {
             if let Err(e) = w.increment(r) {
+                // A history that cannot be written stops the run at once.
                 self.write_error.get_or_insert(e);
+                return Flow::Stop;
             }
+        }
+        if signals::caught().is_some() {
+            return Flow::Stop;
         }
         Flow::Continue
     }
@@ -120,6 +130,7 @@ pub(super) fn solve(args: SolveArgs) -> i32 {
         verbose,
         unsymmetric_from,
         stretch_correction,
+        max_output,
     } = args;
     let name = name.as_str();
     // The output is checked before the run: a long solve must not end in "cannot write".
@@ -177,7 +188,7 @@ pub(super) fn solve(args: SolveArgs) -> i32 {
         Some(scene.model.formulation),
         Some(scene.params),
     );
-    let history = match json.as_deref().map(|p| HistoryWriter::create(p, &header)) {
+    let history = match (json.as_deref()).map(|p| HistoryWriter::create(p, &header, max_output)) {
         None => None,
         Some(Ok(w)) => Some(w),
         Some(Err(e)) => {
@@ -197,13 +208,29 @@ pub(super) fn solve(args: SolveArgs) -> i32 {
     let t0 = Instant::now();
     let mut code = 0;
     let mut error = None;
+    signals::catch();
     for _ in 0..steps {
-        if let Err(e) = solver.step(&mut printer) {
-            eprintln!("error: {e}");
-            error = Some(e.to_string());
-            code = 1;
-            break;
+        match solver.step(&mut printer) {
+            Err(SolveError::Stopped) => break,
+            Err(e) => {
+                eprintln!("error: {e}");
+                error = Some(e.to_string());
+                code = 1;
+                break;
+            }
+            Ok(_) if printer.write_error.is_some() || signals::caught().is_some() => break,
+            Ok(_) => {}
         }
+    }
+    if let Some(s) = signals::caught() {
+        // Stopped by a signal: the unfinished history is removed with its writer.
+        drop(printer.history.take());
+        eprintln!(
+            "stopped by {} after {} increments; no history written",
+            signals::name(s),
+            printer.tally.increments
+        );
+        return 128 + s;
     }
     let t = &printer.tally;
     out!(

@@ -2,6 +2,7 @@
 //! and the GUI's export, with the model's topology (`topology.rs`) so that it describes itself.
 //! The schema is documented in `docs/history-format.md`.
 
+pub mod output;
 pub mod topology;
 
 use std::path::Path;
@@ -12,6 +13,7 @@ use crate::solver::report::Flow;
 use crate::solver::{
     Event, Formulation, IncrementRecord, IterationRecord, Model, Observer, SolverParams,
 };
+pub use output::{output_problem, write_atomic, TempFile};
 pub use topology::{Topology, FORMAT_VERSION};
 
 /// A whole run.
@@ -85,85 +87,42 @@ impl History {
     }
 }
 
-/// Why `path` may not be written as an output, if it may not: it is (or links to) one of
-/// `inputs`, is a symbolic link (refused rather than followed or replaced), is not a regular
-/// file (a folder, a FIFO, a device), or its folder does not exist. Checked before a run, so that
-/// a long solve does not end in "cannot write".
-pub fn output_problem(path: &Path, inputs: &[&Path]) -> Option<String> {
-    if let Ok(meta) = std::fs::symlink_metadata(path) {
-        if meta.file_type().is_symlink() {
-            return Some("it is a symbolic link: name the file itself".into());
-        }
-        if !meta.is_file() {
-            return Some("it is not a regular file (a folder, a FIFO or a device)".into());
-        }
-        let same = |input: &Path| match (std::fs::canonicalize(path), std::fs::canonicalize(input))
-        {
-            (Ok(a), Ok(b)) => a == b,
-            _ => false,
-        };
-        if inputs.iter().any(|i| same(i)) {
-            return Some("it is the input scene, which writing there would overwrite".into());
-        }
-    }
-    let folder = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
-    if !folder.is_dir() {
-        return Some(format!("its folder {} does not exist", folder.display()));
-    }
-    None
-}
-
-/// Write a file atomically: a temporary file beside it, then a rename. Refuses what
-/// `output_problem` refuses; on any failure the temporary file is removed.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    if let Some(why) = output_problem(path, &[]) {
-        return Err(std::io::Error::other(why));
-    }
-    let mut tmp = path.as_os_str().to_owned();
-    tmp.push(".tmp");
-    let tmp = std::path::PathBuf::from(tmp);
-    let written = std::fs::write(&tmp, bytes).and_then(|()| std::fs::rename(&tmp, path));
-    if written.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    written
-}
-
 /// A history written as the run goes, so that a run of any length holds no increment in
 /// memory: the header, then every increment as it is accepted, and the events and the error
-/// when the run ends (`finish`). The file is a temporary one beside the target until then, and
-/// is removed if the writer is dropped unfinished. The JSON is `History`'s.
+/// when the run ends (`finish`). The file is a temporary one beside the target until then
+/// (`TempFile`), and is removed if the writer is dropped unfinished. The JSON is `History`'s.
 pub struct HistoryWriter {
-    out: std::io::BufWriter<std::fs::File>,
-    tmp: std::path::PathBuf,
-    path: std::path::PathBuf,
+    out: std::io::BufWriter<TempFile>,
     increments: usize,
     events: Vec<Event>,
-    finished: bool,
+    /// Bytes written so far, and the most the history may take.
+    bytes: u64,
+    limit: u64,
+}
+
+/// The most a history file may take unless asked otherwise (`solve --max-output`): 1 GiB.
+pub const DEFAULT_MAX_OUTPUT: u64 = 1 << 30;
+
+impl std::io::Write for TempFile {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.file().write(buf)
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.file().flush()
+    }
 }
 
 impl HistoryWriter {
-    /// Start writing `header` (its increments, events and error are left out) to `path`;
-    /// refuses what `output_problem` refuses.
-    pub fn create(path: &Path, header: &History) -> std::io::Result<HistoryWriter> {
+    /// Start writing `header` (its increments, events and error are left out) to `path`, in
+    /// at most `limit` bytes; refuses what `output_problem` refuses.
+    pub fn create(path: &Path, header: &History, limit: u64) -> std::io::Result<HistoryWriter> {
         use std::io::Write;
-        if let Some(why) = output_problem(path, &[]) {
-            return Err(std::io::Error::other(why));
-        }
-        let mut tmp = path.as_os_str().to_owned();
-        tmp.push(".tmp");
-        let tmp = std::path::PathBuf::from(tmp);
-        let file = std::fs::File::create(&tmp)?;
         let mut writer = HistoryWriter {
-            out: std::io::BufWriter::new(file),
-            tmp,
-            path: path.to_path_buf(),
+            out: std::io::BufWriter::new(TempFile::create(path)?),
             increments: 0,
             events: Vec::new(),
-            finished: false,
+            bytes: 0,
+            limit,
         };
         write!(
             writer.out,
@@ -178,13 +137,22 @@ impl HistoryWriter {
         Ok(writer)
     }
 
-    /// Write one accepted increment.
+    /// Write one accepted increment; an error once the history would take more than its
+    /// limit.
     pub fn increment(&mut self, r: &IncrementRecord) -> std::io::Result<()> {
         use std::io::Write;
+        let text = serde_json::to_vec(r).map_err(std::io::Error::other)?;
+        self.bytes += text.len() as u64 + 1;
+        if self.bytes > self.limit {
+            return Err(std::io::Error::other(format!(
+                "the history would take more than {} bytes at increment {} (--max-output)",
+                self.limit, r.increment
+            )));
+        }
         if self.increments > 0 {
             self.out.write_all(b",")?;
         }
-        serde_json::to_writer(&mut self.out, r).map_err(std::io::Error::other)?;
+        self.out.write_all(&text)?;
         self.increments += 1;
         Ok(())
     }
@@ -200,18 +168,8 @@ impl HistoryWriter {
         let events = serde_json::to_string(&self.events).map_err(std::io::Error::other)?;
         let error = serde_json::to_string(&error).map_err(std::io::Error::other)?;
         write!(self.out, "],\"events\":{events},\"error\":{error}}}")?;
-        self.out.flush()?;
-        std::fs::rename(&self.tmp, &self.path)?;
-        self.finished = true;
-        Ok(())
-    }
-}
-
-impl Drop for HistoryWriter {
-    fn drop(&mut self) {
-        if !self.finished {
-            let _ = std::fs::remove_file(&self.tmp);
-        }
+        let tmp = self.out.into_inner().map_err(|e| e.into_error())?;
+        tmp.commit()
     }
 }
 

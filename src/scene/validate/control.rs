@@ -56,7 +56,14 @@ pub(super) fn control(
         }
         params.arc_length = Some(s);
     }
-    let steps = c.steps.max(1);
+    if c.steps == 0 {
+        return Err(ctx.err(
+            "control.steps",
+            Some("steps".into()),
+            "a run needs at least one step",
+        ));
+    }
+    let steps = c.steps;
     let load_per_step = match c.load_per_step {
         Some(v) if v.is_finite() => v,
         Some(v) => {
