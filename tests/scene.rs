@@ -173,7 +173,8 @@ fn fuzzer_findings_are_typed_errors() {
 fn out_of_range_stiffness_and_vanishing_elements_name_the_field() {
     let base = r#"(name:"",sections:[(name:"s",E:EVAL,A:AVAL,I:1)],bodies:[(name:"b",section:"s",path:[(0,0),(LEN,0)],elements:4,first_node:1)],supports:[(node:1,u:true,v:true,phi:true)])"#;
     let cases = [
-        ("1e300", "1e300", "1", "sections[0].E", "E A"),
+        ("1e60", "1e60", "1", "sections[0].E", "E A"),
+        ("1e300", "1", "1", "sections[0].E", "below 1e100"),
         ("1e-200", "1e-200", "1", "sections[0].E", "E A"),
         ("1", "1", "5e-324", "bodies[0].path[1]", "too short"),
     ];
@@ -380,5 +381,85 @@ fn bad_obstacles_are_refused_with_their_line_and_reason() {
             shown.starts_with("bad.ron:9:"),
             "located at the obstacle's line: {shown}"
         );
+    }
+}
+
+/// A number no product the solver forms could hold (1e100 and beyond: a load, a distributed
+/// load, a density, a stiffness, a coordinate, a path, an obstacle, gravity, a step) is refused
+/// at its own field and line, before any solve; just below the bound the same fields pass
+/// this check.
+#[test]
+fn numbers_beyond_the_solvers_range_are_refused_at_their_field() {
+    let scene = |section: &str, extra: &str, control: &str| {
+        format!(
+            r#"(
+    name: "t",
+    sections: [(name: "s", {section})],
+    nodes: [(id: 10, x: 0.5, y: 1.0, rotation: false)],
+    bodies: [(name: "b", section: "s", path: [(0.0, 0.0), (1.0, 0.0)], elements: 2, first_node: 1)],
+    supports: [(node: 1, u: true, v: true, phi: true), (node: 10, u: true, v: true)],
+    {extra},
+    control: ({control}),
+)"#
+        )
+    };
+    let plain = "E: 1.0, A: 1.0, I: 1.0";
+    for (section, extra, control, field) in [
+        (plain, "loads: [(node: 3, fy: 1e300)]", "", "loads[0]"),
+        (plain, "distributed: [(body: \"b\", q: (0.0, -1e300))]", "", "distributed[0]"),
+        (plain, "prescribed: [(node: 3, dof: V, per_step: -1e300)]", "", "prescribed[0]"),
+        ("E: 1e300, A: 1.0, I: 1.0", "loads: [(node: 3, fy: 1.0)]", "", "sections[0].E"),
+        ("E: 1.0, A: 1.0, I: 1.0, density: 1e300", "loads: [(node: 3, fy: 1.0)]", "gravity: (0.0, -9.81)", "sections"),
+        (plain, "loads: [(node: 3, fy: 1.0)]", "gravity: (0.0, -1e300)", "control.gravity"),
+        (plain, "loads: [(node: 3, fy: 1.0)]", "load_per_step: 1e300", "control.load_per_step"),
+        (
+            plain,
+            "obstacles: [(name: \"o\", shape: Line(from: (-1.7e308, -1.0), to: (1.7e308, -1.0)), bodies: [\"b\"])], loads: [(node: 3, fy: 1.0)]",
+            "",
+            "obstacles[0]",
+        ),
+        (
+            plain,
+            "obstacles: [(name: \"o\", shape: Circle(centre: (0.5, -1e300), radius: 1e300), bodies: [\"b\"])], loads: [(node: 3, fy: 1.0)]",
+            "",
+            "obstacles[0]",
+        ),
+    ] {
+        let text = scene(section, extra, control);
+        let e = parse(&text, "big.ron").expect_err(extra);
+        assert!(e.field.starts_with(field), "{extra} {control}: {e}");
+        assert!(e.line.is_some(), "{extra} {control}: located: {e}");
+        assert!(
+            e.message.contains("1e100") || e.message.contains("finite"),
+            "{extra} {control}: {e}"
+        );
+        // Just below the bound, the field itself is accepted.
+        let small = text.replace("1e300", "1e90").replace("1.7e308", "1e90");
+        if let Err(e) = parse(&small, "big.ron") {
+            assert!(!e.field.starts_with(field), "{small}: {e}");
+        }
+    }
+    // A node far out and a path beyond the range.
+    for (from, to, field) in [
+        (
+            "(id: 10, x: 1e300, y: 1.0, rotation: false)",
+            "(id: 10, x: 0.5, y: 1.0, rotation: false)",
+            "nodes[0]",
+        ),
+        (
+            "path: [(0.0, 0.0), (1.0, 0.0)]",
+            "path: [(-1e308, 0.0), (1e308, 0.0)]",
+            "bodies[0]",
+        ),
+    ] {
+        let text = scene(plain, "loads: [(node: 3, fy: 1.0)]", "");
+        let text = if field == "nodes[0]" {
+            text.replace(to, from)
+        } else {
+            text.replace(from, to)
+        };
+        let e = parse(&text, "far.ron").expect_err(field);
+        assert!(e.field.starts_with(field), "{e}");
+        assert!(e.message.contains("1e100"), "{e}");
     }
 }

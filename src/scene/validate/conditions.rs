@@ -4,7 +4,7 @@
 
 use std::collections::HashSet;
 
-use super::errors::{Ctx, SceneError};
+use super::errors::{sized, Ctx, SceneError};
 use super::geometry::Geometry;
 use super::stages::group_index;
 use crate::scene::format::SceneFile;
@@ -47,11 +47,11 @@ pub(super) fn conditions(
         if l.m != 0.0 {
             g.check_dof(ctx, format!("loads[{k}].m (node {})", l.node), n, Dof::Phi)?;
         }
-        if ![l.fx, l.fy, l.m].iter().all(|v| v.is_finite()) {
+        if ![l.fx, l.fy, l.m].iter().all(|&v| sized(v)) {
             return Err(ctx.err(
                 format!("loads[{k}] (node {})", l.node),
                 Some(format!("node:{}", l.node)),
-                "load must be finite",
+                "a load must be finite and below 1e100 in size",
             ));
         }
         loads.push(Load {
@@ -66,8 +66,8 @@ pub(super) fn conditions(
         let n = g.node_of(ctx, field.clone(), p.node)?;
         g.check_dof(ctx, field.clone(), n, p.dof)?;
         let nd = Some(format!("node:{}", p.node));
-        if !p.per_step.is_finite() {
-            return Err(ctx.err(field, nd, "per_step must be finite"));
+        if !sized(p.per_step) {
+            return Err(ctx.err(field, nd, "per_step must be finite and below 1e100 in size"));
         }
         if held.contains(&(n, p.dof.offset())) {
             return Err(ctx.err(field, nd, "a dof cannot be both supported and prescribed"));

@@ -2,7 +2,7 @@
 //! arc-length control only for a load-driven scene whose prescribed displacements are held.
 
 use super::conditions::Conditions;
-use super::errors::{positive, within, Ctx, SceneError};
+use super::errors::{positive, sized, within, Ctx, SceneError};
 use crate::scene::format::{ContactNormal, SceneFile};
 use crate::solver::{LoadPath, SolverParams};
 
@@ -65,12 +65,12 @@ pub(super) fn control(
     }
     let steps = c.steps;
     let load_per_step = match c.load_per_step {
-        Some(v) if v.is_finite() => v,
+        Some(v) if sized(v) => v,
         Some(v) => {
             return Err(ctx.err(
                 "control.load_per_step",
                 Some("load_per_step".into()),
-                format!("must be finite, got {v}"),
+                format!("must be finite and below 1e100 in size, got {v:e}"),
             ))
         }
         None if c_.loads.is_empty() && c_.distributed.is_empty() => 0.0,

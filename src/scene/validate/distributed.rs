@@ -4,7 +4,7 @@
 //! length along and across the deformed chord (`follower`); and the self-weight of every body
 //! whose section has a `density`, under `control.gravity`.
 
-use super::errors::{Ctx, SceneError};
+use super::errors::{sized, Ctx, SceneError};
 use super::geometry::Geometry;
 use super::stages::{group_index, GRAVITY_GROUP};
 use crate::scene::format::SceneFile;
@@ -49,8 +49,12 @@ pub(super) fn distributed(
         }
         let q0 = [d.q.0, d.q.1];
         let q1 = d.q_end.map_or(q0, |q| [q.0, q.1]);
-        if !q0.iter().chain(&q1).all(|v| v.is_finite()) {
-            return Err(ctx.err(field, Some("q".into()), "q and q_end must be finite"));
+        if !q0.iter().chain(&q1).all(|&v| sized(v)) {
+            return Err(ctx.err(
+                field,
+                Some("q".into()),
+                "q and q_end must be finite and below 1e100 in size",
+            ));
         }
         // The load varies linearly with the arc length along the range.
         let range = &elements[first - 1..last];
@@ -110,11 +114,11 @@ fn self_weight(
         }
         return Ok(());
     };
-    if !(gravity.0.is_finite() && gravity.1.is_finite()) {
+    if !(sized(gravity.0) && sized(gravity.1)) {
         return Err(ctx.err(
             "control.gravity",
             Some("gravity".into()),
-            "gravity must be finite",
+            "gravity must be finite and below 1e100 in size",
         ));
     }
     for (b, body) in sf.bodies.iter().enumerate() {
@@ -122,11 +126,11 @@ fn self_weight(
             continue;
         };
         let Some(rho) = section.density else { continue };
-        if !(rho.is_finite() && rho >= 0.0) {
+        if !(sized(rho) && rho >= 0.0) {
             return Err(ctx.err(
                 format!("sections ({}).density", section.name),
                 Some("density".into()),
-                "density must be finite and not negative",
+                "density must be finite, below 1e100 and not negative",
             ));
         }
         let q = [rho * section.a * gravity.0, rho * section.a * gravity.1];

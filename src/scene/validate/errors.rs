@@ -81,20 +81,29 @@ fn locate(text: &str, field: &str, needle: &str) -> Option<usize> {
         .map(|i| i + 1)
 }
 
-/// `v` must be positive and finite.
+/// The largest size a number of a scene may have: beyond it, the products the solver forms of
+/// them (stiffness times displacement, load times steps) would leave double precision.
+pub(super) const MAGNITUDE: f64 = 1e100;
+
+/// Whether `v` is finite and below `MAGNITUDE` in size.
+pub(super) fn sized(v: f64) -> bool {
+    v.is_finite() && v.abs() < MAGNITUDE
+}
+
+/// `v` must be positive, finite and below `MAGNITUDE`.
 pub(super) fn positive(
     ctx: &Ctx,
     field: String,
     needle: Option<String>,
     v: f64,
 ) -> Result<(), SceneError> {
-    if v.is_finite() && v > 0.0 {
+    if sized(v) && v > 0.0 {
         Ok(())
     } else {
         Err(ctx.err(
             field,
             needle,
-            format!("must be positive and finite, got {v}"),
+            format!("must be positive and finite (below 1e100), got {v:e}"),
         ))
     }
 }

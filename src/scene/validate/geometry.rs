@@ -4,7 +4,7 @@
 
 use std::collections::HashMap;
 
-use super::errors::{positive, Ctx, SceneError};
+use super::errors::{positive, sized, Ctx, SceneError};
 use crate::scene::format::SceneFile;
 use crate::solver::{Beam, Body, Dof, Node, Section};
 
@@ -38,7 +38,7 @@ pub(super) fn sections<'a>(
             ("E", "E I", s.e * s.i),
             ("G", "G Ae", g * ae),
         ] {
-            if !(v.is_finite() && v > 0.0) {
+            if !(sized(v) && v > 0.0) {
                 return Err(ctx.err(
                     f(field),
                     nd,
@@ -85,11 +85,11 @@ pub(super) fn geometry<'a>(
     let mut index: HashMap<u32, usize> = HashMap::new();
     for (k, n) in sf.nodes.iter().enumerate() {
         let nd = Some(format!("id:{}", n.id));
-        if !(n.x.is_finite() && n.y.is_finite()) {
+        if !(sized(n.x) && sized(n.y)) {
             return Err(ctx.err(
                 format!("nodes[{k}] (node {})", n.id),
                 nd,
-                "coordinates must be finite",
+                "coordinates must be finite and below 1e100 in size",
             ));
         }
         if index.insert(n.id, nodes.len()).is_some() {
@@ -155,11 +155,11 @@ pub(super) fn geometry<'a>(
         if body_index.insert(&body.name, b).is_some() {
             return Err(ctx.err(field("name"), nd, "duplicate body name"));
         }
-        if let Some(k) = (body.path.iter()).position(|p| !(p.0.is_finite() && p.1.is_finite())) {
+        if let Some(k) = (body.path.iter()).position(|p| !(sized(p.0) && sized(p.1))) {
             return Err(ctx.err(
                 format!("bodies[{b}].path[{k}] (body \"{}\")", body.name),
                 nd,
-                "coordinates must be finite",
+                "coordinates must be finite and below 1e100 in size",
             ));
         }
         let mut pts = vec![body.path[0]];

@@ -5,7 +5,7 @@
 
 use std::collections::HashSet;
 
-use super::errors::{Ctx, SceneError};
+use super::errors::{sized, Ctx, SceneError};
 use super::geometry::Geometry;
 use crate::scene::format::{SceneFile, ShapeDef};
 use crate::solver::{Dof, Obstacle, Prescribed, Shape, Support};
@@ -128,7 +128,7 @@ fn model_size(g: &Geometry) -> f64 {
 /// The solver's shape of `def`, or what is wrong with it.
 fn shape(def: &ShapeDef) -> Result<Shape, String> {
     let pt = |p: (f64, f64)| [p.0, p.1];
-    let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+    let finite = |v: &[f64]| v.iter().all(|&x| sized(x));
     match def {
         ShapeDef::Line { from, to } => {
             if !finite(&[from.0, from.1, to.0, to.1]) || from == to {

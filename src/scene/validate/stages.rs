@@ -3,7 +3,7 @@
 //! group the scene has; a dof the scene prescribes; exactly one of `to`, `by` and `values`;
 //! finite values) and resolved into the solver's `LoadPath` of stage-end values.
 
-use super::errors::{Ctx, SceneError};
+use super::errors::{sized, Ctx, SceneError};
 use super::geometry::Geometry;
 use crate::scene::format::{SceneFile, StageDef};
 use crate::solver::{LoadPath, Prescribed, Stage, StageMotion};
@@ -266,7 +266,7 @@ fn stage_line(text: &str, k: usize) -> Option<usize> {
 
 /// `v` if finite, else the error for `key` of `field`.
 fn finite(ctx: &Ctx, field: &str, key: &str, v: f64) -> Result<f64, SceneError> {
-    if v.is_finite() && v.abs() < 1e100 {
+    if sized(v) {
         Ok(v)
     } else {
         Err(ctx.err(
