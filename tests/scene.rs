@@ -463,3 +463,47 @@ fn numbers_beyond_the_solvers_range_are_refused_at_their_field() {
         assert!(e.message.contains("1e100"), "{e}");
     }
 }
+
+/// A contact entry that can never act is refused, saying why: no body to touch, no candidate,
+/// every candidate on the bodies it may touch without `own`, and `own` on bodies too short for a
+/// node to reach past its own elements and the two beyond them.
+#[test]
+fn contact_entries_that_can_never_act_are_refused() {
+    let scene = |elements: usize, contact: &str| {
+        format!(
+            r#"(
+    name: "t",
+    sections: [(name: "s", E: 1.0, A: 1.0, I: 1.0)],
+    bodies: [(name: "b", section: "s", path: [(0.0, 0.0), (1.0, 0.0)], elements: {elements}, first_node: 1)],
+    supports: [(node: 1, u: true, v: true, phi: true)],
+    loads: [(node: 2, fy: 1.0)],
+    contacts: [{contact}],
+)"#
+        )
+    };
+    for (elements, contact, says) in [
+        (4, r#"(nodes: [2], bodies: [])"#, "no body to touch"),
+        (4, r#"(bodies: ["b"])"#, "no candidate node"),
+        (
+            4,
+            r#"(node_bodies: ["b"], bodies: ["b"])"#,
+            "set `own: true`",
+        ),
+        (
+            3,
+            r#"(node_bodies: ["b"], bodies: ["b"], own: true)"#,
+            "too short",
+        ),
+    ] {
+        let e = parse(&scene(elements, contact), "contact.ron").expect_err(contact);
+        assert!(e.field.starts_with("contacts[0]"), "{contact}: {e}");
+        assert!(e.message.contains(says), "{contact}: {e}");
+        assert!(e.line.is_some(), "{contact}: {e}");
+    }
+    // Four elements are enough for self-contact from an end.
+    assert!(parse(
+        &scene(4, r#"(node_bodies: ["b"], bodies: ["b"], own: true)"#),
+        "contact.ron"
+    )
+    .is_ok());
+}
