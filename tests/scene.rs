@@ -363,7 +363,21 @@ fn bad_obstacles_are_refused_with_their_line_and_reason() {
                 "",
                 r#"(name: "wall", shape: Polyline(points: [(2.0, 0.0), (2.0, 0.0)]), bodies: ["strip"]),"#,
             ),
-            "a polyline needs at least two finite points",
+            "points 1 and 2 of the polyline are the same",
+        ),
+        (
+            strip_with(
+                "",
+                r#"(name: "wall", shape: Polyline(points: [(2.0, 0.0), (2.0, 1e-310)]), bodies: ["strip"]),"#,
+            ),
+            "points 1 and 2 of the polyline are the same to round-off",
+        ),
+        (
+            strip_with(
+                "",
+                r#"(name: "wall", shape: Polyline(points: [(2.0, -1.0), (2.0, 1.0), (2.0, 0.0)]), bodies: ["strip"]),"#,
+            ),
+            "folds straight back on itself at point 2",
         ),
         (
             strip_with(
@@ -506,4 +520,58 @@ fn contact_entries_that_can_never_act_are_refused() {
         "contact.ron"
     )
     .is_ok());
+}
+
+/// Bodies that start through what they may touch are refused, naming the elements: a disk
+/// cutting an element's chord between its two nodes (both outside it), two bodies that may
+/// touch crossing between their nodes, and a body with self-contact whose path folds across
+/// itself. Bodies that merely touch, or cross without a contact pair, pass.
+#[test]
+fn bodies_that_start_through_what_they_may_touch_are_refused() {
+    let disk = strip_with(
+        "",
+        r#"(name: "peg", shape: Circle(centre: (0.05, -0.01), radius: 0.02), bodies: ["strip"]),"#,
+    );
+    let e = parse(&disk, "disk.ron").expect_err("the chord passes through the peg");
+    assert!(e.field.starts_with("obstacles[0]"), "{e}");
+    assert!(e.message.contains("element 1 of body strip"), "{e}");
+    let beside = disk.replace("(0.05, -0.01)", "(0.05, -0.03)");
+    if let Err(e) = parse(&beside, "disk.ron") {
+        assert!(!e.field.starts_with("obstacles"), "clear of the peg: {e}");
+    }
+    let two = |contacts: &str| {
+        format!(
+            r#"(
+    name: "cross",
+    sections: [(name: "s", E: 1.0, A: 1.0, I: 1.0)],
+    bodies: [
+        (name: "a", section: "s", path: [(0.0, 0.0), (1.0, 0.0)], elements: 4, first_node: 1),
+        (name: "b", section: "s", path: [(0.55, -0.5), (0.55, 0.5)], elements: 3, first_node: 10),
+    ],
+    supports: [(node: 1, u: true, v: true, phi: true), (node: 10, u: true, v: true, phi: true)],
+    loads: [(node: 5, fy: 1.0)],
+    contacts: [{contacts}],
+)"#
+        )
+    };
+    let e = parse(&two(r#"(node_bodies: ["a"], bodies: ["b"])"#), "cross.ron")
+        .expect_err("the bodies cross");
+    assert!(e.field.starts_with("contacts[0]"), "{e}");
+    assert!(
+        e.message.contains("element 3 of body a") && e.message.contains("element 2 of body b"),
+        "{e}"
+    );
+    // A frame's members crossing without a contact pair between them are not checked.
+    let no_pair = two(r#"(nodes: [5], bodies: ["a"], own: true)"#);
+    assert!(parse(&no_pair, "cross.ron").is_ok());
+    let folded = r#"(
+    name: "folded",
+    sections: [(name: "s", E: 1.0, A: 1.0, I: 1.0)],
+    bodies: [(name: "b", section: "s", path: [(0.0, 0.0), (1.0, 0.0), (0.5, 0.5), (0.5, -0.5)], elements: 3, first_node: 1)],
+    supports: [(node: 1, u: true, v: true, phi: true)],
+    loads: [(node: 10, fy: 1.0)],
+    contacts: [(node_bodies: ["b"], bodies: ["b"], own: true)],
+)"#;
+    let e = parse(folded, "folded.ron").expect_err("the path folds across itself");
+    assert!(e.message.contains("cross where the scene starts"), "{e}");
 }

@@ -63,6 +63,23 @@ pub(super) fn contacts(
             }
             at.insert(key, n);
         }
+        if let Some((e, f)) = crossing_chords(g, (&cn, &cb), c.own) {
+            let name = |e: usize| {
+                let b = &g.bodies[g.beams[e].body];
+                let place = b.elements.iter().position(|&x| x == e).map_or(0, |p| p + 1);
+                format!("element {place} of body {}", b.name)
+            };
+            return Err(ctx.err(
+                format!("contacts[{k}]"),
+                Some("contacts".into()),
+                format!(
+                    "{} and {} cross where the scene starts: bodies that may touch start apart \
+                     (or touching), never through each other",
+                    name(e),
+                    name(f)
+                ),
+            ));
+        }
         contacts.push(ContactPair {
             nodes: cn,
             bodies: cb,
@@ -123,4 +140,97 @@ fn can_act(
             .into()
     };
     Err(ctx.err(at, Some("contacts".into()), why))
+}
+
+/// Two element chords at rest that cross between their ends, one of a body the candidates `cn`
+/// lie on and one of a body in `cb` they may touch (of one body only with `own`, and then not
+/// neighbours): such bodies start through each other. Elements are binned in a grid of cells
+/// an element long, so that only nearby pairs are tested.
+fn crossing_chords(
+    g: &Geometry,
+    (cn, cb): (&[usize], &[usize]),
+    own: bool,
+) -> Option<(usize, usize)> {
+    let candidate: std::collections::HashSet<usize> = cn.iter().copied().collect();
+    let touching: Vec<usize> = (0..g.bodies.len())
+        .filter(|&b| {
+            (g.bodies[b].elements.iter())
+                .any(|&e| candidate.contains(&g.beams[e].i) || candidate.contains(&g.beams[e].j))
+        })
+        .collect();
+    let pairs: Vec<(usize, usize)> = (touching.iter())
+        .flat_map(|&a| cb.iter().map(move |&b| (a, b)))
+        .filter(|&(a, b)| a != b || own)
+        .collect();
+    if pairs.is_empty() {
+        return None;
+    }
+    let at = |n: usize| [g.nodes[n].x, g.nodes[n].y];
+    let involved: Vec<usize> = {
+        let mut v: Vec<usize> = pairs.iter().flat_map(|&(a, b)| [a, b]).collect();
+        v.sort_unstable();
+        v.dedup();
+        v
+    };
+    let elements: Vec<usize> = (involved.iter())
+        .flat_map(|&b| g.bodies[b].elements.iter().copied())
+        .collect();
+    let cell = (elements.iter())
+        .map(|&e| {
+            let (p, q) = (at(g.beams[e].i), at(g.beams[e].j));
+            (q[0] - p[0]).hypot(q[1] - p[1])
+        })
+        .fold(0.0f64, f64::max);
+    if !(cell > 0.0 && cell.is_finite()) {
+        return None;
+    }
+    let mut grid: std::collections::HashMap<(i64, i64), Vec<usize>> = Default::default();
+    for &e in &elements {
+        let (p, q) = (at(g.beams[e].i), at(g.beams[e].j));
+        let c = |v: f64| (v / cell).floor() as i64;
+        for x in c(p[0].min(q[0]))..=c(p[0].max(q[0])) {
+            for y in c(p[1].min(q[1]))..=c(p[1].max(q[1])) {
+                grid.entry((x, y)).or_default().push(e);
+            }
+        }
+    }
+    let wanted = |e: usize, f: usize| {
+        let (a, b) = (g.beams[e].body, g.beams[f].body);
+        pairs.contains(&(a, b)) || pairs.contains(&(b, a))
+    };
+    let shares = |e: usize, f: usize| {
+        let (x, y) = (&g.beams[e], &g.beams[f]);
+        x.i == y.i || x.i == y.j || x.j == y.i || x.j == y.j
+    };
+    for list in grid.values() {
+        for (k, &e) in list.iter().enumerate() {
+            for &f in &list[k + 1..] {
+                if e != f && !shares(e, f) && wanted(e, f) {
+                    let (p, q) = (at(g.beams[e].i), at(g.beams[e].j));
+                    let (r, s) = (at(g.beams[f].i), at(g.beams[f].j));
+                    if segments_cross(p, q, r, s) {
+                        return Some((e.min(f), e.max(f)));
+                    }
+                }
+            }
+        }
+    }
+    None
+}
+
+/// Whether segments pq and rs cross at a point inside both (touching at an end, or lying along
+/// each other, is not crossing).
+fn segments_cross(p: [f64; 2], q: [f64; 2], r: [f64; 2], s: [f64; 2]) -> bool {
+    let orient = |a: [f64; 2], b: [f64; 2], c: [f64; 2]| {
+        let v = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+        let scale = (b[0] - a[0]).hypot(b[1] - a[1]) * (c[0] - a[0]).hypot(c[1] - a[1]);
+        if v.abs() <= 1e-12 * scale {
+            0.0
+        } else {
+            v.signum()
+        }
+    };
+    let (o1, o2) = (orient(p, q, r), orient(p, q, s));
+    let (o3, o4) = (orient(r, s, p), orient(r, s, q));
+    o1 * o2 < 0.0 && o3 * o4 < 0.0
 }

@@ -7,7 +7,7 @@ use std::collections::HashSet;
 
 use super::errors::{sized, Ctx, SceneError};
 use super::geometry::Geometry;
-use crate::scene::format::{SceneFile, ShapeDef};
+use crate::scene::format::{ObstacleDef, SceneFile, ShapeDef};
 use crate::solver::{Dof, Obstacle, Prescribed, Shape, Support};
 
 /// How far inside its obstacle (in units of the model's size) a candidate node may start:
@@ -70,6 +70,19 @@ pub(super) fn obstacles(
                     ),
                 ));
             }
+        }
+        if let Some((e, depth)) = chord_through(&shape, o, g) {
+            let b = &g.bodies[g.beams[e].body];
+            let place = b.elements.iter().position(|&x| x == e).map_or(0, |p| p + 1);
+            return Err(ctx.err(
+                field,
+                here,
+                format!(
+                    "element {place} of body {} passes {depth:.3e} through it between its nodes: \
+                     the body must start on its free side (mesh finer there, or move it)",
+                    b.name
+                ),
+            ));
         }
         if !(o.mu.is_finite() && o.mu >= 0.0) {
             return Err(ctx.err(
@@ -141,10 +154,32 @@ fn shape(def: &ShapeDef) -> Result<Shape, String> {
         }
         ShapeDef::Polyline { points } => {
             let flat: Vec<f64> = points.iter().flat_map(|p| [p.0, p.1]).collect();
-            if points.len() < 2 || !finite(&flat) || points.windows(2).any(|w| w[0] == w[1]) {
-                return Err(
-                    "a polyline needs at least two finite points, no two in a row the same".into(),
-                );
+            if points.len() < 2 || !finite(&flat) {
+                return Err("a polyline needs at least two finite points".into());
+            }
+            // Two points in a row closer than the round-off of their coordinates make a segment
+            // with no direction; a segment that turns straight back makes a spike with no free
+            // side.
+            let scale = flat.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            let seg = |k: usize| [points[k + 1].0 - points[k].0, points[k + 1].1 - points[k].1];
+            let len = |d: [f64; 2]| d[0].hypot(d[1]);
+            if let Some(k) = (0..points.len() - 1).find(|&k| len(seg(k)) <= 1e-12 * scale) {
+                return Err(format!(
+                    "points {} and {} of the polyline are the same to round-off",
+                    k + 1,
+                    k + 2
+                ));
+            }
+            if let Some(k) = (1..points.len() - 1).find(|&k| {
+                let (a, b) = (seg(k - 1), seg(k));
+                let cross = a[0] * b[1] - a[1] * b[0];
+                let dot = a[0] * b[0] + a[1] * b[1];
+                dot < 0.0 && cross.abs() <= 1e-9 * len(a) * len(b)
+            }) {
+                return Err(format!(
+                    "the polyline folds straight back on itself at point {}",
+                    k + 1
+                ));
             }
             Ok(Shape::Polyline {
                 points: points.iter().map(|&p| pt(p)).collect(),
@@ -187,4 +222,30 @@ fn shape(def: &ShapeDef) -> Result<Shape, String> {
             })
         }
     }
+}
+
+/// An element of a body that may touch obstacle `o` (a solid circle) whose chord passes through
+/// the disk between its two nodes, both outside: the element and how deep its chord goes.
+fn chord_through(shape: &Shape, o: &ObstacleDef, g: &Geometry) -> Option<(usize, f64)> {
+    let Shape::Circle {
+        centre,
+        radius,
+        hollow: false,
+    } = *shape
+    else {
+        return None;
+    };
+    let bodies = (o.bodies.iter()).filter_map(|name| g.body_index.get(name.as_str()));
+    let elements = bodies.flat_map(|&b| g.bodies[b].elements.iter().copied());
+    elements
+        .filter_map(|e| {
+            let (p, q) = (&g.nodes[g.beams[e].i], &g.nodes[g.beams[e].j]);
+            let (dx, dy) = (q.x - p.x, q.y - p.y);
+            let l2 = dx * dx + dy * dy;
+            let t = (((centre[0] - p.x) * dx + (centre[1] - p.y) * dy) / l2).clamp(0.0, 1.0);
+            let (cx, cy) = (p.x + t * dx - centre[0], p.y + t * dy - centre[1]);
+            let depth = radius - cx.hypot(cy);
+            (t > 0.0 && t < 1.0 && depth > 1e-9 * radius).then_some((e, depth))
+        })
+        .next()
 }
