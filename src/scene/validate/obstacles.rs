@@ -225,7 +225,7 @@ fn shape(def: &ShapeDef) -> Result<Shape, String> {
 }
 
 /// An element of a body that may touch obstacle `o` (a solid circle) whose chord passes through
-/// the disk between its two nodes, both outside: the element and how deep its chord goes.
+/// the disk between its two nodes, both clear of it: the element and how deep its chord goes.
 fn chord_through(shape: &Shape, o: &ObstacleDef, g: &Geometry) -> Option<(usize, f64)> {
     let Shape::Circle {
         centre,
@@ -245,7 +245,12 @@ fn chord_through(shape: &Shape, o: &ObstacleDef, g: &Geometry) -> Option<(usize,
             let t = (((centre[0] - p.x) * dx + (centre[1] - p.y) * dy) / l2).clamp(0.0, 1.0);
             let (cx, cy) = (p.x + t * dx - centre[0], p.y + t * dy - centre[1]);
             let depth = radius - cx.hypot(cy);
-            (t > 0.0 && t < 1.0 && depth > 1e-9 * radius).then_some((e, depth))
+            // Nodes resting on the disk (a band laid round a drum) touch it at the nodes, where
+            // contact acts: their chords dip inside by the sagitta, as they must.
+            let clear =
+                |x: f64, y: f64| (x - centre[0]).hypot(y - centre[1]) - radius > 1e-9 * radius;
+            let through = clear(p.x, p.y) && clear(q.x, q.y) && t > 0.0 && t < 1.0;
+            (through && depth > 1e-9 * radius).then_some((e, depth))
         })
         .next()
 }
