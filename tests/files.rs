@@ -340,3 +340,20 @@ fn zero_steps_are_refused() {
     assert_eq!(e.line, Some(7), "{e}");
     assert!(e.message.contains("at least one step"), "{e}");
 }
+
+/// A scene named through a link that loops is refused with the reason the system gives (too
+/// many levels of links), not as a file that does not exist.
+#[cfg(unix)]
+#[test]
+fn a_link_loop_is_not_called_missing() {
+    let dir = scratch("loop");
+    let (a, b) = (dir.join("a.ron"), dir.join("b.ron"));
+    std::os::unix::fs::symlink(&b, &a).unwrap();
+    std::os::unix::fs::symlink(&a, &b).unwrap();
+    let o = tsm(&["solve", a.to_str().unwrap()]);
+    let (_, stderr) = text(&o);
+    assert_eq!(o.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("symbolic links"), "{stderr}");
+    assert!(!stderr.contains("no such file"), "{stderr}");
+    let _ = std::fs::remove_dir_all(dir);
+}

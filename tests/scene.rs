@@ -575,3 +575,18 @@ fn bodies_that_start_through_what_they_may_touch_are_refused() {
     let e = parse(folded, "folded.ron").expect_err("the path folds across itself");
     assert!(e.message.contains("cross where the scene starts"), "{e}");
 }
+
+/// Syntax errors name their cause where the parser's words would point elsewhere: a string left
+/// open on line 3 is reported at line 3 (the parser stumbles lines later, where the string
+/// happens to end), and a decimal in a whole-number field says so.
+#[test]
+fn syntax_errors_name_the_real_cause() {
+    let open_string = "(\n    name: \"x\",\n    description: \"oops,\n    sections: [(name: \"s\", E: 1.0, A: 1.0, I: 1.0)],\n    bodies: [(name: \"b\", section: \"s\", path: [(0.0, 0.0), (1.0, 0.0)], elements: 2, first_node: 1)],\n)";
+    let e = parse(open_string, "open.ron").expect_err("refused");
+    assert_eq!(e.line, Some(3), "{e}");
+    assert!(e.message.contains("not closed"), "{e}");
+    let decimal = GOOD.replace("elements: 2,", "elements: 2.5,");
+    let e = parse(&decimal, "decimal.ron").expect_err("refused");
+    assert_eq!(e.line, Some(4), "{e}");
+    assert!(e.message.contains("whole number"), "{e}");
+}

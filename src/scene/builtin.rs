@@ -142,7 +142,9 @@ pub fn long_beam(n: usize) -> Scene {
 /// CLI and the app accept wherever a scene is named.
 pub fn open(name: &str) -> Result<Scene, SceneError> {
     let path = std::path::Path::new(name);
-    if path.exists() {
+    // A link that leads nowhere (or round a loop) is still a file the user named: reading it
+    // says why it cannot be read.
+    if std::fs::symlink_metadata(path).is_ok() {
         return load_file(path);
     }
     match builtin(name) {

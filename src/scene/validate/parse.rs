@@ -84,13 +84,60 @@ pub fn parse(text: &str, file: &str) -> Result<Scene, SceneError> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let options =
         ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
-    let sf: SceneFile = options.from_str(text).map_err(|e| SceneError {
-        file: file.into(),
-        line: Some(e.span.start.line),
-        field: "(syntax)".into(),
-        message: format!("{} (column {})", e.code, e.span.start.col),
+    let sf: SceneFile = options.from_str(text).map_err(|e| {
+        let (line, col) = (e.span.start.line, e.span.start.col);
+        let (line, message) = syntax_cause(text, line, col)
+            .unwrap_or_else(|| (line, format!("{} (column {col})", e.code)));
+        SceneError {
+            file: file.into(),
+            line: Some(line),
+            field: "(syntax)".into(),
+            message,
+        }
     })?;
     build(sf, text, file)
+}
+
+/// What a syntax error found at `line` and `col` (from 1) really comes from, where the parser's
+/// own words would point elsewhere: a string left open on an earlier line (the parser finds
+/// the error where the string ends, lines later), or a decimal number where a whole one is
+/// expected. Returns the line to report and the message.
+fn syntax_cause(text: &str, line: usize, col: usize) -> Option<(usize, String)> {
+    // A string that runs over a line end before the error: report where it opens.
+    let (mut in_string, mut opened, mut escaped) = (false, 0usize, false);
+    for (k, l) in text.lines().enumerate().take(line.saturating_sub(1)) {
+        let mut chars = l.chars().peekable();
+        while let Some(c) = chars.next() {
+            match c {
+                _ if escaped => escaped = false,
+                '\\' if in_string => escaped = true,
+                '"' => {
+                    in_string = !in_string;
+                    opened = k + 1;
+                }
+                '/' if !in_string && chars.peek() == Some(&'/') => break,
+                _ => {}
+            }
+        }
+        if in_string {
+            return Some((
+                opened,
+                "a string opened on this line is not closed on it (add the closing quote)".into(),
+            ));
+        }
+    }
+    // A decimal point where the parser wanted the number to end.
+    let here = text.lines().nth(line.checked_sub(1)?)?;
+    let at: Vec<char> = here.chars().collect();
+    let k = col.checked_sub(1)?;
+    let before = k.checked_sub(1).and_then(|b| at.get(b));
+    if at.get(k) == Some(&'.') && before.is_some_and(|c| c.is_ascii_digit()) {
+        return Some((
+            line,
+            format!("a whole number is expected here, not a decimal (column {col})"),
+        ));
+    }
+    None
 }
 
 /// Validate a scene already parsed (or built in code), `sf`; `file` names it in messages
