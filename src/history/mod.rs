@@ -103,15 +103,6 @@ pub struct HistoryWriter {
 /// The most a history file may take unless asked otherwise (`solve --max-output`): 1 GiB.
 pub const DEFAULT_MAX_OUTPUT: u64 = 1 << 30;
 
-impl std::io::Write for TempFile {
-    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
-        self.file().write(buf)
-    }
-    fn flush(&mut self) -> std::io::Result<()> {
-        self.file().flush()
-    }
-}
-
 impl HistoryWriter {
     /// Start writing `header` (its increments, events and error are left out) to `path`, in
     /// at most `limit` bytes; refuses what `output_problem` refuses.

@@ -289,9 +289,13 @@ impl ContactSet {
             // A side measured from afar (more than `FAR` element lengths from the element's line)
             // tells which side of the line the node lay on, not of the beam: a beam that
             // straightens swings its line past such a node without touching it.
+            // Probed once, and only where a rule asks.
+            let near = std::cell::OnceCell::new();
             let near_before = || {
-                self.probe_near(cv, cv.d, n, b, Some(&views.before))
-                    .is_some_and(|q| q.gap.abs() <= FAR * q.length)
+                *near.get_or_init(|| {
+                    self.probe_near(cv, cv.d, n, b, Some(&views.before))
+                        .is_some_and(|q| q.gap.abs() <= FAR * q.length)
+                })
             };
             let crossed = (Self::adjacent(cv, b, was, p.beam)
                 && (!round_an_end || -p.gap * side < SHAPE_MARGIN * p.length)

@@ -1,7 +1,8 @@
 //! Displacement and load control: a scene step advances the prescribed displacements and the
-//! load factor, or goes to the next point of the model's load path; a step that finds no equilibrium is halved (reported as cut-back events) and
-//! grows again once Newton has it easy, with one last attempt that slides contacts off the
-//! tips they are about to leave before the run gives up.
+//! load factor, or goes to the next point of the model's load path; a step that finds no
+//! equilibrium is halved (reported as cut-back events) and grows again once Newton has it easy,
+//! with one last attempt that slides contacts off the tips they are about to leave before the
+//! run gives up.
 
 use std::time::Instant;
 
@@ -59,9 +60,8 @@ impl Solver {
     }
 
     /// Advance from the converged state to the given prescribed values and load factors (one
-    /// per load group), halving
-    /// the increment on failure (at most `max_cutbacks` times in all). Returns the converged
-    /// increments (more than one if the step was cut back).
+    /// per load group), halving the increment on failure (at most `max_cutbacks` times in all).
+    /// Returns the converged increments (more than one if the step was cut back).
     pub fn advance_to(
         &mut self,
         targets: &[f64],
