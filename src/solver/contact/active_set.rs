@@ -48,6 +48,9 @@ impl ContactSet {
         if changes > 0 {
             return changes;
         }
+        // The pairs in contact through this pass: the state `d` holds their nodes on their
+        // bodies, so a release below cannot have let one pass out of reach in it.
+        let held = self.pairs();
         let mut crossings = Vec::new();
         let near = self.near_inactive(cv, d);
         let views = PassViews::default();
@@ -80,7 +83,7 @@ impl ContactSet {
             changes += self.activate(cv, &crossings, increment, iteration, events);
         }
         if self.too_deep.is_none() {
-            self.too_deep = self.passed_out_of_reach(cv, d, &views);
+            self.too_deep = self.passed_out_of_reach(cv, d, &views, &held);
         }
         if changes > 0 && !self.seen.insert(self.pairs()) {
             self.one_at_a_time = true;

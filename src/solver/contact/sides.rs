@@ -390,15 +390,21 @@ impl ContactSet {
     /// projects onto no element of it (the chord swept past it right at an end node, e.g. a
     /// clamped end coming down past the other beam's tip): the contact cannot be placed, so the
     /// increment is cut back until the node is caught while it still projects onto the body.
+    /// Pairs in `held` (sorted; in contact through the pass that reached `d`) are skipped: `d`
+    /// holds each such node on its body, and a contact let go there is judged at the next pass.
     /// Returns (node, body, distance from the body's end node in element lengths).
     pub(super) fn passed_out_of_reach(
         &self,
         cv: &ContactView<'_>,
         d: &[f64],
         views: &PassViews,
+        held: &[(usize, usize)],
     ) -> Option<(usize, usize, f64)> {
         let m = &cv.model;
         for (n, b) in self.near_inactive(cv, d) {
+            if held.binary_search(&(n, b)).is_ok() {
+                continue;
+            }
             let Some((_, was)) = self.side_of(cv, n, b, Some(&views.before)) else {
                 continue;
             };
