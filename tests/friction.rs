@@ -17,7 +17,7 @@ use tsm_contact::solver::acceptance::{friction_law, FrictionRecord};
 use tsm_contact::solver::element::beam::BeamElement;
 use tsm_contact::solver::element::contact_element::ContactOptions;
 use tsm_contact::solver::element::contact_law::contact_outcome;
-use tsm_contact::solver::element::friction::{obstacle_friction, Grip, ObstacleGrip};
+use tsm_contact::solver::element::friction::{obstacle_friction, Grip, ObstacleGrip, Traction};
 use tsm_contact::solver::report::ContactState;
 use tsm_contact::solver::{
     ContactChange, Event, Friction, IncrementRecord, Section, Shape, Silent, SolverParams,
@@ -32,7 +32,7 @@ fn response(el: &BeamElement, x: &[f64; 8], grip: Grip) -> (Vec<f64>, DMatrix<f6
     let r = out.response;
     let t = out.friction[0].expect("frictional");
     // The mode evaluated is the one the return mapping asks for.
-    assert_eq!(t.mode(grip.slip, false), grip.slip);
+    assert_eq!(t.mode(grip.slip, false, 0.0), grip.slip);
     let slipping = t.slipping;
     (
         r.nodal.iter().copied().collect(),
@@ -640,7 +640,7 @@ fn obstacle_friction_tangent_matches_central_differences() {
                 obstacle_friction(&gap, shape.place(gap.point), (normal, penalty), &grip)
             };
             let (t, _, k) = at(x);
-            assert_eq!(t.mode(slip, false), slip, "{shape:?}: the mode holds");
+            assert_eq!(t.mode(slip, false, 0.0), slip, "{shape:?}: the mode holds");
             let h = 1e-7;
             let mut worst = 0.0f64;
             for q in 0..2 {
@@ -806,4 +806,42 @@ fn a_heavy_strip_lifted_far_off_a_frictional_table_converges_under_refinement() 
             assert!(w[1] <= w[0] / 3.0, "differences {d:?} of {values:?}");
         }
     }
+}
+
+/// The return mapping's modes against the Coulomb law written out here: within the attempt's
+/// first passes a slip whose trial force falls below the limit sticks; once the modes have
+/// come back (cautious), it goes on slipping while the trial force lies within the slack (what
+/// the forces are known to) of the limit, and sticks beyond it; a stick whose trial force is
+/// within the limit sticks, whatever the slack.
+#[test]
+fn a_slip_within_the_slack_of_the_limit_goes_on_once_the_modes_come_back() {
+    let t = |trial: f64| Traction {
+        force: 0.0,
+        slip: 0.0,
+        slipping: true,
+        trial,
+        limit: 1.0,
+        tangential: 0.0,
+        normal: 1.0,
+    };
+    let slack = 0.1;
+    for (trial, first, cautious) in [
+        (1.5, Some(1.0), Some(1.0)),
+        (0.95, None, Some(1.0)),
+        (0.85, None, None),
+        (-0.95, None, None),
+    ] {
+        assert_eq!(
+            t(trial).mode(Some(1.0), false, slack),
+            first,
+            "trial {trial}"
+        );
+        assert_eq!(
+            t(trial).mode(Some(1.0), true, slack),
+            cautious,
+            "trial {trial}, cautious"
+        );
+    }
+    assert_eq!(t(0.95).mode(None, true, slack), None);
+    assert_eq!(t(1.05).mode(None, true, slack), Some(1.0));
 }

@@ -3,15 +3,12 @@
 //! point moved during the increment (it slipped) carries exactly mu times its pressure,
 //! against the slip.
 
+use crate::solver::element::friction::STICK_ROUNDOFF_ULPS;
 use crate::solver::model::Model;
 
 /// How far the friction force may lie from the Coulomb limit, relative to it: far above the
 /// round-off of a converged state, far below any error a user would see.
 pub const FRICTION_LAW_TOLERANCE: f64 = 1e-6;
-
-/// How many units in the last place of a stick point its recomputation may move it: a
-/// sticking node's place is found again from its position and the body's, a few roundings.
-const STICK_ROUNDOFF_ULPS: f64 = 4.0;
 
 /// One frictional contact as the check reads it.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -11,7 +11,7 @@
 
 use super::set::{ActiveContact, ContactSet, ContactView, Stick};
 use crate::solver::assembly::{obstacle_gap, obstacle_offset, Assembled};
-use crate::solver::element::friction::{Grip, ObstacleGrip};
+use crate::solver::element::friction::{Grip, ObstacleGrip, Traction, STICK_ROUNDOFF_ULPS};
 use crate::solver::report::{ContactChange, Event, ObstacleEvent};
 
 /// The stiffness kt that holds sticking node `node` to beam `beam` (N/m): `friction_penalty`
@@ -121,16 +121,27 @@ impl ContactSet {
     /// (`Traction::mode`) changes to it. Returns the number of changes (0: the friction law
     /// holds). Once a set of modes comes back within the attempt, one change a pass, the
     /// contact of least index, and a slip that turns back sticks first.
-    pub(crate) fn friction_pass(&mut self, asm: &Assembled) -> usize {
+    pub(crate) fn friction_pass(&mut self, cv: &ContactView<'_>, asm: &Assembled) -> usize {
         let tractions = &asm.elements.contact_friction;
         let mut changes = Vec::new();
         // A slip that has turned to the other direction within the attempt sticks first at its
         // next turn: an unloaded slipping zone whose every node turns at once overshoots, and
         // would swing from one direction to the other, wider at each pass.
         let mut turned = std::mem::take(&mut self.friction_turned);
-        let mut want = |key, now: Option<f64>, t: &crate::solver::element::friction::Traction| {
+        // What a trial force is known to: the state's unbalanced force, and the stick spring
+        // over the round-off of the places it stretches between (a stiff spring turns one
+        // unit in the last place of a coordinate into a sizeable force).
+        let unbalanced = asm.unbalanced_norm2.sqrt();
+        let slack = |stiffness: f64, place: f64| {
+            unbalanced + stiffness * STICK_ROUNDOFF_ULPS * f64::EPSILON * place.abs()
+        };
+        let mut want = |key, now: Option<f64>, t: &Traction, slack: f64| {
             let swings = turned.get(&key).copied().unwrap_or(0);
-            let want = t.mode(now, self.friction_one_at_a_time || swings >= MAX_TURNS);
+            let want = t.mode(
+                now,
+                self.friction_one_at_a_time || swings >= MAX_TURNS,
+                slack,
+            );
             if let (Some(a), Some(b)) = (now, want) {
                 if a * b < 0.0 {
                     turned.insert(key, swings + 1);
@@ -142,7 +153,8 @@ impl ContactSet {
             let (Some(stick), Some(Some(t))) = (a.stick, tractions.get(k)) else {
                 continue;
             };
-            let want = want((a.node, a.body, false), stick.slip, t);
+            let kt = stick_stiffness(cv, a.node, a.beam);
+            let want = want((a.node, a.body, false), stick.slip, t, slack(kt, stick.at));
             if want != stick.slip {
                 changes.push((k, want));
             }
@@ -152,7 +164,8 @@ impl ContactSet {
             let (Some(grip), Some(Some(t))) = (link.grip, obstacle_tractions.get(k)) else {
                 continue;
             };
-            let want = want((link.node, link.obstacle, true), grip.slip, t);
+            let place = slack(grip.stiffness, grip.stick);
+            let want = want((link.node, link.obstacle, true), grip.slip, t, place);
             if want != grip.slip {
                 changes.push((self.active.len() + k, want));
             }

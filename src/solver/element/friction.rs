@@ -257,6 +257,10 @@ pub fn obstacle_friction(
 /// converged state, far below the solver's tolerance on the forces.
 pub const COULOMB_TOLERANCE: f64 = 1e-9;
 
+/// How many units in the last place of a stick point its recomputation may move it: a
+/// sticking node's place is found again from its position and the body's, a few roundings.
+pub const STICK_ROUNDOFF_ULPS: f64 = 4.0;
+
 impl Traction {
     /// The return mapping: the mode (`None`: stick, `Some(sigma)`: slip in direction sigma)
     /// this contact's trial force asks for, given the mode `now` it was evaluated in. A slip
@@ -264,12 +268,18 @@ impl Traction {
     /// contact sticks if the trial force is within the limit, and slips its way if not. With
     /// `cautious` (the modes have come back within an attempt), a slip that turns back sticks
     /// first instead, as the spring unloads through zero: no contact can then swing between
-    /// the two directions.
-    pub fn mode(&self, now: Option<f64>, cautious: bool) -> Option<f64> {
+    /// the two directions; and a slip goes on while its trial force lies within `slack` (N,
+    /// the state's unbalanced force: what the forces are known to) of the limit, so that a
+    /// contact whose trial force sits on the limit to within that does not swing between
+    /// stick and slip. Slipping, its friction force is the limit itself: the law holds.
+    pub fn mode(&self, now: Option<f64>, cautious: bool, slack: f64) -> Option<f64> {
         let (trial, limit) = (self.trial, self.limit);
         let sign = if trial < 0.0 { -1.0 } else { 1.0 };
+        let slack = if cautious { slack } else { 0.0 };
         match now {
-            Some(sigma) if sigma * trial >= limit * (1.0 - COULOMB_TOLERANCE) => Some(sigma),
+            Some(sigma) if sigma * trial >= limit * (1.0 - COULOMB_TOLERANCE) - slack => {
+                Some(sigma)
+            }
             Some(_) if cautious => None,
             _ if trial.abs() <= limit * (1.0 + COULOMB_TOLERANCE) => None,
             _ => Some(sign),

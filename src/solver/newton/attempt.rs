@@ -162,7 +162,7 @@ impl Newton<'_> {
                     // Stick and slip are judged once the normal forces hold: every contact
                     // made and every obstacle gap closed.
                     if changed == 0 && updated == 0 {
-                        changed = contacts.friction_pass(&asm);
+                        changed = contacts.friction_pass(&self.view(), &asm);
                     }
                     self.too_deep(&contacts)?;
                     if changed == 0 && updated == 0 && accepted {
