@@ -357,3 +357,58 @@ fn a_link_loop_is_not_called_missing() {
     assert!(!stderr.contains("no such file"), "{stderr}");
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// `--every 5` on 12 increments keeps increments 5 and 10 and the last, 12, each the same
+/// record as the full history's (JSON text for JSON text), and says so in the file; `check`
+/// audits what it can of it and says it cannot judge pass-through. `--every 0` is refused.
+#[test]
+fn a_thinned_history_keeps_every_nth_increment_and_the_last_and_says_so() {
+    let dir = scratch("every");
+    let (full, thin) = (dir.join("full.json"), dir.join("thin.json"));
+    for (path, every) in [(&full, None), (&thin, Some("5"))] {
+        let mut args = vec!["solve", "example_3_2", "--steps", "12"];
+        args.extend(["--json", path.to_str().unwrap()]);
+        if let Some(n) = every {
+            args.extend(["--every", n]);
+        }
+        let o = tsm(&args);
+        assert_eq!(o.status.code(), Some(0), "{}", text(&o).1);
+    }
+    let read = |p: &Path| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
+    };
+    let (full_h, thin_h) = (read(&full), read(&thin));
+    assert_eq!(thin_h["every"], 5);
+    assert!(full_h.get("every").is_none());
+    let kept: Vec<&serde_json::Value> = thin_h["increments"].as_array().unwrap().iter().collect();
+    let numbers: Vec<u64> = kept
+        .iter()
+        .map(|r| r["increment"].as_u64().unwrap())
+        .collect();
+    assert_eq!(numbers, [5, 10, 12]);
+    // The same record but for its wall time.
+    let timeless = |r: &serde_json::Value| {
+        let mut r = r.clone();
+        r.as_object_mut().unwrap().remove("seconds");
+        r
+    };
+    for r in kept {
+        let k = r["increment"].as_u64().unwrap() as usize;
+        let whole = &full_h["increments"][k - 1];
+        assert!(timeless(r) == timeless(whole), "increment {k}");
+    }
+    let o = tsm(&["check", thin.to_str().unwrap()]);
+    let (stdout, stderr) = text(&o);
+    assert_eq!(o.status.code(), Some(0), "{stdout}{stderr}");
+    assert!(
+        stdout.contains("3 increment(s) audited, 0 finding(s)"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("pass-through is not checked"), "{stdout}");
+    let o = tsm(&["check", full.to_str().unwrap()]);
+    assert!(!text(&o).0.contains("pass-through is not checked"));
+    let o = tsm(&["solve", "example_3_2", "--every", "0"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(text(&o).1.contains("--every"), "{}", text(&o).1);
+    let _ = std::fs::remove_dir_all(dir);
+}

@@ -161,6 +161,11 @@ impl KeptHistory {
         self.bytes
     }
 
+    /// Every how many records of the run one is kept (1: all of them so far).
+    pub fn stride(&self) -> usize {
+        self.stride
+    }
+
     /// Records dropped over the run to stay within the budget.
     pub fn dropped(&self) -> usize {
         self.seen - self.records.len()

@@ -45,6 +45,18 @@ pub fn audit(
     start: Option<&IncrementRecord>,
     records: &[IncrementRecord],
 ) -> Vec<Finding> {
+    audit_with(run, start, records, true)
+}
+
+/// `audit`, with the sides of the candidate nodes judged between consecutive records only
+/// where `sides` (records that skip increments cannot tell a node that went through a body
+/// and back between them).
+fn audit_with(
+    run: &Run<'_>,
+    start: Option<&IncrementRecord>,
+    records: &[IncrementRecord],
+    sides_judged: bool,
+) -> Vec<Finding> {
     let topology = run.topology;
     let chains = Chains::new(topology, run.node_ids);
     let rest: HashMap<u32, [f64; 2]> = topology.nodes.iter().map(|n| (n.id, [n.x, n.y])).collect();
@@ -100,7 +112,9 @@ pub fn audit(
             found.push(at(why));
         }
         let sag = load_sag(topology, &chains, r);
-        found.extend(sides.step(&before, &c_before, r, &|e| sag[e]));
+        if sides_judged {
+            found.extend(sides.step(&before, &c_before, r, &|e| sag[e]));
+        }
         let slot = &chains.slot;
         if let Some((n, o, depth)) =
             obstacles::deepest_inside(&topology.obstacles, slot, &rest, &r.nodes, obstacle_tol)
@@ -121,7 +135,9 @@ pub fn audit(
 }
 
 /// The audit of a whole history, with `topology` standing in for the one it lacks (a version 1
-/// history); an error where there is none, or no parameters.
+/// history); an error where there is none, or no parameters. On a thinned history
+/// (`History::every`) the sides of the candidate nodes are not judged: between the increments
+/// it keeps a node may have gone through a body and back (`check` says so).
 pub fn audit_history(h: &History, topology: Option<&Topology>) -> Result<Vec<Finding>, String> {
     let topology = (h.topology.as_ref().or(topology))
         .ok_or("the history carries no topology (format version 1): name its scene with --scene")?;
@@ -152,7 +168,8 @@ pub fn audit_history(h: &History, topology: Option<&Topology>) -> Result<Vec<Fin
         node_ids: &h.node_ids,
         params,
     };
-    Ok(audit(&run, None, &h.increments))
+    let thinned = h.every.is_some_and(|n| n > 1);
+    Ok(audit_with(&run, None, &h.increments, !thinned))
 }
 
 /// Why the status of record `r` is not what its residual says, if it is not.

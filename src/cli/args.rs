@@ -61,6 +61,11 @@ pub(super) struct SolveArgs {
     /// that increment with an error (default 1 GiB).
     #[arg(long, default_value_t = tsm_contact::history::DEFAULT_MAX_OUTPUT)]
     pub(super) max_output: u64,
+    /// Keep every N-th accepted increment in the history (`--json`), and the last: a thinned
+    /// history says so, and `check` does not judge pass-through on it (a node may go through
+    /// a body and back between the increments kept).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    pub(super) every: Option<u32>,
 }
 
 /// The subcommands.
@@ -73,7 +78,8 @@ pub(super) enum Command {
     Solve(SolveArgs),
     /// Audit a history independently of the solver: equilibrium from the recorded forces, the
     /// side of every candidate node (through contact and release), obstacles, the friction law
-    /// and the statuses. Exit 1 naming each increment, node and body found wrong.
+    /// and the statuses. Exit 1 naming each increment, node and body found wrong. A thinned
+    /// history (`solve --every N`) gets every check but pass-through, and says so.
     #[command(after_help = "Example: tsm-contact check history.json")]
     Check {
         /// The history (JSON, as `solve --json` writes it).

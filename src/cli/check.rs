@@ -1,7 +1,8 @@
 //! `check`: the independent audit (`tsm_contact::audit`) of a written history: equilibrium from
 //! its recorded forces, the side of every candidate node, obstacles, the friction law and the
 //! statuses. Exit 0 when it finds nothing, 1 naming each increment, node and body found wrong,
-//! 2 when the history cannot be read.
+//! 2 when the history cannot be read. A thinned history (`History::every`) is audited but for
+//! pass-through, which it cannot support, and the output says so.
 
 use std::path::Path;
 
@@ -48,6 +49,12 @@ pub(super) fn check(path: &Path, scene_name: Option<&str>) -> i32 {
     };
     for f in &findings {
         out!("{f}");
+    }
+    if let Some(n) = history.every.filter(|&n| n > 1) {
+        out!(
+            "{}: keeps every {n}th increment: pass-through is not checked (a node may go through a body and back between the increments kept; solve without --every to check it)",
+            path.display()
+        );
     }
     out!(
         "{}: {} increment(s) audited, {} finding(s)",

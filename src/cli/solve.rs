@@ -131,6 +131,7 @@ pub(super) fn solve(args: SolveArgs) -> i32 {
         unsymmetric_from,
         stretch_correction,
         max_output,
+        every,
     } = args;
     let name = name.as_str();
     // The output is checked before the run: a long solve must not end in "cannot write".
@@ -182,12 +183,15 @@ pub(super) fn solve(args: SolveArgs) -> i32 {
         scene.params.tolerance
     );
     out!("# incr  prescribed/load  iter  it8  rel.resid   cut  act   ms   (r: accepted at the round-off floor)");
-    let header = History::of_model(
-        &scene.file.name,
-        &scene.model,
-        Some(scene.model.formulation),
-        Some(scene.params),
-    );
+    let header = History {
+        every: every.filter(|&n| n > 1).map(|n| n as usize),
+        ..History::of_model(
+            &scene.file.name,
+            &scene.model,
+            Some(scene.model.formulation),
+            Some(scene.params),
+        )
+    };
     let history = match (json.as_deref()).map(|p| HistoryWriter::create(p, &header, max_output)) {
         None => None,
         Some(Ok(w)) => Some(w),

@@ -34,6 +34,11 @@ pub struct History {
     /// The model's topology (absent from version 1 histories).
     #[serde(default)]
     pub topology: Option<Topology>,
+    /// Kept every how many accepted increments (`solve --every N`), the last one always kept;
+    /// absent: every one. A thinned history cannot tell what happened between the increments
+    /// it keeps (a node may pass through a body and back), and `check` says so.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub every: Option<usize>,
     /// Converged increments, in order.
     pub increments: Vec<IncrementRecord>,
     /// Every event in order (cut-backs and contact changes).
@@ -94,6 +99,11 @@ impl History {
 pub struct HistoryWriter {
     out: std::io::BufWriter<TempFile>,
     increments: usize,
+    /// Keep every how many accepted increments (1: all), how many were accepted, and the last
+    /// one not kept (written at the end, so that the history ends where the run did).
+    every: usize,
+    accepted: usize,
+    held: Option<IncrementRecord>,
     events: Vec<Event>,
     /// Bytes written so far, and the most the history may take.
     bytes: u64,
@@ -105,19 +115,29 @@ pub const DEFAULT_MAX_OUTPUT: u64 = 1 << 30;
 
 impl HistoryWriter {
     /// Start writing `header` (its increments, events and error are left out) to `path`, in
-    /// at most `limit` bytes; refuses what `output_problem` refuses.
+    /// at most `limit` bytes, keeping every `header.every`-th accepted increment (and the
+    /// last); refuses what `output_problem` refuses.
     pub fn create(path: &Path, header: &History, limit: u64) -> std::io::Result<HistoryWriter> {
         use std::io::Write;
+        let every = header.every.unwrap_or(1).max(1);
         let mut writer = HistoryWriter {
             out: std::io::BufWriter::new(TempFile::create(path)?),
             increments: 0,
+            every,
+            accepted: 0,
+            held: None,
             events: Vec::new(),
             bytes: 0,
             limit,
         };
+        let thinned = if every > 1 {
+            format!("\"every\":{every},")
+        } else {
+            String::new()
+        };
         write!(
             writer.out,
-            "{{\"format_version\":{},\"scene\":{},\"formulation\":{},\"params\":{},\"node_ids\":{},\"topology\":{},\"increments\":[",
+            "{{\"format_version\":{},\"scene\":{},\"formulation\":{},\"params\":{},\"node_ids\":{},\"topology\":{},{thinned}\"increments\":[",
             header.format_version,
             json(&header.scene),
             json(&header.formulation),
@@ -128,9 +148,21 @@ impl HistoryWriter {
         Ok(writer)
     }
 
-    /// Write one accepted increment; an error once the history would take more than its
+    /// Take one accepted increment: written if it is one to keep, else held until the next
+    /// (the last is written by `finish`); an error once the history would take more than its
     /// limit.
     pub fn increment(&mut self, r: &IncrementRecord) -> std::io::Result<()> {
+        self.accepted += 1;
+        if self.accepted % self.every != 0 {
+            self.held = Some(r.clone());
+            return Ok(());
+        }
+        self.held = None;
+        self.write_increment(r)
+    }
+
+    /// Write one increment record.
+    fn write_increment(&mut self, r: &IncrementRecord) -> std::io::Result<()> {
         use std::io::Write;
         let text = serde_json::to_vec(r).map_err(std::io::Error::other)?;
         self.bytes += text.len() as u64 + 1;
@@ -156,6 +188,9 @@ impl HistoryWriter {
     /// Write the events and `error`, and move the file into place.
     pub fn finish(mut self, error: Option<String>) -> std::io::Result<()> {
         use std::io::Write;
+        if let Some(last) = self.held.take() {
+            self.write_increment(&last)?;
+        }
         let events = serde_json::to_string(&self.events).map_err(std::io::Error::other)?;
         let error = serde_json::to_string(&error).map_err(std::io::Error::other)?;
         write!(self.out, "],\"events\":{events},\"error\":{error}}}")?;

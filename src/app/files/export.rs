@@ -10,10 +10,12 @@ use crate::history::{write_atomic, History};
 use crate::solver::{Event, IncrementRecord, IncrementStatus};
 use crate::worker::Loaded;
 
-/// The history of the current run in the `History` schema (increment 0 left out).
+/// The history of the current run in the `History` schema (increment 0 left out); `every`:
+/// the app kept every how many of the run's records (`History::every`).
 pub fn history(
     loaded: &Loaded,
     records: &[IncrementRecord],
+    every: usize,
     events: &[Event],
     error: Option<&str>,
 ) -> History {
@@ -26,6 +28,7 @@ pub fn history(
             .collect(),
         events: events.to_vec(),
         error: error.map(str::to_string),
+        every: (every > 1).then_some(every),
         ..History::of_model(
             &loaded.scene.file.name,
             model,

@@ -190,7 +190,13 @@ pub fn confirm(app: &mut TsmApp, what: Result<PathBuf, String>) {
 pub fn export_json(app: &mut TsmApp) {
     let Some(loaded) = &app.loaded else { return };
     let path = with_ext(&app.export_stem, "json");
-    let h = export::history(loaded, &app.history, &app.events, app.error.as_deref());
+    let h = export::history(
+        loaded,
+        &app.history,
+        app.history.stride(),
+        &app.events,
+        app.error.as_deref(),
+    );
     let done = h.write_json(&path).map(|_| path).map_err(|e| e.to_string());
     confirm(app, done);
 }
