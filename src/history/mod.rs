@@ -153,7 +153,7 @@ impl HistoryWriter {
     /// limit.
     pub fn increment(&mut self, r: &IncrementRecord) -> std::io::Result<()> {
         self.accepted += 1;
-        if self.accepted % self.every != 0 {
+        if !self.accepted.is_multiple_of(self.every) {
             self.held = Some(r.clone());
             return Ok(());
         }
