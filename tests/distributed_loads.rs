@@ -421,7 +421,7 @@ fn bad_distributed_loads_are_refused_with_their_field() {
                 "",
                 "steps: 4, arc_length: 0.1",
             ),
-            "distributed[0] (body beam).follower",
+            "distributed[0].follower (body \"beam\")",
             6,
         ),
         (
@@ -430,7 +430,7 @@ fn bad_distributed_loads_are_refused_with_their_field() {
                 "",
                 "steps: 4",
             ),
-            "distributed[0] (body beam).elements",
+            "distributed[0].elements (body \"beam\")",
             6,
         ),
         (

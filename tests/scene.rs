@@ -356,7 +356,7 @@ fn bad_obstacles_are_refused_with_their_line_and_reason() {
                 "",
                 r#"(name: "drum", shape: Circle(centre: (0.5, -1.0), radius: 0.0), bodies: ["strip"]),"#,
             ),
-            "a circle needs a finite centre and a positive radius",
+            "a circle needs a centre and a positive radius, finite and below 1e100 in size",
         ),
         (
             strip_with(

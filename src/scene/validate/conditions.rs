@@ -34,7 +34,13 @@ pub(super) fn conditions(
         let n = g.node_of(ctx, format!("supports[{k}].node"), s.node)?;
         for (on, dof) in [(s.u, Dof::U), (s.v, Dof::V), (s.phi, Dof::Phi)] {
             if on {
-                g.check_dof(ctx, format!("supports[{k}].phi (node {})", s.node), n, dof)?;
+                let key = ["u", "v", "phi"][dof.offset()];
+                g.check_dof(
+                    ctx,
+                    format!("supports[{k}].{key} (node {})", s.node),
+                    n,
+                    dof,
+                )?;
                 if held.insert((n, dof.offset())) {
                     supports.push(Support { node: n, dof });
                 }
@@ -47,12 +53,14 @@ pub(super) fn conditions(
         if l.m != 0.0 {
             g.check_dof(ctx, format!("loads[{k}].m (node {})", l.node), n, Dof::Phi)?;
         }
-        if ![l.fx, l.fy, l.m].iter().all(|&v| sized(v)) {
-            return Err(ctx.err(
-                format!("loads[{k}] (node {})", l.node),
-                Some(format!("node:{}", l.node)),
-                "a load must be finite and below 1e100 in size",
-            ));
+        for (key, v) in [("fx", l.fx), ("fy", l.fy), ("m", l.m)] {
+            if !sized(v) {
+                return Err(ctx.err(
+                    format!("loads[{k}].{key} (node {})", l.node),
+                    Some(format!("node:{}", l.node)),
+                    format!("must be finite and below 1e100 in size, got {v:e}"),
+                ));
+            }
         }
         loads.push(Load {
             node: n,
@@ -62,12 +70,20 @@ pub(super) fn conditions(
     }
     let mut prescribed: Vec<Prescribed> = Vec::new();
     for (k, p) in sf.prescribed.iter().enumerate() {
-        let field = format!("prescribed[{k}] (node {} {})", p.node, p.dof.name());
-        let n = g.node_of(ctx, field.clone(), p.node)?;
-        g.check_dof(ctx, field.clone(), n, p.dof)?;
+        let label = format!("(node {} {})", p.node, p.dof.name());
+        let field = format!("prescribed[{k}] {label}");
+        let n = g.node_of(ctx, format!("prescribed[{k}].node {label}"), p.node)?;
+        g.check_dof(ctx, format!("prescribed[{k}].dof {label}"), n, p.dof)?;
         let nd = Some(format!("node:{}", p.node));
         if !sized(p.per_step) {
-            return Err(ctx.err(field, nd, "per_step must be finite and below 1e100 in size"));
+            return Err(ctx.err(
+                format!("prescribed[{k}].per_step {label}"),
+                nd,
+                format!(
+                    "must be finite and below 1e100 in size, got {:e}",
+                    p.per_step
+                ),
+            ));
         }
         if held.contains(&(n, p.dof.offset())) {
             return Err(ctx.err(field, nd, "a dof cannot be both supported and prescribed"));

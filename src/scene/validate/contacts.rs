@@ -1,7 +1,7 @@
 //! The `contacts` of a scene: candidate nodes (listed, or every node of the named bodies) and
 //! the bodies they may touch.
 
-use super::errors::{Ctx, SceneError};
+use super::errors::{sized, Ctx, SceneError};
 use super::geometry::Geometry;
 use crate::scene::format::{SceneFile, SideDef};
 use crate::solver::model::SELF_CONTACT_WINDOW;
@@ -17,7 +17,8 @@ pub(super) fn contacts(
     for (k, c) in sf.contacts.iter().enumerate() {
         let mut cn = Vec::new();
         for (m, &id) in c.nodes.iter().enumerate() {
-            cn.push(g.node_of(ctx, format!("contacts[{k}].nodes[{m}]"), id)?);
+            let n = g.node_of(ctx, format!("contacts[{k}].nodes[{m}]"), id);
+            cn.push(n.map_err(|e| ctx.in_entry(e, ("contacts", k)))?);
         }
         for (m, name) in c.node_bodies.iter().enumerate() {
             let b = g.body_of(ctx, format!("contacts[{k}].node_bodies[{m}]"), name)?;
@@ -30,12 +31,12 @@ pub(super) fn contacts(
                 }
             }
         }
-        if !(c.mu.is_finite() && c.mu >= 0.0) {
-            return Err(ctx.err(
+        if !(sized(c.mu) && c.mu >= 0.0) {
+            return Err(ctx.err_entry(
                 format!("contacts[{k}].mu"),
-                None,
+                ("contacts", k),
                 format!(
-                    "the friction coefficient is {}: it must be a finite number >= 0",
+                    "the friction coefficient is {:e}: it must be finite, >= 0 and below 1e100",
                     c.mu
                 ),
             ));

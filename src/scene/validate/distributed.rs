@@ -19,7 +19,7 @@ pub(super) fn distributed(
 ) -> Result<Vec<DistributedLoad>, SceneError> {
     let mut out = Vec::new();
     for (k, d) in sf.distributed.iter().enumerate() {
-        let field = format!("distributed[{k}] (body {})", d.body);
+        let leaf = |n: &str| format!("distributed[{k}].{n} (body \"{}\")", d.body);
         let b = *g.body_index.get(d.body.as_str()).ok_or_else(|| {
             ctx.err(
                 format!("distributed[{k}].body"),
@@ -31,7 +31,7 @@ pub(super) fn distributed(
         let (first, last) = d.elements.unwrap_or((1, elements.len()));
         if first < 1 || last < first || last > elements.len() {
             return Err(ctx.err(
-                format!("{field}.elements"),
+                leaf("elements"),
                 Some("elements".into()),
                 format!(
                     "({first}, {last}) is not a range of the body's elements 1 to {}",
@@ -41,7 +41,7 @@ pub(super) fn distributed(
         }
         if d.follower && sf.control.arc_length.is_some() {
             return Err(ctx.err(
-                format!("{field}.follower"),
+                leaf("follower"),
                 Some("follower".into()),
                 "follower loads cannot be traced by arc length (the reference load would turn \
                  with the structure): use load control",
@@ -49,12 +49,14 @@ pub(super) fn distributed(
         }
         let q0 = [d.q.0, d.q.1];
         let q1 = d.q_end.map_or(q0, |q| [q.0, q.1]);
-        if !q0.iter().chain(&q1).all(|&v| sized(v)) {
-            return Err(ctx.err(
-                field,
-                Some("q".into()),
-                "q and q_end must be finite and below 1e100 in size",
-            ));
+        for (key, q) in [("q", q0), ("q_end", q1)] {
+            if !q.iter().all(|&v| sized(v)) {
+                return Err(ctx.err(
+                    leaf(key),
+                    Some(key.into()),
+                    "must be finite and below 1e100 in size",
+                ));
+            }
         }
         // The load varies linearly with the arc length along the range.
         let range = &elements[first - 1..last];
@@ -127,9 +129,14 @@ fn self_weight(
         };
         let Some(rho) = section.density else { continue };
         if !(sized(rho) && rho >= 0.0) {
+            let k = (sf.sections.iter()).position(|s| s.name == section.name);
             return Err(ctx.err(
-                format!("sections ({}).density", section.name),
-                Some("density".into()),
+                format!(
+                    "sections[{}].density (section \"{}\")",
+                    k.unwrap_or(0),
+                    section.name
+                ),
+                Some(format!("name:\"{}\"", section.name)),
                 "density must be finite, below 1e100 and not negative",
             ));
         }

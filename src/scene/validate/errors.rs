@@ -52,6 +52,96 @@ impl Ctx<'_> {
     }
 }
 
+impl Ctx<'_> {
+    /// The error for `field`, located at the line where entry `k` (from 0) of the scene's
+    /// top-level list `section` opens (entries without a name of their own, such as
+    /// `contacts`).
+    pub(super) fn err_entry(
+        &self,
+        field: impl Into<String>,
+        (section, k): (&str, usize),
+        message: impl Into<String>,
+    ) -> SceneError {
+        SceneError {
+            file: self.file.into(),
+            line: entry_line(self.text, section, k),
+            field: field.into(),
+            message: message.into(),
+        }
+    }
+}
+
+impl Ctx<'_> {
+    /// `e`, placed at the line where entry `k` of the top-level list `section` opens if it has
+    /// no line of its own.
+    pub(super) fn in_entry(&self, mut e: SceneError, (section, k): (&str, usize)) -> SceneError {
+        if e.line.is_none() {
+            e.line = entry_line(self.text, section, k);
+        }
+        e
+    }
+}
+
+/// The line where entry `k` (from 0) of the top-level list `section` opens: the text scanned
+/// for brackets outside strings and comments, the key `section` found at the scene's own level
+/// and its list's entries counted at the level below.
+pub(super) fn entry_line(text: &str, section: &str, k: usize) -> Option<usize> {
+    let (mut depth, mut line, mut in_string, mut escaped) = (0usize, 1usize, false, false);
+    let (mut key_line, mut list_depth, mut entries) = (None, None, 0usize);
+    let mut word = String::new();
+    let mut chars = text.chars().peekable();
+    while let Some(c) = chars.next() {
+        if in_string {
+            match c {
+                _ if escaped => escaped = false,
+                '\\' => escaped = true,
+                '"' => in_string = false,
+                '\n' => line += 1,
+                _ => {}
+            }
+            continue;
+        }
+        match c {
+            '\n' => line += 1,
+            '"' => in_string = true,
+            '/' if chars.peek() == Some(&'/') => {
+                for c in chars.by_ref() {
+                    if c == '\n' {
+                        line += 1;
+                        break;
+                    }
+                }
+            }
+            '(' | '[' => {
+                depth += 1;
+                if list_depth == Some(depth - 1) && c == '(' {
+                    if entries == k {
+                        return Some(line);
+                    }
+                    entries += 1;
+                }
+                if c == '[' && key_line.is_some() && list_depth.is_none() && depth == 2 {
+                    list_depth = Some(depth);
+                }
+            }
+            ')' | ']' => {
+                if list_depth == Some(depth) {
+                    return None;
+                }
+                depth = depth.saturating_sub(1);
+            }
+            ':' if depth == 1 && word == section => key_line = Some(line),
+            _ => {}
+        }
+        if c.is_alphanumeric() || c == '_' {
+            word.push(c);
+        } else if !c.is_whitespace() {
+            word.clear();
+        }
+    }
+    None
+}
+
 /// The line of `needle` (whitespace-insensitive) in the section of the scene that `field`
 /// names (`prescribed[0] ...` looks from the `prescribed:` line on, so that a node named in
 /// the supports and the prescribed displacements is found where the error is); the first line

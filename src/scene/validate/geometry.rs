@@ -85,12 +85,14 @@ pub(super) fn geometry<'a>(
     let mut index: HashMap<u32, usize> = HashMap::new();
     for (k, n) in sf.nodes.iter().enumerate() {
         let nd = Some(format!("id:{}", n.id));
-        if !(sized(n.x) && sized(n.y)) {
-            return Err(ctx.err(
-                format!("nodes[{k}] (node {})", n.id),
-                nd,
-                "coordinates must be finite and below 1e100 in size",
-            ));
+        for (key, v) in [("x", n.x), ("y", n.y)] {
+            if !sized(v) {
+                return Err(ctx.err(
+                    format!("nodes[{k}].{key} (node {})", n.id),
+                    nd,
+                    format!("must be finite and below 1e100 in size, got {v:e}"),
+                ));
+            }
         }
         if index.insert(n.id, nodes.len()).is_some() {
             return Err(ctx.err(
@@ -153,7 +155,11 @@ pub(super) fn geometry<'a>(
             ));
         }
         if body_index.insert(&body.name, b).is_some() {
-            return Err(ctx.err(field("name"), nd, "duplicate body name"));
+            let e = SceneError {
+                line: None,
+                ..ctx.err(field("name"), None, "duplicate body name")
+            };
+            return Err(ctx.in_entry(e, ("bodies", b)));
         }
         if let Some(k) = (body.path.iter()).position(|p| !(sized(p.0) && sized(p.1))) {
             return Err(ctx.err(
@@ -196,10 +202,15 @@ pub(super) fn geometry<'a>(
                 Some(&n) => {
                     let node = &nodes[n];
                     if (node.x - x).hypot(node.y - y) > 1e-9 * (1.0 + x.abs() + y.abs()) {
-                        let whose = if n < explicit {
-                            "an explicit node"
-                        } else {
-                            "another body's node"
+                        let owner = sf.bodies[..b].iter().find(|o| {
+                            let count = (o.path.len().saturating_sub(1) * o.elements) as u64;
+                            (o.first_node as u64..=o.first_node as u64 + count)
+                                .contains(&(id as u64))
+                        });
+                        let whose = match owner {
+                            _ if n < explicit => "an explicit node".to_string(),
+                            Some(o) => format!("body \"{}\"'s node", o.name),
+                            None => "another body's node".to_string(),
                         };
                         return Err(ctx.err(
                             field("first_node"),

@@ -26,7 +26,8 @@ pub(super) fn obstacles(
     let mut names = HashSet::new();
     let size = model_size(g);
     for (k, o) in sf.obstacles.iter().enumerate() {
-        let field = format!("obstacles[{k}] ({})", o.name);
+        let field = format!("obstacles[{k}] (obstacle \"{}\")", o.name);
+        let leaf = |n: &str| format!("obstacles[{k}].{n} (obstacle \"{}\")", o.name);
         let here = Some(format!("name: \"{}\"", o.name));
         if o.name.trim().is_empty() || !names.insert(o.name.as_str()) {
             return Err(ctx.err(
@@ -35,8 +36,7 @@ pub(super) fn obstacles(
                 format!("\"{}\" is empty or names another obstacle too", o.name),
             ));
         }
-        let shape =
-            shape(&o.shape).map_err(|m| ctx.err(format!("{field}.shape"), here.clone(), m))?;
+        let shape = shape(&o.shape).map_err(|m| ctx.err(leaf("shape"), here.clone(), m))?;
         let mut nodes = Vec::new();
         for (m, name) in o.bodies.iter().enumerate() {
             let b = g.body_of(ctx, format!("obstacles[{k}].bodies[{m}]"), name)?;
@@ -51,7 +51,7 @@ pub(super) fn obstacles(
         nodes.dedup();
         let pilot = match o.pilot {
             None => None,
-            Some(id) => Some(pilot(ctx, g, &field, id, held)?),
+            Some(id) => Some(pilot(ctx, g, &leaf("pilot"), id, held)?),
         };
         nodes.retain(|&n| Some(n) != pilot);
         if nodes.is_empty() {
@@ -84,12 +84,12 @@ pub(super) fn obstacles(
                 ),
             ));
         }
-        if !(o.mu.is_finite() && o.mu >= 0.0) {
+        if !(sized(o.mu) && o.mu >= 0.0) {
             return Err(ctx.err(
-                format!("obstacles[{k}].mu"),
+                leaf("mu"),
                 here,
                 format!(
-                    "the friction coefficient is {}: it must be a finite number >= 0",
+                    "the friction coefficient is {:e}: it must be finite, >= 0 and below 1e100",
                     o.mu
                 ),
             ));
@@ -105,7 +105,7 @@ pub(super) fn obstacles(
     Ok(out)
 }
 
-/// The pilot node `id` of obstacle `field`: a node with u and v held.
+/// The pilot node `id` named in `field` (an obstacle's `pilot`): a node with u and v held.
 fn pilot(
     ctx: &Ctx,
     g: &Geometry,
@@ -113,14 +113,14 @@ fn pilot(
     id: u32,
     (supports, prescribed): (&[Support], &[Prescribed]),
 ) -> Result<usize, SceneError> {
-    let n = g.node_of(ctx, format!("{field}.pilot"), id)?;
+    let n = g.node_of(ctx, field.to_string(), id)?;
     let held = |dof: Dof| {
         supports.iter().any(|s| s.node == n && s.dof == dof)
             || prescribed.iter().any(|p| p.node == n && p.dof == dof)
     };
     if !(held(Dof::U) && held(Dof::V)) {
         return Err(ctx.err(
-            format!("{field}.pilot"),
+            field.to_string(),
             Some(format!("pilot: {id}")),
             format!("node {id} moves the obstacle, so its u and v must be supported or prescribed"),
         ));
@@ -145,7 +145,9 @@ fn shape(def: &ShapeDef) -> Result<Shape, String> {
     match def {
         ShapeDef::Line { from, to } => {
             if !finite(&[from.0, from.1, to.0, to.1]) || from == to {
-                return Err("a line needs two different finite points".into());
+                return Err(
+                    "a line needs two different points, finite and below 1e100 in size".into(),
+                );
             }
             Ok(Shape::Line {
                 from: pt(*from),
@@ -155,7 +157,9 @@ fn shape(def: &ShapeDef) -> Result<Shape, String> {
         ShapeDef::Polyline { points } => {
             let flat: Vec<f64> = points.iter().flat_map(|p| [p.0, p.1]).collect();
             if points.len() < 2 || !finite(&flat) {
-                return Err("a polyline needs at least two finite points".into());
+                return Err(
+                    "a polyline needs at least two points, finite and below 1e100 in size".into(),
+                );
             }
             // Two points in a row closer than the round-off of their coordinates make a segment
             // with no direction; a segment that turns straight back makes a spike with no free
@@ -191,7 +195,10 @@ fn shape(def: &ShapeDef) -> Result<Shape, String> {
             hollow,
         } => {
             if !finite(&[centre.0, centre.1, *radius]) || *radius <= 0.0 {
-                return Err("a circle needs a finite centre and a positive radius".into());
+                return Err(
+                    "a circle needs a centre and a positive radius, finite and below 1e100 in size"
+                        .into(),
+                );
             }
             Ok(Shape::Circle {
                 centre: pt(*centre),
@@ -209,7 +216,7 @@ fn shape(def: &ShapeDef) -> Result<Shape, String> {
             let ok = finite(&[centre.0, centre.1, *radius, *from_deg, *to_deg]);
             if !ok || *radius <= 0.0 || (to_deg - from_deg).rem_euclid(360.0) == 0.0 {
                 return Err(
-                    "an arc needs a finite centre, a positive radius and two different angles"
+                    "an arc needs a centre, a positive radius and two different angles, finite and below 1e100 in size"
                         .into(),
                 );
             }

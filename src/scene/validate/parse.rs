@@ -85,13 +85,15 @@ pub fn parse(text: &str, file: &str) -> Result<Scene, SceneError> {
     let options =
         ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
     let sf: SceneFile = options.from_str(text).map_err(|e| {
-        let (line, col) = (e.span.start.line, e.span.start.col);
-        let (line, message) = syntax_cause(text, line, col)
-            .unwrap_or_else(|| (line, format!("{} (column {col})", e.code)));
+        let (at, col) = (e.span.start.line, e.span.start.col);
+        let (line, message) = syntax_cause(text, at, col)
+            .unwrap_or_else(|| (at, format!("{} (column {col})", e.code)));
+        // The field whose value the parser stopped in, where the error is where it stopped.
+        let key = (line == at).then(|| key_at(text, at, col)).flatten();
         SceneError {
             file: file.into(),
             line: Some(line),
-            field: "(syntax)".into(),
+            field: key.map_or("(syntax)".into(), |k| format!("{k} (syntax)")),
             message,
         }
     })?;
@@ -138,6 +140,31 @@ fn syntax_cause(text: &str, line: usize, col: usize) -> Option<(usize, String)> 
         ));
     }
     None
+}
+
+/// The key of the field at `line` and `col` (from 1) of `text`: the name there if one starts
+/// there and is followed by a colon, else the last `name:` before it on that line.
+fn key_at(text: &str, line: usize, col: usize) -> Option<String> {
+    let here: Vec<char> = text.lines().nth(line.checked_sub(1)?)?.chars().collect();
+    let word = |c: &char| c.is_alphanumeric() || *c == '_';
+    let start = col.checked_sub(1)?.min(here.len());
+    let named_at = |k: usize| -> Option<String> {
+        let name: String = here[k..].iter().take_while(|c| word(c)).collect();
+        let rest = here[k + name.chars().count()..]
+            .iter()
+            .find(|c| !c.is_whitespace());
+        (!name.is_empty() && rest == Some(&':')).then_some(name)
+    };
+    if let Some(name) = named_at(start) {
+        return Some(name);
+    }
+    let colon = here[..start].iter().rposition(|&c| c == ':')?;
+    let end = here[..colon].iter().rposition(|c| !c.is_whitespace())? + 1;
+    let begin = here[..end]
+        .iter()
+        .rposition(|c| !word(c))
+        .map_or(0, |k| k + 1);
+    (begin < end).then(|| here[begin..end].iter().collect())
 }
 
 /// Validate a scene already parsed (or built in code), `sf`; `file` names it in messages
@@ -222,9 +249,12 @@ fn stiffness_span(ctx: &Ctx, model: &Model) -> Result<(), SceneError> {
         }
     }
     if lo.0 < STIFFNESS_SPAN * hi.0 {
+        // Placed at the body of the stiffness lost (its section, or its elements' length).
+        let b = model.beams[lo.2].body;
+        let name = &model.bodies[b].name;
         return Err(ctx.err(
-            "sections",
-            None,
+            format!("bodies[{b}] (body \"{name}\")"),
+            Some(format!("name:\"{name}\"")),
             format!(
                 "the element stiffnesses span more than 15 orders of magnitude ({} = {:e} on {} against {} = {:e} on {}): the smaller is lost to round-off",
                 lo.1,

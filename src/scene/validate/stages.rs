@@ -3,7 +3,7 @@
 //! group the scene has; a dof the scene prescribes; exactly one of `to`, `by` and `values`;
 //! finite values) and resolved into the solver's `LoadPath` of stage-end values.
 
-use super::errors::{sized, Ctx, SceneError};
+use super::errors::{entry_line, sized, Ctx, SceneError};
 use super::geometry::Geometry;
 use crate::scene::format::{SceneFile, StageDef};
 use crate::solver::{LoadPath, Prescribed, Stage, StageMotion};
@@ -62,7 +62,7 @@ pub(super) fn load_path(
     let mut stages = Vec::with_capacity(sf.stages.len());
     for (k, st) in sf.stages.iter().enumerate() {
         // Errors inside a stage are located from the line where it opens.
-        let from = stage_line(ctx.text, k);
+        let from = entry_line(ctx.text, "stages", k);
         let start = from.map_or(0, |l| line_offset(ctx.text, l));
         let here = Ctx {
             text: &ctx.text[start..],
@@ -138,7 +138,7 @@ fn one_stage(
                 format!("the scene's groups are {}", groups.join(", "))
             };
             return Err(ctx.err(
-                field,
+                format!("{at}.loads[{j}].group (group \"{}\")", c.group),
                 needle,
                 format!("no load group \"{}\": {known}", c.group),
             ));
@@ -229,50 +229,17 @@ fn line_offset(text: &str, line: usize) -> usize {
     })
 }
 
-/// The line (from 1) where entry `k` of the `stages` list opens: the `k`-th parenthesis at the
-/// list's top level. Strings and comments are skipped.
-fn stage_line(text: &str, k: usize) -> Option<usize> {
-    let start = text.find("stages")?;
-    let open = start + text[start..].find('[')?;
-    let (mut depth, mut seen, mut line) = (0usize, 0usize, text[..open].lines().count().max(1));
-    let mut chars = text[open + 1..].chars().peekable();
-    let mut in_string = false;
-    while let Some(c) = chars.next() {
-        match c {
-            '\n' => line += 1,
-            '"' => in_string = !in_string,
-            _ if in_string => {}
-            '/' if chars.peek() == Some(&'/') => {
-                while chars.peek().is_some_and(|&c| c != '\n') {
-                    chars.next();
-                }
-            }
-            '(' | '[' => {
-                if depth == 0 && c == '(' {
-                    if seen == k {
-                        return Some(line);
-                    }
-                    seen += 1;
-                }
-                depth += 1;
-            }
-            ')' | ']' if depth == 0 => return None,
-            ')' | ']' => depth -= 1,
-            _ => {}
-        }
-    }
-    None
-}
-
 /// `v` if finite, else the error for `key` of `field`.
 fn finite(ctx: &Ctx, field: &str, key: &str, v: f64) -> Result<f64, SceneError> {
     if sized(v) {
         Ok(v)
     } else {
+        // `path (label)` becomes `path.key (label)`.
+        let (path, label) = field.split_at(field.find(" (").unwrap_or(field.len()));
         Err(ctx.err(
-            format!("{field}.{key}"),
+            format!("{path}.{key}{label}"),
             Some(key.into()),
-            format!("must be finite (below 1e100 in size), got {v}"),
+            format!("must be finite (below 1e100 in size), got {v:e}"),
         ))
     }
 }
