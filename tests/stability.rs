@@ -4,7 +4,8 @@
 //! a pin slid over a 50-element beam (one transfer per element boundary), a beam pressed flat
 //! and released (path independence, stress-free when unloaded), slender and stubby members
 //! against the elastica and the exact linear Timoshenko cantilever, short elements next to long
-//! ones, and a cantilever rolled up more than twice (exact circle).
+//! ones, a cantilever rolled up more than twice (exact circle), and a cantilever of a million
+//! elements (ill-conditioned, not a mechanism) against linear theory.
 #![cfg(feature = "reports")]
 
 use tsm_contact::reports::stress;
@@ -323,4 +324,30 @@ fn cantilever_rolls_up_more_than_twice_onto_the_exact_circle() {
             "{f:?}: {e32} {e64}"
         );
     }
+}
+
+/// A clamped cantilever of a million elements with EA / EI = 1e6 (l = 1e-6 m), loaded at its
+/// tip: a stiff, ill-conditioned chain, not a mechanism. The scene is accepted, and the step
+/// lands on linear theory's tip deflection P L^3 / (3 EI) to 1e-3 (the load is small: the
+/// rotation 5e-4 rad), at the round-off floor at worst.
+#[test]
+fn a_cantilever_of_a_million_elements_is_no_mechanism_and_bends_as_theory_says() {
+    let text = r#"(
+    name: "long cantilever",
+    sections: [(name: "s", E: 1.0, A: 1.0e6, I: 1.0)],
+    bodies: [(name: "b", section: "s", path: [(0.0, 0.0), (1.0, 0.0)], elements: 1000000, first_node: 1)],
+    supports: [(node: 1, u: true, v: true, phi: true)],
+    loads: [(node: 1000001, fy: -1e-3)],
+    control: (steps: 1),
+)"#;
+    let scene = parse(text, "long cantilever").expect("accepted: no mechanism");
+    let mut solver = scene.solver().expect("a stable structure");
+    solver.step(&mut Silent).expect("the step converges");
+    let (tip, _) = solver.node_state(solver.model.nodes.len() - 1);
+    let exact = -1e-3 / 3.0;
+    assert!(
+        (tip[1] - exact).abs() < 1e-3 * exact.abs(),
+        "tip {} against {exact}",
+        tip[1]
+    );
 }
