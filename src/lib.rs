@@ -1,7 +1,7 @@
 //! tsm-contact: Tangent Stiffness Method solver for large-displacement contact of plane frames,
 //! with the scene format, the run history, a worker thread, (feature `reports`) the reports
 //! that measure the solver and (feature `gui`) an interactive visualiser. The arrows point one
-//! way: app -> worker -> solver, scene -> solver, reports -> solver; `tests/architecture.rs`
+//! way: app -> worker -> solver, scene -> solver, reports -> solver; `tests/inputs/architecture.rs`
 //! checks them.
 
 #![warn(missing_docs)]

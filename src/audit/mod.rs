@@ -3,7 +3,7 @@
 //! node is inside an obstacle, every frictional contact is within the friction law, and every
 //! contact presses. It reads only the history (its topology, node states, forces and contact
 //! records) and shares no code with the solver's contact, acceptance, element, assembly or
-//! Newton code (`tests/architecture.rs` bars those imports): it is the oracle of the tests and
+//! Newton code (`tests/inputs/architecture.rs` bars those imports): it is the oracle of the tests and
 //! of `tsm-contact check`.
 
 pub mod equilibrium;

@@ -2,7 +2,7 @@
 //! row (converged or not, increments, iterations, cut-backs, transfers, the contact point
 //! closest to an element end, and an error against an independent reference where there is
 //! one). `tsm-contact stress` prints the table and writes `docs/stress.md`; the tests in
-//! `tests/stability.rs` check the numbers. `run.rs` runs one case, `cases.rs` holds them,
+//! `tests/solver/stability.rs` check the numbers. `run.rs` runs one case, `cases.rs` holds them,
 //! `suite.rs` runs them all and writes the table.
 
 mod cases;

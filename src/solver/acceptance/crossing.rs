@@ -2,7 +2,7 @@
 //! passed through an element of a candidate body between the last accepted state and this one
 //! unless it is in contact with that body. The test works on node positions and rotations
 //! alone (the chords swept linearly over the increment), so that a bug in the active set
-//! cannot hide itself; it is also run on a written history (`tests/acceptance.rs`).
+//! cannot hide itself; it is also run on a written history (`tests/contact/acceptance.rs`).
 
 use std::cell::RefCell;
 use std::sync::Arc;

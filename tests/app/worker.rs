@@ -2,7 +2,7 @@
 //! value after N steps is N * per_step, `SetTarget` marches in increments no larger than
 //! `|per_step|` and stops exactly at the target, and `Cancel` stops promptly.
 
-mod common;
+use crate::common;
 
 use std::time::{Duration, Instant};
 

@@ -5,7 +5,7 @@
 //! A L g), and the oracle finds nothing. Without friction nothing holds the bar sideways, and
 //! the scene is refused as a rigid motion of the bar.
 
-mod common;
+use crate::common;
 
 use tsm_contact::history::History;
 use tsm_contact::scene::{parse, Scene};

@@ -3,7 +3,7 @@
 //! table (free and clamped lifted end), and the elastica of the wrapped cantilever under a large
 //! load, integrated here by shooting; each with its error falling as h^2 under refinement.
 
-mod common;
+use crate::common;
 
 use tsm_contact::scene::parse;
 use tsm_contact::solver::{IncrementRecord, Silent};

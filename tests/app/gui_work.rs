@@ -16,7 +16,7 @@ use tsm_contact::app::{Startup, TsmApp};
 use tsm_contact::scene::builtin::{builtin, open, BUILTIN};
 use tsm_contact::solver::{IncrementRecord, Silent};
 
-mod gui_support;
+use crate::gui_support;
 use gui_support::{label, loaded, shown_increment, solving, wait, CANTILEVER};
 
 /// A folder of this test's own.

@@ -4,7 +4,7 @@
 //! self-contact windows). A folded strip pressed shut gives the same state, contacts and
 //! forces at the end of every step both ways.
 
-mod common;
+use crate::common;
 
 use tsm_contact::scene::parse;
 use tsm_contact::solver::{IncrementRecord, Silent};

@@ -1,7 +1,7 @@
 //! The banded LU (with row pivoting) against a dense LU, and reverse Cuthill-McKee against the
 //! bandwidth a chain must have.
 
-mod common;
+use crate::common;
 use common::Rng;
 use tsm_contact::solver::linear::{dense_solve, reverse_cuthill_mckee, BandMatrix, NOT_FREE};
 

@@ -2,7 +2,7 @@
 //! corrected), symmetry, condensation to the 2-node element, the Psi -> 0 limit, exact tangents
 //! against central finite differences, and rigid-body invariance of any size.
 
-mod common;
+use crate::common;
 use common::Rng;
 use nalgebra::DMatrix;
 use tsm_contact::solver::element::beam::BeamElement;

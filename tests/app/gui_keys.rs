@@ -11,7 +11,7 @@ use egui_kittest::kittest::Queryable;
 use egui_kittest::Harness;
 use tsm_contact::app::{Startup, TsmApp};
 
-mod gui_support;
+use crate::gui_support;
 use gui_support::{label, loaded, shown_increment, solving, wait};
 
 fn harness_on(scene: &str) -> Harness<'static, TsmApp> {

@@ -2,7 +2,7 @@
 //! closed-form springs-in-series force (bending plus shear), and the paper's Example 3.2 keeps every contact compressive, no node through a beam, residuals below 1e-8,
 //! events in the paper's order and few Newton iterations.
 
-mod common;
+use crate::common;
 
 use tsm_contact::scene::{builtin::builtin, parse};
 use tsm_contact::solver::report::ContactChange;

@@ -6,7 +6,7 @@
 //! stages say; and stages that cannot be run, refused with located errors. Every history is
 //! audited by the independent checker.
 
-mod common;
+use crate::common;
 
 use tsm_contact::scene::{parse, Scene};
 use tsm_contact::solver::report::ContactState;

@@ -193,7 +193,7 @@ fn tangent_equals_finite_difference_jacobian() {
         check_tangent(&sc, 6, 0x0fed_cba9_8765_4321);
     }
     // Three active contacts (the Bernoulli-Euler run of this scene fails at the first touch,
-    // which lands on a node; its contact tangent is checked in tests/contact.rs).
+    // which lands on a node; its contact tangent is checked in tests/contact/contact.rs).
     check_tangent(&scene("example_3_2"), 14, 0x2545_f491_4f6c_dd1d);
     {}
 }

@@ -8,7 +8,7 @@
 //! of a node on an obstacle against central differences; and the acceptance check of the
 //! friction law against states made to break it.
 
-mod common;
+use crate::common;
 
 use nalgebra::DMatrix;
 use tsm_contact::scene::builtin::BUILTIN;

@@ -14,7 +14,7 @@ use egui_kittest::{Harness, SnapshotOptions};
 use tsm_contact::app::canvas::diagrams::Diagram;
 use tsm_contact::app::{Startup, TsmApp};
 
-mod gui_support;
+use crate::gui_support;
 use gui_support::{loaded, solving, wait};
 
 const SIZE: [f32; 2] = [1400.0, 900.0];

@@ -3,7 +3,7 @@
 //! land exactly on a beam's line or an obstacle's, and the oracle's teeth: pass-throughs
 //! planted in real histories, and a stored history with the pin through beam A.
 
-mod common;
+use crate::common;
 
 use common::findings;
 use tsm_contact::audit::audit_history;
@@ -75,7 +75,7 @@ fn spread(n: usize, lo: f64, hi: f64) -> Vec<f64> {
 /// through A there.
 #[test]
 fn the_oracle_finds_the_stored_pass_through() {
-    let text = include_str!("fixtures/example_3_2_pin_through_a.json");
+    let text = include_str!("../fixtures/example_3_2_pin_through_a.json");
     let h: History = serde_json::from_str(text).expect("a history");
     let scene = builtin("example_3_2").unwrap().unwrap();
     let found = audit_history(&h, Some(&Topology::of(&scene.model))).expect("audited");

@@ -4,7 +4,7 @@
 //! roll-up, against the regular polygon. The default mode switches it on at a run's first
 //! cut-back and leaves runs without one as plain Newton's, bit for bit.
 
-mod common;
+use crate::common;
 
 use tsm_contact::scene::{builtin, Scene};
 use tsm_contact::solver::{Event, IncrementRecord, Observer, StretchCorrection};

@@ -4,7 +4,7 @@
 //! right at that beam's end node (li/l = 0) is caught. No chord of one beam may cross a chord
 //! of the other away from an active contact at any converged state.
 
-mod common;
+use crate::common;
 
 use tsm_contact::scene::{builtin::builtin, parse};
 use tsm_contact::solver::{Formulation, IncrementRecord, Silent};

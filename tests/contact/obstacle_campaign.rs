@@ -6,7 +6,7 @@
 //! tolerance, and the strip in equilibrium under its reactions, its loads and the obstacle's
 //! pushes. A run may stop, but only with a typed error.
 
-mod common;
+use crate::common;
 
 use common::Rng;
 use tsm_contact::scene::parse;

@@ -13,7 +13,7 @@ use tsm_contact::app::units::num;
 use tsm_contact::app::{Startup, TsmApp};
 use tsm_contact::solver::{Friction, Silent};
 
-mod gui_support;
+use crate::gui_support;
 use gui_support::{label, loaded, shown_increment, wait, CANTILEVER};
 
 /// The app on `scene` (a path or built-in name) with `diagram`, its first step solved.

@@ -7,7 +7,7 @@
 //! springs straight. Also Example 3.2 at the two step sizes where A's tip lands on a mesh node
 //! of B.
 
-mod common;
+use crate::common;
 
 use tsm_contact::history::History;
 use tsm_contact::scene::{builtin::builtin, parse, Scene};

@@ -3,7 +3,7 @@
 //! record the worker sends is audited by the oracle (`tsm_contact::audit`), which shares no
 //! code with the solver: no node goes through a body, every state is in equilibrium.
 
-mod common;
+use crate::common;
 
 use std::time::{Duration, Instant};
 

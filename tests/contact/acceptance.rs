@@ -5,7 +5,7 @@
 //! line, Example 3.2 dragged in uneven steps and with Bernoulli-Euler elements, translated
 //! scenes, and random pins (proptest).
 
-mod common;
+use crate::common;
 
 use proptest::prelude::*;
 use tsm_contact::history::History;

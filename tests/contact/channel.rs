@@ -10,7 +10,7 @@
 //! alone until the thrust at which it turns into a line contact (`line_contact_thrust`), and
 //! the contacts stay symmetric about midspan; no node crosses a wall.
 
-mod common;
+use crate::common;
 
 use tsm_contact::scene::parse;
 use tsm_contact::solver::{Event, IncrementRecord, Silent};

@@ -14,7 +14,7 @@ use tsm_contact::app::TsmApp;
 use tsm_contact::scene::builtin::builtin;
 use tsm_contact::solver::{IncrementRecord, IncrementStatus, Silent};
 
-mod gui_support;
+use crate::gui_support;
 use gui_support::{
     harness_on, harness_sized, label, loaded, shown_increment, solving, wait, wait_each,
 };

@@ -1,0 +1,18 @@
+//! Contact: the acceptance rule, the independent oracle, beams, obstacles, friction, self-contact, drags and load paths.
+//! One test binary; each module is one subject (`cargo test --release --test contact -- MODULE::`).
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod acceptance;
+mod bar_on_a_beam_floor;
+mod channel;
+mod contact;
+mod drags;
+mod friction;
+mod load_paths;
+mod mesh_node_contact;
+mod obstacle_campaign;
+mod obstacles;
+mod oracle;
+mod self_contact;
