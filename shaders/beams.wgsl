@@ -1,4 +1,4 @@
-// Beam strips for the tsm-contact viewport (src/app/beams_gpu.rs): screen-space triangle
+// Beam strips for the tsm-contact viewport (src/app/canvas/beams_gpu.rs): screen-space triangle
 // strips built on the CPU, positioned here from screen points to clip space, with a soft
 // one-pixel edge computed from the signed distance across the strip. Output is premultiplied
 // alpha in gamma space (what egui's blending expects), or linear for an sRGB target.

@@ -179,7 +179,7 @@ impl KeptHistory {
     }
 }
 
-/// Kept records set aside from a history (`KeptHistory::split_off`), with what the history
+/// Kept records set aside from a history ([`KeptHistory::split_off`]), with what the history
 /// needs to take them back.
 #[derive(Clone, Debug)]
 pub struct Tail {

@@ -32,7 +32,7 @@ const FRICTION_SLACK: f64 = 1e-6;
 pub struct Run<'a> {
     /// The model's topology.
     pub topology: &'a Topology,
-    /// The node ids in the order of `IncrementRecord::nodes`.
+    /// The node ids in the order of [`IncrementRecord::nodes`].
     pub node_ids: &'a [u32],
     /// The solver parameters of the run (tolerances).
     pub params: &'a SolverParams,
@@ -136,7 +136,7 @@ fn audit_with(
 
 /// The audit of a whole history, with `topology` standing in for the one it lacks (a version 1
 /// history); an error where there is none, or no parameters. On a thinned history
-/// (`History::every`) the sides of the candidate nodes are not judged: between the increments
+/// ([`History::every`]) the sides of the candidate nodes are not judged: between the increments
 /// it keeps a node may have gone through a body and back (`check` says so).
 pub fn audit_history(h: &History, topology: Option<&Topology>) -> Result<Vec<Finding>, String> {
     let topology = (h.topology.as_ref().or(topology))

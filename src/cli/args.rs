@@ -201,8 +201,8 @@ pub enum DiagramArg {
 #[cfg(feature = "gui")]
 impl DiagramArg {
     /// The diagram it names.
-    pub fn diagram(self) -> tsm_contact::app::canvas::diagrams::Diagram {
-        use tsm_contact::app::canvas::diagrams::Diagram;
+    pub fn diagram(self) -> tsm_contact::app::display::Diagram {
+        use tsm_contact::app::display::Diagram;
         match self {
             DiagramArg::N => Diagram::Axial,
             DiagramArg::V => Diagram::Shear,

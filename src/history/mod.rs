@@ -29,7 +29,7 @@ pub struct History {
     pub formulation: Option<Formulation>,
     /// Solver parameters used.
     pub params: Option<SolverParams>,
-    /// User ids of the nodes, in the order of `IncrementRecord::nodes`.
+    /// User ids of the nodes, in the order of [`IncrementRecord::nodes`].
     pub node_ids: Vec<u32>,
     /// The model's topology (absent from version 1 histories).
     #[serde(default)]

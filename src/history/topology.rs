@@ -71,7 +71,7 @@ pub struct TopologyNode {
 /// A beam element.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct TopologyElement {
-    /// Index of its body in `Topology::bodies`.
+    /// Index of its body in [`Topology::bodies`].
     pub body: usize,
     /// User id of its end node i.
     pub i: u32,
@@ -90,7 +90,7 @@ pub struct TopologyElement {
 pub struct TopologyBody {
     /// Name.
     pub name: String,
-    /// Its elements (indices into `Topology::elements`) in order along it.
+    /// Its elements (indices into [`Topology::elements`]) in order along it.
     pub elements: Vec<usize>,
     /// Its node ids in order along it (one more than the elements).
     pub nodes: Vec<u32>,
@@ -133,7 +133,7 @@ pub struct TopologyLoad {
     pub node: u32,
     /// (Fx, Fy, M) (N, N m).
     pub force: [f64; 3],
-    /// Its load group (index into `Topology::load_groups`; 0 where there is one factor).
+    /// Its load group (index into [`Topology::load_groups`]; 0 where there is one factor).
     #[serde(default, skip_serializing_if = "first_group")]
     pub group: usize,
 }
@@ -148,7 +148,7 @@ pub struct TopologyDistributed {
     pub q: [[f64; 2]; 2],
     /// Whether it turns with the element.
     pub follower: bool,
-    /// Its load group (index into `Topology::load_groups`; 0 where there is one factor).
+    /// Its load group (index into [`Topology::load_groups`]; 0 where there is one factor).
     #[serde(default, skip_serializing_if = "first_group")]
     pub group: usize,
 }

@@ -1,7 +1,7 @@
 //! Interactive response: how long a slider drag takes to re-solve a paper scene (target: one
 //! 60 Hz frame, 16 ms). From every converged step of the scene the prescribed displacements move
 //! by one step's worth at the current load factor, as the worker does for `SetTarget` (one
-//! `Solver::advance_to`), and the time to converge there is measured (release builds; median of
+//! [`Solver::advance_to`]), and the time to converge there is measured (release builds; median of
 //! repeats per state, then the median and the worst over the states).
 
 use std::time::Instant;

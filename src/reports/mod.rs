@@ -2,7 +2,7 @@
 //! prints and writes into `docs/`, built on the library's public API only. Each file is one
 //! report or the reference it is measured against:
 //! `work_precision.rs` (error against time, with `pin_elastica.rs` the contact reference),
-//! `stress.rs` (the stability suite), `scaling.rs` and `contact_scaling.rs` (cost against
+//! `stress/` (the stability suite), `scaling.rs` and `contact_scaling.rs` (cost against
 //! size, with `plain_chain.rs` the yardstick), `interactive.rs` (slider re-solve times), `robust.rs` (the robustness campaign).
 
 pub mod contact_scaling;

@@ -1,6 +1,6 @@
 //! The yardstick of the scale report: a plain banded assemble-and-factor loop for a chain of beam
 //! elements, with nothing of the general solver (no dof map, no ordering, no contact, no
-//! bookkeeping). One iteration evaluates every element (the same `BeamElement::evaluate` the
+//! bookkeeping). One iteration evaluates every element (the same [`BeamElement::evaluate`] the
 //! solver uses), sums the internal forces, adds the tangents into a symmetric band, factors it
 //! L D L^T and solves for the unbalanced force. The general solver aims to lose little to this
 //! loop.

@@ -389,13 +389,10 @@ pub fn svg(points: &[Point]) -> String {
         }
     }
     let styles = [
-        (Formulation::BernoulliEuler, "Bernoulli-Euler", ""),
-        (
-            Formulation::Timoshenko,
-            "Timoshenko",
-            " stroke-dasharray=\"6 3\"",
-        ),
-    ];
+        (Formulation::BernoulliEuler, ""),
+        (Formulation::Timoshenko, " stroke-dasharray=\"6 3\""),
+    ]
+    .map(|(f, dash)| (f, f.name(), dash));
     for (k, prob) in problems.iter().enumerate() {
         let c = colours[k % colours.len()];
         for (f, _, dash) in styles {

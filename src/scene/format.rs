@@ -394,7 +394,7 @@ pub struct ControlDef {
     pub contact_normal: ContactNormal,
 }
 
-/// The direction of a frictionless node-to-beam contact force (`ControlDef::contact_normal`).
+/// The direction of a frictionless node-to-beam contact force ([`ControlDef::contact_normal`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub enum ContactNormal {
     /// Normal to the beam's surface at the contact point: the element's end rotations

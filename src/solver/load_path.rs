@@ -59,7 +59,7 @@ pub struct Stage {
 /// Where one step of a path lands: the prescribed values and the load factors at its end.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PathPoint {
-    /// The stage the step belongs to (index into `LoadPath::stages`).
+    /// The stage the step belongs to (index into [`LoadPath::stages`]).
     pub stage: usize,
     /// The prescribed values at the step's end, one per `Model::prescribed`.
     pub prescribed: Vec<f64>,

@@ -6,8 +6,10 @@
 //! `contact/` (the contact set and its life cycle), `newton/` (one Newton iteration for every
 //! increment control), `acceptance/` (the check every increment passes before it is
 //! committed) and `control/` (the `Solver`: increment control and cut-backs). `model.rs`,
-//! `load_path.rs`, `params.rs` and `report.rs` are the vocabulary they share; `structure.rs` and `state.rs`
-//! the prepared model and the converged state.
+//! `load_path.rs`, `params.rs`, `report.rs` and `errors.rs` (what a run stops with) are the
+//! vocabulary they share; `structure.rs` and `state.rs` the prepared model and the converged
+//! state; `rigid_modes.rs` tells a mechanism's free rigid motions, and `index_map.rs` is the
+//! small map the contact code keys by node and body.
 
 pub mod acceptance;
 pub mod assembly;

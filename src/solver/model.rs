@@ -26,6 +26,19 @@ pub enum Dof {
     Phi,
 }
 
+impl Formulation {
+    /// Both formulations, the scenes' default first.
+    pub const ALL: [Formulation; 2] = [Formulation::Timoshenko, Formulation::BernoulliEuler];
+
+    /// The name people read ("Bernoulli-Euler").
+    pub fn name(self) -> &'static str {
+        match self {
+            Formulation::BernoulliEuler => "Bernoulli-Euler",
+            Formulation::Timoshenko => "Timoshenko",
+        }
+    }
+}
+
 impl Dof {
     /// The three dofs of a node, in offset order.
     pub const ALL: [Dof; 3] = [Dof::U, Dof::V, Dof::Phi];
@@ -82,7 +95,7 @@ impl Section {
     }
 }
 
-/// A 2-node beam element between node indices `i` and `j` (indices into `Model::nodes`).
+/// A 2-node beam element between node indices `i` and `j` (indices into [`Model::nodes`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Beam {
     /// Index of the start node.
@@ -120,7 +133,7 @@ pub struct Load {
     pub node: usize,
     /// Force along x (N), force along y (N), moment (N m).
     pub force: [f64; 3],
-    /// The load group whose factor scales it (index into `Model::load_groups`; 0 where the
+    /// The load group whose factor scales it (index into [`Model::load_groups`]; 0 where the
     /// model has one group).
     #[serde(default)]
     pub group: usize,
@@ -141,7 +154,7 @@ pub struct DistributedLoad {
     /// Whether it follows the element.
     #[serde(default)]
     pub follower: bool,
-    /// The load group whose factor scales it (index into `Model::load_groups`).
+    /// The load group whose factor scales it (index into [`Model::load_groups`]).
     #[serde(default)]
     pub group: usize,
 }

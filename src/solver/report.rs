@@ -128,7 +128,7 @@ impl Event {
         }
     }
 
-    /// The event in one line, its element named by `model` (`Model::element_label`): what the
+    /// The event in one line, its element named by `model` ([`Model::element_label`]): what the
     /// CLI prints and the app lists.
     pub fn describe(&self, model: &Model) -> String {
         match self {
@@ -233,7 +233,7 @@ pub struct ObstacleState {
     pub point: [f64; 2],
     /// The unit normal there, pointing to the free side.
     pub normal: [f64; 2],
-    /// The friction force on the node along the obstacle's tangent (normal[1], -normal[0])
+    /// The friction force on the node along the obstacle's tangent (`normal[1]`, `-normal[0]`)
     /// (N); 0 where the obstacle is frictionless.
     #[serde(default)]
     pub tangential: f64,

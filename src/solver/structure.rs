@@ -25,7 +25,7 @@ const DENSE_MECHANISM_CHECK: usize = 200;
 #[derive(Clone, Debug)]
 pub struct Structure {
     /// The model being solved, its coordinates measured from `origin` (the scene's own, unless
-    /// the scene lies far from the origin: see `Model::recentred`).
+    /// the scene lies far from the origin: see [`Model::recentred`]).
     pub model: Model,
     /// Parameters.
     pub params: SolverParams,
@@ -35,7 +35,7 @@ pub struct Structure {
     pub(crate) packed: Vec<PackedBeam>,
     /// The dof numbering.
     pub(crate) dofs: DofMap,
-    /// The smallest reference force (`SolverParams::force_floor` times the largest EA).
+    /// The smallest reference force ([`SolverParams::force_floor`] times the largest EA).
     pub(crate) force_floor: f64,
     /// Contact candidate (node, body) pairs.
     pub(crate) candidates: Vec<(usize, usize)>,
@@ -43,7 +43,7 @@ pub struct Structure {
     pub(crate) candidate_nodes: usize,
     /// The beam elements at each node.
     pub(crate) node_beams: Vec<Vec<usize>>,
-    /// Where the model's coordinates are measured from (`Model::recentred`): positions handed
+    /// Where the model's coordinates are measured from ([`Model::recentred`]): positions handed
     /// out add it back.
     pub(crate) origin: [f64; 2],
     /// The round-off of a node position: 64 units of the largest initial coordinate.
@@ -51,13 +51,13 @@ pub struct Structure {
     /// The larger side of the model's bounding box at rest.
     pub(crate) size: f64,
     /// For every self-contact candidate pair (node, own body), the positions in the body
-    /// (first, last) of the elements it leaves out (`Model::self_window`).
+    /// (first, last) of the elements it leaves out ([`Model::self_window`]).
     pub(crate) self_windows: IndexMap<(usize, usize), (usize, usize)>,
     /// The position of every element in its body.
     pub(crate) place: Vec<usize>,
     /// The (node, obstacle) pairs that may touch.
     pub(crate) obstacle_candidates: Vec<(usize, usize)>,
-    /// The penalty of the obstacle contacts (N/m): `SolverParams::obstacle_penalty` times the
+    /// The penalty of the obstacle contacts (N/m): [`SolverParams::obstacle_penalty`] times the
     /// largest EA/l.
     pub(crate) obstacle_penalty: f64,
     /// The friction coefficient of every frictional candidate pair (node, body); empty where
@@ -67,7 +67,7 @@ pub struct Structure {
     /// its ends i and j: where a contact's stick point lies, whichever element it rests on.
     pub(crate) body_length_at: Vec<[f64; 2]>,
     /// The side (+1 left, -1 right) the scene declares for candidate pairs (node, body) that
-    /// start touching (`ContactPair::side`).
+    /// start touching ([`ContactPair::side`]).
     pub(crate) declared_sides: IndexMap<(usize, usize), f64>,
 }
 
@@ -190,7 +190,7 @@ impl Structure {
     }
 
     /// The window of element positions (first, last) that node `n` leaves out of its own body
-    /// `b` (`Model::self_window`), for a self-contact pair; `None` for any other pair.
+    /// `b` ([`Model::self_window`]), for a self-contact pair; `None` for any other pair.
     #[inline]
     pub(crate) fn self_window_of(&self, n: usize, b: usize) -> Option<(usize, usize)> {
         if self.self_windows.is_empty() {
@@ -205,7 +205,7 @@ impl Structure {
     }
 
     /// The largest gap (either way) of an accepted obstacle contact (m):
-    /// `SolverParams::obstacle_gap` of the model's size, and the round-off of the positions.
+    /// [`SolverParams::obstacle_gap`] of the model's size, and the round-off of the positions.
     pub fn obstacle_tolerance(&self) -> f64 {
         self.params.obstacle_gap * self.size + self.position_roundoff
     }

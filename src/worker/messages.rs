@@ -19,7 +19,7 @@ pub const CHANNEL_CAPACITY: usize = 1024;
 pub enum Command {
     /// Replace the scene and start from its undeformed state.
     LoadScene(Box<Scene>),
-    /// Solve the scene's remaining steps (up to `Scene::steps` steps in all).
+    /// Solve the scene's remaining steps (up to [`Scene::steps`] steps in all).
     Run,
     /// Solve this many more steps.
     RunSteps(usize),
@@ -42,7 +42,7 @@ pub enum Command {
     /// Back to the undeformed state of the current scene.
     Reset,
     /// Go on from an accepted state of the current scene (a branch of its history, or the end
-    /// of one set aside); answered by `Message::Restored`.
+    /// of one set aside); answered by [`Message::Restored`].
     Restore(Arc<Checkpoint>),
     /// Abandon the current work at once (the last converged state is kept).
     Cancel,
@@ -61,7 +61,7 @@ pub struct Loaded {
     pub initial: IncrementRecord,
     /// "node N v"-style label of every prescribed dof.
     pub prescribed_labels: Vec<String>,
-    /// The undeformed state to go on from (`Command::Restore`).
+    /// The undeformed state to go on from ([`Command::Restore`]).
     pub checkpoint: Arc<Checkpoint>,
 }
 
@@ -72,10 +72,10 @@ pub enum Message {
     Iteration(IterationRecord),
     /// A converged increment.
     Increment(Box<IncrementRecord>),
-    /// The state after a converged increment, to go on from later (`Command::Restore`); sent
+    /// The state after a converged increment, to go on from later ([`Command::Restore`]); sent
     /// after the increment's record.
     Checkpoint(Arc<Checkpoint>),
-    /// The worker went back to the accepted state of this increment (`Command::Restore`):
+    /// The worker went back to the accepted state of this increment ([`Command::Restore`]):
     /// what it sends from now on continues from there.
     Restored(usize),
     /// A cut-back or contact event.

@@ -11,7 +11,7 @@ use std::time::Duration;
 
 use egui_kittest::kittest::Queryable;
 use egui_kittest::{Harness, SnapshotOptions};
-use tsm_contact::app::canvas::diagrams::Diagram;
+use tsm_contact::app::display::Diagram;
 use tsm_contact::app::{Startup, TsmApp};
 
 use crate::gui_support;

@@ -133,9 +133,10 @@ fn cancel_stops_promptly() {
     }
     let took = sent.elapsed();
     eprintln!("cancel took effect after {took:?}");
-    // The solver thread checks for a newer command at every Newton iteration: a cancel
-    // takes effect within 50 ms.
-    assert!(took < Duration::from_millis(50), "cancel took {took:?}");
+    // The solver thread checks for a newer command at every Newton iteration: a cancel takes
+    // effect within the iteration under way (about a millisecond here). The bound is one a
+    // loaded machine meets too: it tells a cancel that waits for the run from one that does not.
+    assert!(took < Duration::from_secs(1), "cancel took {took:?}");
     assert!(last < 100_000, "ran on to increment {last}");
     // Nothing more arrives once idle.
     std::thread::sleep(Duration::from_millis(200));

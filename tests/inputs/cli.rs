@@ -241,6 +241,7 @@ fn check_audits_a_history_and_names_what_is_wrong() {
 /// `robust --per-scene 1` drives every built-in scene and family once, writes robustness.md into
 /// its output folder with one row per built-in scene, and the audit finds nothing in what it
 /// accepted.
+#[cfg(feature = "reports")]
 #[test]
 fn robust_writes_a_row_per_scene_and_an_audit_count() {
     let out = std::env::temp_dir().join(format!("tsm-robust-{}", std::process::id()));

@@ -214,7 +214,8 @@ fn converges_as_h_squared(what: &str, load: &str, reference: [f64; 2]) {
 #[cfg(feature = "gui")]
 #[test]
 fn the_diagrams_follow_the_load_inside_an_element() {
-    use tsm_contact::app::canvas::diagrams::{value_at, Diagram};
+    use tsm_contact::app::canvas::diagrams::value_at;
+    use tsm_contact::app::display::Diagram;
     let w = 1e-3;
     let text = format!(
         r#"(

@@ -5,7 +5,7 @@
 use egui::{Color32, FontId, Pos2, Shape, Stroke, Vec2};
 
 use super::shapes::{moment_at, transverse_load};
-pub use crate::app::display::Diagram;
+use crate::app::display::Diagram;
 use crate::solver::{IncrementRecord, Model};
 
 /// Screen points the largest value of a diagram spans.

@@ -5,8 +5,9 @@
 
 use std::path::Path;
 
-use super::diagrams::{value_at, Diagram};
+use super::diagrams::value_at;
 use super::shapes::{chord_frame, deformed_bodies, obstacle_outlines, undeformed_bodies};
+use crate::app::display::Diagram;
 use crate::solver::{IncrementRecord, Model};
 use crate::worker::Loaded;
 

@@ -5,7 +5,7 @@
 use egui::Pos2;
 
 use super::diagrams::value_at;
-pub use crate::app::display::{Angles, Diagram, Picked};
+use crate::app::display::{Angles, Diagram, Picked};
 use crate::app::units::num;
 use crate::scene::units::Units;
 use crate::solver::{Dof, IncrementRecord, Model};

@@ -14,7 +14,7 @@ pub const SAMPLES: usize = 8;
 /// A body's deformed centre line with the bending moment at each point.
 #[derive(Clone, Debug, Default)]
 pub struct BodyCurve {
-    /// Index of the body in `Model::bodies`.
+    /// Index of the body in [`Model::bodies`].
     pub body: usize,
     /// Points (m).
     pub points: Vec<[f64; 2]>,

@@ -5,8 +5,8 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use super::diagrams::Diagram;
 use super::figure::{figure, Kind};
+use crate::app::display::Diagram;
 use crate::history::write_atomic;
 use crate::solver::IncrementRecord;
 use crate::worker::Loaded;

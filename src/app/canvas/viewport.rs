@@ -11,13 +11,14 @@ use egui::{Align2, Color32, FontId, Pos2, Rect, Sense, Stroke, Vec2};
 use crate::solver::Dof;
 
 use super::beams_gpu::{self, Built, Strip};
-use super::diagrams::{self, Diagram};
+use super::diagrams;
 use super::overlays::{self, INK};
 use super::query::{describe, pick};
 use super::shapes::{
     deformed_bodies, max_moment, moment_color, obstacle_outlines, undeformed_bodies, BodyCurve,
 };
 use super::strips::Polyline;
+use crate::app::display::Diagram;
 use crate::app::state::TsmApp;
 use crate::app::view::{bounds, handle_world, Drag};
 

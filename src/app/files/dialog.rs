@@ -1,6 +1,6 @@
 //! The native file dialogs (Open, Save scene as, the folder and name of exports), each run on
 //! a thread of its own so that the window keeps drawing while one is open; the answer is
-//! picked up by `Dialogs::poll` on a later frame. Where no dialog can be shown (no desktop
+//! picked up by [`Dialogs::poll`] on a later frame. Where no dialog can be shown (no desktop
 //! portal), the dialog answers nothing and the path fields of the toolbar remain.
 
 use std::path::PathBuf;

@@ -11,7 +11,7 @@ use crate::solver::{Event, IncrementRecord, IncrementStatus};
 use crate::worker::Loaded;
 
 /// The history of the current run in the `History` schema (increment 0 left out); `every`:
-/// the app kept every how many of the run's records (`History::every`).
+/// the app kept every how many of the run's records ([`History::every`]).
 pub fn history(
     loaded: &Loaded,
     records: &[IncrementRecord],

@@ -77,10 +77,8 @@ pub fn toolbar(app: &mut TsmApp, ui: &mut egui::Ui) {
                 (Formulation::Timoshenko, StretchCorrection::default()),
                 |l| (l.scene.model.formulation, l.scene.params.stretch_correction),
             );
-            for (label, value) in [
-                ("Timoshenko", Formulation::Timoshenko),
-                ("Bernoulli-Euler", Formulation::BernoulliEuler),
-            ] {
+            for value in Formulation::ALL {
+                let label = value.name();
                 let hint =
                     "solve again from increment 0 with this element; Undo brings the run back";
                 if ui

@@ -3,7 +3,7 @@
 //! and stubby cantilevers, stacked beams, short elements next to long ones, a beam rolled up by
 //! an end moment, and Lee's frame by arc length.
 
-use super::run::{first_peak, ron_name, run, run_scene, Path, Run};
+use super::run::{first_peak, run, run_scene, Path, Run};
 use crate::scene::builtin::builtin;
 use crate::scene::from_scene_file;
 use crate::scene::remesh::remesh;
@@ -26,7 +26,7 @@ pub fn pin_near_end(xi: f64, f: Formulation) -> Run {
         contacts: [(nodes: [100], bodies: ["beam"])],
         control: (steps: 10),
     )"#,
-        fm = ron_name(f),
+        fm = format!("{f:?}"),
         x = 0.5 + 0.1 * xi
     );
     run(
@@ -50,7 +50,7 @@ pub fn slide_across(n: usize, f: Formulation) -> Run {
         prescribed: [(node: 1000, dof: U, per_step: 0.0), (node: 1000, dof: V, per_step: 0.0)],
         contacts: [(nodes: [1000], bodies: ["beam"])],
     )"#,
-        fm = ron_name(f),
+        fm = format!("{f:?}"),
     );
     // Two increments per element on the way out.
     let out = 2 * n;
@@ -88,7 +88,7 @@ pub fn pressed_flat(f: Formulation, per_leg: usize) -> Run {
         contacts: [(node_bodies: ["strip"], bodies: ["base"])],
         control: (load_per_step: 0.0),
     )"#,
-        fm = ron_name(f),
+        fm = format!("{f:?}"),
         loads = loads.join(", "),
     );
     let peak = 0.5;
@@ -121,7 +121,7 @@ pub fn slender(l_over_h: f64, f: Formulation) -> Run {
         loads: [(node: 33, fy: -1.0)],
         control: (steps: 10, load_per_step: {step}),
     )"#,
-        fm = ron_name(f),
+        fm = format!("{f:?}"),
         ae = a * 5.0 / 6.0,
         step = k / 10.0,
     );
@@ -156,7 +156,7 @@ pub fn stubby(l_over_h: f64, f: Formulation) -> Run {
         loads: [(node: 5, fy: {fy:e})],
         control: (steps: 1, load_per_step: 1.0),
     )"#,
-        fm = ron_name(f),
+        fm = format!("{f:?}"),
         fy = -p,
     );
     let mut r = run(
@@ -197,7 +197,7 @@ pub fn stacked(b_elements: usize, f: Formulation) -> Run {
         contacts: [(node_bodies: ["A"], bodies: ["B"]), (node_bodies: ["B"], bodies: ["A"])],
         control: (steps: 4),
     )"#,
-        fm = ron_name(f),
+        fm = format!("{f:?}"),
         y = -gap,
         clamp = 101 + b_elements,
         step = -d / 4.0,
@@ -247,7 +247,7 @@ pub fn short_next_to_long(ratio: f64, f: Formulation) -> Run {
         loads: [(node: 17, fy: -1.0)],
         control: (steps: 10, load_per_step: {step}),
     )"#,
-        fm = ron_name(f),
+        fm = format!("{f:?}"),
         path = path.join(", "),
         step = k / 10.0,
     );
@@ -277,7 +277,7 @@ pub fn roll_up(turns: f64, n: usize, steps: usize, f: Formulation) -> Run {
         loads: [(node: {tip}, m: {m:e})],
         control: (steps: {steps}, load_per_step: {step:e}),
     )"#,
-        fm = ron_name(f),
+        fm = format!("{f:?}"),
         tip = n + 1,
         step = 1.0 / steps as f64,
     );

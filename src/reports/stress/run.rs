@@ -3,9 +3,7 @@
 //! into a `Run`, and the `StressRow` a case becomes in the table.
 
 use crate::scene::{parse, Scene};
-use crate::solver::{
-    ContactChange, Event, Formulation, IncrementRecord, IterationRecord, Observer, Solver,
-};
+use crate::solver::{ContactChange, Event, IncrementRecord, IterationRecord, Observer, Solver};
 
 /// One case of the suite, as run.
 #[derive(Clone, Debug, Default)]
@@ -75,20 +73,6 @@ pub struct Run {
     pub solver: Solver,
 }
 
-pub(super) fn name(f: Formulation) -> &'static str {
-    match f {
-        Formulation::BernoulliEuler => "Bernoulli-Euler",
-        Formulation::Timoshenko => "Timoshenko",
-    }
-}
-
-pub(super) fn ron_name(f: Formulation) -> &'static str {
-    match f {
-        Formulation::BernoulliEuler => "BernoulliEuler",
-        Formulation::Timoshenko => "Timoshenko",
-    }
-}
-
 /// How a run advances.
 pub enum Path {
     /// The scene's own steps (or arc lengths), this many.
@@ -109,7 +93,7 @@ pub fn run_scene(case: &str, sc: &Scene, path: &Path) -> Run {
     let tolerance = sc.params.tolerance;
     let mut row = StressRow {
         case: case.to_string(),
-        formulation: name(sc.model.formulation).to_string(),
+        formulation: sc.model.formulation.name().to_string(),
         converged: true,
         ..StressRow::default()
     };

@@ -79,7 +79,7 @@ pub struct CrossingCheck {
 }
 
 /// What the crossing check carries from one accepted state to the next: the remembered sides
-/// and the last accepted state (`CrossingCheck::memory`, `CrossingCheck::restore`).
+/// and the last accepted state ([`CrossingCheck::memory`], [`CrossingCheck::restore`]).
 #[derive(Clone, Debug, Default)]
 pub struct CrossingMemory {
     sides: IndexMap<(usize, usize), f64>,

@@ -36,7 +36,7 @@ pub struct ElementResults {
 #[derive(Clone, Debug, Default)]
 pub struct Assembled {
     /// The unbalanced force over the free equations (by equation number): the loads given to
-    /// the assembly (`AssemblyContext::loads`) minus the internal nodal forces sum J S.
+    /// the assembly ([`AssemblyContext::loads`]) minus the internal nodal forces sum J S.
     pub unbalanced: Vec<f64>,
     /// The sum of squares of `unbalanced`, accumulated as `sum_squares` accumulates it (bit for
     /// bit), in one pass with the assembly.
@@ -45,7 +45,7 @@ pub struct Assembled {
     /// order added), so that `reload` can load the same internal forces differently.
     pub unloaded: Vec<(usize, f64)>,
     /// Internal nodal forces sum J S at the dofs that are not free, in the order of
-    /// `DofMap::held` (where they balance the reactions).
+    /// [`DofMap::held`] (where they balance the reactions).
     pub held_internal: Vec<f64>,
     /// Tangent over the free equations (if requested).
     pub tangent: Option<BandMatrix>,
@@ -80,7 +80,7 @@ pub struct AssemblyContext<'a> {
     pub model: &'a Model,
     /// Its beam elements, ready to evaluate.
     pub elements: &'a [BeamElement],
-    /// The same, packed for beams with no contact on them (`PackedBeam::all`).
+    /// The same, packed for beams with no contact on them ([`PackedBeam::all`]).
     pub packed: &'a [PackedBeam],
     /// Dof numbering.
     pub dofs: &'a DofMap,
@@ -103,7 +103,7 @@ pub struct AssemblyContext<'a> {
 }
 
 /// Assemble internal forces (and the tangent) at displacements `d`.
-/// `dp`, if given, is a prescribed increment (one value per `Model::prescribed`) whose K_fp
+/// `dp`, if given, is a prescribed increment (one value per [`Model::prescribed`]) whose K_fp
 /// product is returned.
 pub fn assemble(
     ctx: &AssemblyContext,

@@ -12,7 +12,7 @@ pub enum DofKind {
     Free,
     /// Held at zero.
     Supported,
-    /// Driven; index into `Model::prescribed`.
+    /// Driven; index into [`Model::prescribed`].
     Prescribed(usize),
 }
 

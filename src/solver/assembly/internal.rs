@@ -6,14 +6,14 @@ use super::packed::PackedBeam;
 use crate::solver::element::beam::TangentEntries;
 use crate::solver::linear::{zero_ahead, BandMatrix, NOT_FREE};
 
-/// The fewest equations `Internal::settle` takes at a time: enough to pay for the call, few
+/// The fewest equations [`Internal::settle`] takes at a time: enough to pay for the call, few
 /// enough (1 KiB) to be in L1 still.
 const SETTLE_BATCH: usize = 128;
 
 /// The internal forces over the free equations while an assembly adds to them, turned into
 /// the unbalanced force (negated, loaded and summed) block by block as the assembly finishes
 /// with them. They are zeroed a block at a time as the elements reach them (in one pass with
-/// the assembly, while in cache, as the band is: `BandMatrix::reset_symmetric_lazily`), not
+/// the assembly, while in cache, as the band is: [`BandMatrix::reset_symmetric_lazily`]), not
 /// in a pass of their own; and settled (`settle`) while still in cache, not in a pass of
 /// their own either.
 pub(super) struct Internal<'a> {
@@ -27,7 +27,7 @@ pub(super) struct Internal<'a> {
     settled: usize,
     /// The loads not yet added (at equations, ascending).
     loads: &'a [(usize, f64)],
-    /// The loaded equations and their entries before the load (`Assembled::unloaded`).
+    /// The loaded equations and their entries before the load ([`Assembled::unloaded`]).
     unloaded: Vec<(usize, f64)>,
     /// The sum of squares of the settled entries in four partial sums, entry k in `acc[k % 4]`
     /// (as `sum_squares` has them).
@@ -84,7 +84,7 @@ impl<'a> Internal<'a> {
         (&mut self.v[first..first + 6]).try_into().unwrap()
     }
 
-    /// No element adds to the equations before `end` any more (`Ordering::final_before`):
+    /// No element adds to the equations before `end` any more ([`Ordering::final_before`]):
     /// settle their whole blocks of four, in batches of at least `SETTLE_BATCH` equations.
     #[inline(always)]
     pub(super) fn settle(&mut self, end: usize) {
@@ -156,7 +156,7 @@ impl<'a> Internal<'a> {
 }
 
 /// Add a plain beam's nodal forces and (if given) its tangent entries: straight into six
-/// consecutive equations where its dofs have them (`Ordering::beam_first`), dof by dof
+/// consecutive equations where its dofs have them ([`Ordering::beam_first`]), dof by dof
 /// otherwise; with its K_fp dp where a prescribed increment `dp` is given (`k6` the scratch for
 /// its whole tangent).
 #[inline(always)]
@@ -198,7 +198,7 @@ pub(super) fn add_plain_beam(
     }
 }
 
-/// The held dofs (`DofMap::held`) and the internal forces at them.
+/// The held dofs ([`DofMap::held`]) and the internal forces at them.
 pub(super) type Held<'a> = (&'a [usize], &'a mut [f64]);
 
 /// Add nodal force `f` at global dof `g`, whose equation is `q` (`NOT_FREE` if it has none):
@@ -273,7 +273,7 @@ pub(super) fn add_matrix(
 }
 
 /// Add an element's `K_fp dp` over the global dofs `gdofs` (with equations `eqs`), for the
-/// prescribed increments `dp` (one per `Model::prescribed`, found through `DofKind`).
+/// prescribed increments `dp` (one per [`Model::prescribed`], found through `DofKind`).
 pub(super) fn add_coupling(
     gdofs: &[usize],
     eqs: &[Option<usize>],

@@ -1,8 +1,9 @@
 //! Assembly of the global equations at one state: the dof map and the equation ordering
 //! (`dofs.rs`), the external force at a load factor (`loads.rs`), and the unbalanced force and
 //! band tangent summed from the beam and contact elements (`assemble.rs`, with the per-element
-//! adds in `internal.rs`) the distributed loads that follow the deformation (`follower.rs`) and the contacts with rigid
-//! obstacles (`obstacles.rs`).
+//! adds in `internal.rs`), the plain beams packed four at a time for the vector lanes
+//! (`packed.rs`), the distributed loads that follow the deformation (`follower.rs`) and the
+//! contacts with rigid obstacles (`obstacles.rs`).
 
 mod assemble;
 mod dofs;

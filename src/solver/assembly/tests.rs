@@ -146,7 +146,7 @@ fn the_unbalanced_force_settled_during_assembly_is_the_separate_pass() {
     }
 }
 
-/// `Ordering::final_before` is the smallest equation any beam from e on reaches, its
+/// [`Ordering::final_before`] is the smallest equation any beam from e on reaches, its
 /// contact nodes included (found here by looking at every later beam): on a chain and on
 /// Example 3.2 with contacts.
 #[test]

@@ -7,7 +7,7 @@
 //!
 //! A stick point is a length along the body, not a place on an element: a contact that moves
 //! onto the neighbouring element keeps it. On an obstacle it is a place along the curve
-//! (`Shape::place`), kept in the obstacle link with the mode.
+//! ([`Shape::place`]), kept in the obstacle link with the mode.
 
 use super::set::{ActiveContact, ContactSet, ContactView, Stick};
 use crate::solver::assembly::{obstacle_gap, obstacle_offset, Assembled};
@@ -118,7 +118,7 @@ impl ContactSet {
 
     /// The return mapping at a converged pass (assembled in `asm`): every frictional contact,
     /// with a beam or an obstacle, whose trial force asks for the other mode
-    /// (`Traction::mode`) changes to it. Returns the number of changes (0: the friction law
+    /// ([`Traction::mode`]) changes to it. Returns the number of changes (0: the friction law
     /// holds). Once a set of modes comes back within the attempt, one change a pass, the
     /// contact of least index, and a slip that turns back sticks first.
     pub(crate) fn friction_pass(&mut self, cv: &ContactView<'_>, asm: &Assembled) -> usize {

@@ -1,13 +1,13 @@
 //! Contacts of nodes with rigid obstacles. Every candidate (node, obstacle) pair carries a
-//! multiplier and whether it is in contact in the current pass (`ContactSet::obstacle`). Within
-//! a Newton pass the contacts are fixed; at a converged pass (`ContactSet::obstacle_pass`)
+//! multiplier and whether it is in contact in the current pass ([`ContactSet::obstacle`]). Within
+//! a Newton pass the contacts are fixed; at a converged pass ([`ContactSet::obstacle_pass`])
 //! contacts whose force `multiplier - penalty g` turned tensile let go and nodes found inside
-//! an obstacle by more than `Structure::obstacle_tolerance` touch it; once the contacts hold,
+//! an obstacle by more than [`Structure::obstacle_tolerance`] touch it; once the contacts hold,
 //! the multiplier of every contact whose gap is still open either way by more than the
 //! tolerance takes the force it carries (the augmented Lagrangian update), and the next pass
 //! closes the gap further. Should a set of contacts come back within an attempt, each pass
 //! makes one change, the least (node, obstacle) pair first, which cannot cycle. At the
-//! accepted pass (`ContactSet::obstacle_settle`) the contacts are compared with the last
+//! accepted pass ([`ContactSet::obstacle_settle`]) the contacts are compared with the last
 //! accepted ones: the nodes that touched and let go are the events, not the passes between.
 
 use super::set::{ContactSet, ContactView};

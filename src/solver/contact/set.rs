@@ -59,7 +59,7 @@ pub struct ContactSet {
     pub(super) seen: HashSet<Vec<(usize, usize)>>,
     /// A candidate pair whose node touches the body with its own beam's neighbouring nodes not
     /// all clear on one side of it, found by `remember_sides` (the first one): its side is
-    /// ambiguous, and a scene that starts so is refused (`SolveError::AmbiguousSide`).
+    /// ambiguous, and a scene that starts so is refused ([`SolveError::AmbiguousSide`]).
     pub(crate) ambiguous: Option<(usize, usize)>,
     /// Set once an active set repeats within an attempt: from then on each converged pass fixes
     /// one violation only (see `after_convergence`).

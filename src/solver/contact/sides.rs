@@ -14,7 +14,7 @@ use crate::solver::index_map::IndexMap;
 pub(super) const SHAPE_MARGIN: f64 = 0.05;
 
 /// A gap within this fraction of the element length (plus the round-off of the positions,
-/// `Solver::touching`) is touching when sides are recorded: it tells no side.
+/// [`Solver::touching`]) is touching when sides are recorded: it tells no side.
 pub(super) const SIDE: f64 = 1e-10;
 
 /// A node must be this fraction of the element length (plus the positions' round-off) on the

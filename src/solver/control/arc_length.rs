@@ -1,6 +1,6 @@
 //! Arc-length increment control for load-driven scenes: every increment moves a fixed length
 //! along the equilibrium path in displacement space with the load factor an unknown
-//! (`Constraint::Arc`), so limit points (snap-through, snap-back of the load) are passed
+//! ([`Constraint::Arc`]), so limit points (snap-through, snap-back of the load) are passed
 //! without the tangent's singularity stopping the run. The length is halved on a failed
 //! attempt and doubled back after an easy increment. The Newton iteration is the same as for
 //! the other controls (`newton::Newton::attempt`).

@@ -1,7 +1,7 @@
 //! Checkpoints of accepted states: everything a run carries from one increment to the next
 //! (the converged `State` and the crossing check's memory), so that a run can go on from any
 //! accepted increment exactly as it would have from there, as the app does to branch a history.
-//! `Solver::checkpoint` takes one and `Solver::restore` goes on from one.
+//! [`Solver::checkpoint`] takes one and [`Solver::restore`] goes on from one.
 
 use crate::solver::acceptance::CrossingMemory;
 use crate::solver::state::State;

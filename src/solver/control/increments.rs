@@ -12,7 +12,7 @@ use crate::solver::params::StretchCorrection;
 use crate::solver::report::{Event, Flow, IncrementRecord, Observer, SolveError};
 
 /// A contact within this fraction of its element from a free end slides off it when the
-/// increment finds no equilibrium after every cut-back (`Solver::advance_to`).
+/// increment finds no equilibrium after every cut-back ([`Solver::advance_to`]).
 const TIP_SLIDE_OFF: f64 = 1e-2;
 
 /// A sub-increment that converged in at most this many iterations lets the next one double.

@@ -200,7 +200,7 @@ impl Solver {
     }
 
     /// Whether the next attempt's Newton updates take the chords' stretch out
-    /// (`SolverParams::stretch_correction`).
+    /// ([`SolverParams::stretch_correction`]).
     pub fn stretch_correcting(&self) -> bool {
         self.newton().stretch_correcting()
     }

@@ -191,7 +191,7 @@ pub struct ForceConstants {
 }
 
 impl ForceConstants {
-    /// `BeamElement::evaluate` with these constants, the tangent (if wanted) as its distinct
+    /// [`BeamElement::evaluate`] with these constants, the tangent (if wanted) as its distinct
     /// entries (for the assembly).
     #[inline(always)]
     pub fn evaluate_entries(

@@ -1,5 +1,5 @@
 //! Four plain beam elements evaluated at once in the lanes of AVX2 vectors
-//! (`ForceConstants::evaluate_entries`, tangent included): the same arithmetic in the same order
+//! ([`ForceConstants::evaluate_entries`], tangent included): the same arithmetic in the same order
 //! as the scalar path, so the results agree bit for bit, with the four chord lengths, chord
 //! angles and force equations worked side by side. The chord angle and its unwrapping have no
 //! branches here; a group in which a lane leaves their common route (a zero or non-finite

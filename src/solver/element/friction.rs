@@ -10,7 +10,7 @@
 //! tangent grad s (x) grad f + f hess s: unsymmetric where the contact slips, since f then
 //! follows the normal force N. The force on the contact node along the chord is -f Ls / l, so
 //! slip holds the physical tangential force at mu N exactly. Which of the two a contact is in
-//! is decided at each converged pass from the trial force kt (s - s0) (`Traction::mode`, the
+//! is decided at each converged pass from the trial force kt (s - s0) ([`Traction::mode`], the
 //! return mapping), and held through the pass, so that Newton's convergence stays quadratic.
 
 use nalgebra::{DMatrix, DVector, Matrix2, Vector2};

@@ -1,5 +1,5 @@
 //! The contact of a node with a rigid obstacle: where the node lies against the obstacle's
-//! exact curve (`Shape::gap`: the signed distance, its gradient and the curvature of its
+//! exact curve ([`Shape::gap`]: the signed distance, its gradient and the curvature of its
 //! level line), and the force and tangent of an active contact under the augmented
 //! Lagrangian (`obstacle_response`). The force pushes the node out along the normal,
 //! `F_N = multiplier - penalty g`; at convergence the multiplier carries it and the gap closes.
@@ -137,7 +137,7 @@ impl Shape {
     }
 }
 
-/// `Shape::place` on a polyline: the length along it to the nearest segment's start, plus the
+/// [`Shape::place`] on a polyline: the length along it to the nearest segment's start, plus the
 /// way along that segment (negative before the first point, beyond the last past it).
 fn polyline_place(points: &[[f64; 2]], p: [f64; 2]) -> f64 {
     let last = points.len() - 2;
@@ -193,7 +193,7 @@ fn power_at_rest(x0: [f64; 2], c: [f64; 2], r: f64) -> f64 {
     s2 + small
 }
 
-/// `Shape::gap` of a circle (or, `hollow`, a hole) at `x0 + w`. With `r = x0 + w - c`,
+/// [`Shape::gap`] of a circle (or, `hollow`, a hole) at `x0 + w`. With `r = x0 + w - c`,
 /// `rho - R = (|r|^2 - R^2) / (rho + R)`, and `|r|^2 - R^2` is `|x0 - c|^2 - R^2` (from
 /// `power_at_rest`) plus `2 (x0 - c) . w + w . w`, terms of the size of the motion: the gap
 /// carries no round-off of the radius.
@@ -217,7 +217,7 @@ fn circle_gap(centre: [f64; 2], radius: f64, hollow: bool, x0: [f64; 2], w: [f64
     }
 }
 
-/// `Shape::gap` of a polyline continued beyond its ends along its end segments. The nearest
+/// [`Shape::gap`] of a polyline continued beyond its ends along its end segments. The nearest
 /// point decides: inside a segment, the side of that segment; at a corner, the side of the
 /// bisector of the two segments' normals (which tells the sides of a corner apart).
 fn polyline_gap(points: &[[f64; 2]], x: [f64; 2]) -> Gap {

@@ -23,7 +23,7 @@ pub fn symmetric6(lower: &[f64; 21]) -> [[f64; 6]; 6] {
     out
 }
 
-/// The equation number of a dof that is not free, in `BandMatrix::add_element`.
+/// The equation number of a dof that is not free, in [`BandMatrix::add_element`].
 pub const NOT_FREE: u32 = u32::MAX;
 
 /// The fewest entries `zero_ahead` zeroes at a time (4 KiB).

@@ -4,7 +4,7 @@
 //! bit: no fused multiply-add is enabled, and Rust never reorders floating-point operations.
 //! Code that needs AVX2 takes an `Avx2`, which only the CPU check makes.
 
-/// Proof that the CPU runs AVX2: made only by `Avx2::detect`, after the CPU check, so that a
+/// Proof that the CPU runs AVX2: made only by [`Avx2::detect`], after the CPU check, so that a
 /// function taking one may use AVX2 instructions safely.
 #[derive(Clone, Copy, Debug)]
 pub struct Avx2(());

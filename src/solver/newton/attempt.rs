@@ -14,13 +14,13 @@ use crate::solver::linear::reduce::sum_squares;
 use crate::solver::report::{ContactChange, Event, IterationRecord, Observer};
 
 /// The largest correction of an attempt that starts by sliding contacts off tips, as a fraction
-/// of the model's size (`Newton::attempt`).
+/// of the model's size ([`Newton::attempt`]).
 const SPRING_BACK_STEP: f64 = 0.2;
 
 impl Newton<'_> {
     /// One attempt to meet `constraint` from the last converged state.
     /// `slide_off`: first slide off the free ends the contacts within that fraction of their
-    /// element of one (`ContactSet::slide_off_tips`); the beam then springs back, a large
+    /// element of one ([`ContactSet::slide_off_tips`]); the beam then springs back, a large
     /// motion for one Newton solve, so each correction is held to `SPRING_BACK_STEP` of the
     /// model's size.
     pub(crate) fn attempt(

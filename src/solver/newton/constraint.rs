@@ -33,15 +33,15 @@ pub enum Constraint<'a> {
 
 /// A constraint set up for one attempt, with what it carries from iteration to iteration.
 pub(super) enum Path {
-    /// See `Constraint::Prescribed`.
+    /// See [`Constraint::Prescribed`].
     Prescribed {
-        /// The prescribed increments, one per `Model::prescribed` (0 where a later one on the
+        /// The prescribed increments, one per [`Model::prescribed`] (0 where a later one on the
         /// same dof overrides it).
         dp: Vec<f64>,
         factors: Vec<f64>,
         fext: ExternalForce,
     },
-    /// See `Constraint::Arc`.
+    /// See [`Constraint::Arc`].
     Arc {
         /// The arc length over all the free dofs.
         ds: f64,

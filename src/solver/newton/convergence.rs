@@ -66,7 +66,7 @@ impl Stall {
 }
 
 /// An upper bound of the round-off floor over one attempt, at no cost per iteration: the band's
-/// diagonal peak (`BandMatrix::diagonal_peak`, at least max|K_ii|) and the coordinate scale at
+/// diagonal peak ([`BandMatrix::diagonal_peak`], at least max|K_ii|) and the coordinate scale at
 /// the start of the attempt plus every correction since (the largest coordinate moves no
 /// further than the correction's norm). The exact floor takes a pass over the band and the
 /// coordinates; it is worked out only where it can decide something (see `may_decide`).

@@ -16,7 +16,7 @@ use crate::solver::state::State;
 use crate::solver::structure::Structure;
 
 /// Passes that update the obstacle multipliers an attempt may make before it fails
-/// (`AttemptError::GapsOpen`). A penalty of the order of the elements' axial stiffness closes
+/// ([`AttemptError::GapsOpen`]). A penalty of the order of the elements' axial stiffness closes
 /// a gap by at least half, and mostly by orders of magnitude, a pass; a gap that stays open is
 /// held there (a prescribed displacement driving a node into an obstacle).
 const MAX_MULTIPLIER_UPDATES: usize = 50;
@@ -67,7 +67,7 @@ impl<'a> Newton<'a> {
     }
 
     /// The external force `fext` at its equations in `ord`, ascending (dofs that are not free
-    /// left out): what the assembly loads the unbalanced force with (`AssemblyContext::loads`).
+    /// left out): what the assembly loads the unbalanced force with ([`AssemblyContext::loads`]).
     pub(crate) fn loads_at_equations(fext: &ExternalForce, ord: &Ordering) -> Vec<(usize, f64)> {
         let mut at: Vec<(usize, f64)> = (fext.0.iter())
             .filter(|&&(g, _)| ord.eq[g] != NOT_FREE)
@@ -199,7 +199,7 @@ impl<'a> Newton<'a> {
     }
 
     /// Factor the tangent in place and solve for `rhs` with it (in one pass where the band
-    /// allows, `BandMatrix::factor_and_solve`); a vanishing pivot fails the attempt, naming its
+    /// allows, [`BandMatrix::factor_and_solve`]); a vanishing pivot fails the attempt, naming its
     /// dof.
     pub(super) fn factor_and_solve(
         &self,
