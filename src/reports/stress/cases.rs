@@ -17,7 +17,7 @@ const STRIP: &str = r#"(name: "strip", E: 2.0e7, A: 3.0e-4, I: 2.2e-8, G: 7.142e
 pub fn pin_near_end(xi: f64, f: Formulation) -> Run {
     let text = format!(
         r#"(
-        name: "pin near an element end", formulation: {fm},
+        name: "pin near an element end", formulation: {f:?},
         sections: [{STRIP}],
         nodes: [(id: 100, x: {x}, y: 0.001, rotation: false)],
         bodies: [(name: "beam", section: "strip", path: [(0.0, 0.0), (1.0, 0.0)], elements: 10, first_node: 1)],
@@ -26,7 +26,6 @@ pub fn pin_near_end(xi: f64, f: Formulation) -> Run {
         contacts: [(nodes: [100], bodies: ["beam"])],
         control: (steps: 10),
     )"#,
-        fm = format!("{f:?}"),
         x = 0.5 + 0.1 * xi
     );
     run(
@@ -42,7 +41,7 @@ pub fn pin_near_end(xi: f64, f: Formulation) -> Run {
 pub fn slide_across(n: usize, f: Formulation) -> Run {
     let text = format!(
         r#"(
-        name: "pin sliding along a cantilever", formulation: {fm},
+        name: "pin sliding along a cantilever", formulation: {f:?},
         sections: [{STRIP}],
         nodes: [(id: 1000, x: 0.01, y: 0.0005, rotation: false)],
         bodies: [(name: "beam", section: "strip", path: [(0.0, 0.0), (1.0, 0.0)], elements: {n}, first_node: 1)],
@@ -50,7 +49,6 @@ pub fn slide_across(n: usize, f: Formulation) -> Run {
         prescribed: [(node: 1000, dof: U, per_step: 0.0), (node: 1000, dof: V, per_step: 0.0)],
         contacts: [(nodes: [1000], bodies: ["beam"])],
     )"#,
-        fm = format!("{f:?}"),
     );
     // Two increments per element on the way out.
     let out = 2 * n;
@@ -77,7 +75,7 @@ pub fn pressed_flat(f: Formulation, per_leg: usize) -> Run {
         .collect();
     let text = format!(
         r#"(
-        name: "beam pressed flat onto another", formulation: {fm},
+        name: "beam pressed flat onto another", formulation: {f:?},
         sections: [{STRIP}, (name: "base", E: 2.0e7, A: 3.0e-2, I: 2.2e-6, G: 7.142e6)],
         bodies: [
             (name: "strip", section: "strip", path: [(0.0, 0.005), (0.9, 0.005)], elements: 20, first_node: 1),
@@ -88,7 +86,6 @@ pub fn pressed_flat(f: Formulation, per_leg: usize) -> Run {
         contacts: [(node_bodies: ["strip"], bodies: ["base"])],
         control: (load_per_step: 0.0),
     )"#,
-        fm = format!("{f:?}"),
         loads = loads.join(", "),
     );
     let peak = 0.5;
@@ -114,14 +111,13 @@ pub fn slender(l_over_h: f64, f: Formulation) -> Run {
     let e = 1.0 / i;
     let text = format!(
         r#"(
-        name: "slender cantilever", formulation: {fm},
+        name: "slender cantilever", formulation: {f:?},
         sections: [(name: "square", E: {e:e}, A: {a:e}, I: {i:e}, nu: 0.3, Ae: {ae:e})],
         bodies: [(name: "cantilever", section: "square", path: [(0.0, 0.0), (1.0, 0.0)], elements: 32, first_node: 1)],
         supports: [(node: 1, u: true, v: true, phi: true)],
         loads: [(node: 33, fy: -1.0)],
         control: (steps: 10, load_per_step: {step}),
     )"#,
-        fm = format!("{f:?}"),
         ae = a * 5.0 / 6.0,
         step = k / 10.0,
     );
@@ -149,14 +145,13 @@ pub fn stubby(l_over_h: f64, f: Formulation) -> Run {
     let p = 1e-9 * 3.0 * e * i;
     let text = format!(
         r#"(
-        name: "stubby cantilever", formulation: {fm},
+        name: "stubby cantilever", formulation: {f:?},
         sections: [(name: "block", E: {e:e}, A: {a:e}, I: {i:e}, G: {g:e}, Ae: {ae:e})],
         bodies: [(name: "cantilever", section: "block", path: [(0.0, 0.0), (1.0, 0.0)], elements: 4, first_node: 1)],
         supports: [(node: 1, u: true, v: true, phi: true)],
         loads: [(node: 5, fy: {fy:e})],
         control: (steps: 1, load_per_step: 1.0),
     )"#,
-        fm = format!("{f:?}"),
         fy = -p,
     );
     let mut r = run(
@@ -186,7 +181,7 @@ pub fn stacked(b_elements: usize, f: Formulation) -> Run {
     let (d, gap, a) = (1e-3, 1e-4, 2.0);
     let text = format!(
         r#"(
-        name: "stacked strips", formulation: {fm},
+        name: "stacked strips", formulation: {f:?},
         sections: [{STRIP}],
         bodies: [
             (name: "A", section: "strip", path: [(0.0, 0.0), (4.0, 0.0)], elements: 16, first_node: 1),
@@ -197,7 +192,6 @@ pub fn stacked(b_elements: usize, f: Formulation) -> Run {
         contacts: [(node_bodies: ["A"], bodies: ["B"]), (node_bodies: ["B"], bodies: ["A"])],
         control: (steps: 4),
     )"#,
-        fm = format!("{f:?}"),
         y = -gap,
         clamp = 101 + b_elements,
         step = -d / 4.0,
@@ -240,14 +234,13 @@ pub fn short_next_to_long(ratio: f64, f: Formulation) -> Run {
     }
     let text = format!(
         r#"(
-        name: "graded cantilever", formulation: {fm},
+        name: "graded cantilever", formulation: {f:?},
         sections: [(name: "inextensible", E: 1.0, A: 1.0e6, I: 1.0, G: 1.0e12)],
         bodies: [(name: "cantilever", section: "inextensible", path: [{path}], elements: 1, first_node: 1)],
         supports: [(node: 1, u: true, v: true, phi: true)],
         loads: [(node: 17, fy: -1.0)],
         control: (steps: 10, load_per_step: {step}),
     )"#,
-        fm = format!("{f:?}"),
         path = path.join(", "),
         step = k / 10.0,
     );
@@ -270,14 +263,13 @@ pub fn roll_up(turns: f64, n: usize, steps: usize, f: Formulation) -> Run {
     let m = turns * std::f64::consts::TAU;
     let text = format!(
         r#"(
-        name: "roll-up", formulation: {fm},
+        name: "roll-up", formulation: {f:?},
         sections: [(name: "inextensible", E: 1.0, A: 1.0e6, I: 1.0, G: 1.0e12)],
         bodies: [(name: "cantilever", section: "inextensible", path: [(0.0, 0.0), (1.0, 0.0)], elements: {n}, first_node: 1)],
         supports: [(node: 1, u: true, v: true, phi: true)],
         loads: [(node: {tip}, m: {m:e})],
         control: (steps: {steps}, load_per_step: {step:e}),
     )"#,
-        fm = format!("{f:?}"),
         tip = n + 1,
         step = 1.0 / steps as f64,
     );
