@@ -7,6 +7,7 @@
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
+use crate::common::Rng;
 use tsm_contact::history::History;
 use tsm_contact::scene::parse;
 
@@ -63,15 +64,12 @@ const BASE: &[&str] = &[
     ")",
 ];
 
-/// A reproducible random sequence (xorshift) in [0, 1).
-struct Draw(u64);
+/// The tests' reproducible random sequence, drawn in [0, 1).
+struct Draw(Rng);
 
 impl Draw {
     fn next(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+        0.5 * (self.0.next() + 1.0)
     }
 
     /// `lo * (hi / lo)^u`: a value spread evenly in magnitude between `lo` and `hi`.
@@ -241,7 +239,7 @@ fn changed(anchor: &str, from: &str, to: &str) -> (String, usize) {
 /// At least `count` cases drawn from `seed`: every listed value of every family once, then
 /// drawn numbers, bad and good in turn, over the families that draw them.
 fn cases(count: usize, seed: u64) -> Vec<Case> {
-    let mut d = Draw(seed | 1);
+    let mut d = Draw(Rng(seed | 1));
     let mut out = Vec::new();
     let push = |out: &mut Vec<Case>, f: &Family, to: String, refused: bool| {
         let (text, line) = changed(f.line, f.from, &to);
