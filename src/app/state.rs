@@ -7,7 +7,7 @@ use std::sync::atomic::AtomicI32;
 use std::sync::Arc;
 
 use crate::solver::{Event, IncrementRecord, IterationRecord};
-use crate::worker::{Command, Loaded, Message, Worker};
+use crate::worker::{Command, Failure, Loaded, Message, Worker};
 
 use super::branches::SetAside;
 use super::display::{Angles, Diagram, Picked, TableView};
@@ -70,7 +70,7 @@ pub struct TsmApp {
     pub(crate) targeting: bool,
     pub(crate) plot_all: bool,
     pub(crate) status: String,
-    pub(crate) error: Option<String>,
+    pub(crate) error: Option<Failure>,
     pub(crate) open_path: String,
     pub(crate) export_stem: String,
     pub(crate) gpu: bool,
@@ -143,14 +143,19 @@ impl TsmApp {
     }
 
     /// Show `e` in the error panel.
-    pub(crate) fn set_error(&mut self, e: String) {
-        self.error = Some(e);
+    pub(crate) fn set_error(&mut self, e: impl Into<Failure>) {
+        self.error = Some(e.into());
         self.show_error = true;
     }
 
-    /// The error shown, if any.
-    pub fn error(&self) -> Option<&str> {
-        self.error.as_deref()
+    /// The error shown, if any, in words.
+    pub fn error(&self) -> Option<String> {
+        self.error.as_ref().map(|e| e.to_string())
+    }
+
+    /// The error shown, as the worker sent it (the solver's own, typed), if any.
+    pub fn failure(&self) -> Option<&Failure> {
+        self.error.as_ref()
     }
 
     /// The status line's text.
@@ -322,7 +327,7 @@ impl TsmApp {
                 Message::Error(e) => {
                     self.stale = false;
                     if let Some(shot) = &mut self.shot {
-                        shot.record_failure(&e);
+                        shot.record_failure(&e.to_string());
                     }
                     self.set_error(e);
                     self.live.clear();

@@ -186,6 +186,22 @@ pub enum SolveError {
     },
 }
 
+impl SolveError {
+    /// The increment the run stopped in, where the error names one.
+    pub fn increment(&self) -> Option<usize> {
+        match self {
+            SolveError::NoConvergence { increment, .. }
+            | SolveError::RoundOffFloor { increment, .. }
+            | SolveError::Crossing { increment, .. }
+            | SolveError::ObstacleCrossing { increment, .. }
+            | SolveError::ObstacleThrough { increment, .. }
+            | SolveError::FrictionLaw { increment, .. }
+            | SolveError::OutOfRange { increment, .. } => Some(*increment),
+            _ => None,
+        }
+    }
+}
+
 /// Items in words: all of them up to eight, else how many `what` and the first eight.
 fn listed(items: &[String], what: &str) -> String {
     match items.len() {

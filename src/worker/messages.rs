@@ -6,8 +6,43 @@ use crate::solver::element::beam::BeamElement;
 use std::sync::Arc;
 
 use crate::solver::{
-    Checkpoint, Event, Formulation, IncrementRecord, IterationRecord, StretchCorrection,
+    Checkpoint, Event, Formulation, IncrementRecord, IterationRecord, SolveError, StretchCorrection,
 };
+
+/// Why a run or a load could not go on, as the app shows it: the solver's typed error (its
+/// increment, node and body), or words.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Failure {
+    /// The solver stopped.
+    Solve(SolveError),
+    /// A scene or file that could not be read, loaded or written, or a caught panic.
+    Other(String),
+}
+
+impl Failure {
+    /// The increment the solver stopped in, where it names one.
+    pub fn increment(&self) -> Option<usize> {
+        match self {
+            Failure::Solve(e) => e.increment(),
+            Failure::Other(_) => None,
+        }
+    }
+}
+
+impl std::fmt::Display for Failure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Failure::Solve(e) => e.fmt(f),
+            Failure::Other(s) => f.write_str(s),
+        }
+    }
+}
+
+impl From<String> for Failure {
+    fn from(s: String) -> Failure {
+        Failure::Other(s)
+    }
+}
 
 /// Capacity of the worker's outgoing message channel.
 pub const CHANNEL_CAPACITY: usize = 1024;
@@ -80,8 +115,8 @@ pub enum Message {
     Restored(usize),
     /// A cut-back or contact event.
     Event(Event),
-    /// A solver error or a caught panic; the worker stays usable.
-    Error(String),
+    /// A solver error, a scene that did not load or a caught panic; the worker stays usable.
+    Error(Failure),
     /// A scene was (re)loaded.
     Loaded(Box<Loaded>),
     /// The worker started solving.

@@ -11,5 +11,5 @@ mod targets;
 mod thread;
 
 pub use handle::Worker;
-pub use messages::{Command, Loaded, Message, Repaint, CHANNEL_CAPACITY};
+pub use messages::{Command, Failure, Loaded, Message, Repaint, CHANNEL_CAPACITY};
 pub use targets::{initial_record, next_target};

@@ -7,7 +7,7 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::mpsc::{Receiver, SyncSender, TryRecvError};
 use std::sync::Arc;
 
-use super::messages::{Command, Loaded, Message, Repaint};
+use super::messages::{Command, Failure, Loaded, Message, Repaint};
 use super::relay::Relay;
 use super::targets::{initial_record, next_target, panic_text, reached, steps_along};
 use crate::scene::Scene;
@@ -198,11 +198,10 @@ impl Thread {
                 self.solver = Some(solver);
                 self.send(Message::Loaded(Box::new(loaded)));
             }
-            Ok(Err(e)) => self.send(Message::Error(format!("{}: {e}", scene.file.name))),
-            Err(p) => self.send(Message::Error(format!(
-                "solver panicked while loading: {}",
-                panic_text(&p)
-            ))),
+            Ok(Err(e)) => self.send(Message::Error(format!("{}: {e}", scene.file.name).into())),
+            Err(p) => self.send(Message::Error(
+                format!("solver panicked while loading: {}", panic_text(&p)).into(),
+            )),
         }
         self.go_idle();
     }
@@ -264,14 +263,12 @@ impl Thread {
         match result {
             Ok(Ok(_)) | Ok(Err(SolveError::Stopped)) => {}
             Ok(Err(e)) => {
-                self.send(Message::Error(e.to_string()));
+                self.send(Message::Error(Failure::Solve(e)));
                 return self.go_idle();
             }
             Err(p) => {
-                self.send(Message::Error(format!(
-                    "solver panicked: {}",
-                    panic_text(&p)
-                )));
+                let why = format!("solver panicked: {}", panic_text(&p));
+                self.send(Message::Error(why.into()));
                 return self.go_idle();
             }
         }

@@ -1,13 +1,14 @@
 //! The solver worker thread, headless: increments arrive in order from `Run`, the prescribed
 //! value after N steps is N * per_step, `SetTarget` marches in increments no larger than
-//! `|per_step|` and stops exactly at the target, and `Cancel` stops promptly.
+//! `|per_step|` and stops exactly at the target, `Cancel` stops promptly, and a stop arrives as
+//! the solver's typed error.
 
 use crate::common;
 
 use std::time::{Duration, Instant};
 
 use tsm_contact::scene::builtin::builtin;
-use tsm_contact::worker::{Command, Message, Worker};
+use tsm_contact::worker::{Command, Failure, Message, Worker};
 
 fn scene(name: &str) -> tsm_contact::scene::Scene {
     builtin(name).expect("built-in scene").expect("valid scene")
@@ -248,4 +249,42 @@ fn stretch_correction_mode_reloads_and_runs_in_that_mode() {
             _ => assert!(total >= 50, "never: {total}"),
         }
     }
+}
+
+/// A pin driven 0.01 a step onto a fixed floor 0.025 below it, in the floor's candidates: it
+/// cannot go on past the floor (its position is prescribed), so the run stops in the third step,
+/// and the worker sends the solver's typed error, naming the increment after the last one it
+/// sent, not words alone.
+#[test]
+fn a_stop_arrives_as_the_solvers_typed_error() {
+    let text = r#"(
+    name: "pin driven into a floor",
+    sections: [(name: "s", E: 1.0, A: 1.0e3, I: 1.0)],
+    nodes: [(id: 100, x: 0.5, y: 0.025, rotation: false)],
+    bodies: [(name: "beam", section: "s", path: [(0.0, 1.0), (1.0, 1.0)], elements: 4, first_node: 1)],
+    supports: [(node: 1, u: true, v: true, phi: true), (node: 100, u: true)],
+    prescribed: [(node: 100, dof: V, per_step: -0.01)],
+    obstacles: [(name: "floor", shape: Line(from: (0.0, 0.0), to: (1.0, 0.0)), nodes: [100])],
+    control: (steps: 10),
+)"#;
+    let scene = tsm_contact::scene::parse(text, "pin driven into a floor").expect("valid");
+    let w = Worker::spawn(None);
+    w.send(Command::LoadScene(Box::new(scene)));
+    w.send(Command::RunSteps(10));
+    let t0 = Instant::now();
+    let (mut failure, mut last) = (None, 0);
+    while failure.is_none() && t0.elapsed() < Duration::from_secs(60) {
+        match w.recv_timeout(Duration::from_millis(50)) {
+            Some(Message::Error(e)) => failure = Some(e),
+            Some(Message::Increment(r)) => last = r.increment,
+            _ => {}
+        }
+    }
+    let failure = failure.expect("the run stops");
+    assert!(
+        matches!(failure, Failure::Solve(_)),
+        "a solver error: {failure}"
+    );
+    assert!(last >= 2, "the pin reached the floor first: {last}");
+    assert_eq!(failure.increment(), Some(last + 1), "{failure}");
 }

@@ -67,7 +67,7 @@ pub fn until_idle(
     while t0.elapsed() < limit {
         match w.recv_timeout(std::time::Duration::from_millis(50)) {
             Some(Message::Increment(r)) => incs.push(*r),
-            Some(Message::Error(e)) => errors.push(e),
+            Some(Message::Error(e)) => errors.push(e.to_string()),
             Some(Message::Busy) => busy = true,
             Some(Message::Idle) if busy => return (incs, errors),
             _ => {}

@@ -483,7 +483,7 @@ fn example_3_2_dragged_through_the_worker_never_crosses() {
                 let wait = until.saturating_duration_since(Instant::now()).min(quiet);
                 match w.recv_timeout(wait) {
                     Some(Message::Increment(r)) => records.push(*r),
-                    Some(Message::Error(e)) => errors.push(e),
+                    Some(Message::Error(e)) => errors.push(e.to_string()),
                     Some(_) => {}
                     None => break,
                 }

@@ -41,7 +41,7 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui, gpu: Option<&egui_wgpu::RenderS
     let painter = ui.painter_at(rect);
     painter.rect_filled(rect, 0.0, Color32::from_rgb(251, 251, 253));
     if app.loaded.is_none() {
-        let msg = app.error.clone().unwrap_or_else(|| "loading...".into());
+        let msg = app.error().unwrap_or_else(|| "loading...".into());
         painter.text(
             rect.center(),
             Align2::CENTER_CENTER,

@@ -121,21 +121,22 @@ pub fn toolbar(app: &mut TsmApp, ui: &mut egui::Ui) {
 fn status(app: &TsmApp, ui: &mut egui::Ui) {
     let side = ui.spacing().interact_size.y;
     let (slot, _) = ui.allocate_exact_size(egui::vec2(side, side), egui::Sense::hover());
-    let line =
-        if app.busy {
-            egui::Spinner::new().paint_at(ui, slot);
-            egui::RichText::new("solving...")
-        } else {
-            match (&app.error, app.roundoff_summary()) {
-                (Some(_), _) if app.show_error => egui::RichText::new("error: see the panel below")
-                    .color(ui.visuals().error_fg_color),
-                // The panel closed: the message in the line (whole on hover).
-                (Some(e), _) => egui::RichText::new(e).color(ui.visuals().error_fg_color),
-                (None, Some(s)) => egui::RichText::new(format!("{}; {s}", app.status))
-                    .color(super::plots::ROUNDOFF),
-                (None, None) => egui::RichText::new(&app.status),
+    let line = if app.busy {
+        egui::Spinner::new().paint_at(ui, slot);
+        egui::RichText::new("solving...")
+    } else {
+        match (&app.error, app.roundoff_summary()) {
+            (Some(_), _) if app.show_error => {
+                egui::RichText::new("error: see the panel below").color(ui.visuals().error_fg_color)
             }
-        };
+            // The panel closed: the message in the line (whole on hover).
+            (Some(e), _) => egui::RichText::new(e.to_string()).color(ui.visuals().error_fg_color),
+            (None, Some(s)) => {
+                egui::RichText::new(format!("{}; {s}", app.status)).color(super::plots::ROUNDOFF)
+            }
+            (None, None) => egui::RichText::new(&app.status),
+        }
+    };
     // The rest of the row (a row of its own when little is left), whatever the text.
     // (A wrapping row reports its whole width as available: measure what is left of it.)
     let width = ui.max_rect().right() - ui.cursor().left() - ui.spacing().item_spacing.x;

@@ -1,6 +1,8 @@
 //! The error panel under the toolbar: the last error in full (scene file, line and field, or
 //! increment, node and element, as the message names them), in a scrolling area whose text can
-//! be selected, with Copy and Close. A new error opens it again.
+//! be selected, with Copy and Close. A solver's stop is headed with the increment it stopped
+//! in (from the solver's typed error); the states before it stay on the timeline. A new error
+//! opens the panel again.
 
 use crate::app::state::TsmApp;
 
@@ -9,13 +11,18 @@ const MAX_HEIGHT: f32 = 160.0;
 
 /// Show the panel while there is an error to show.
 pub fn panel(app: &mut TsmApp, ui: &mut egui::Ui) {
-    let Some(e) = app.error.clone().filter(|_| app.show_error) else {
+    let Some(failure) = app.error.clone().filter(|_| app.show_error) else {
         return;
+    };
+    let e = failure.to_string();
+    let heading = match failure.increment() {
+        Some(k) => format!("The solver stopped in increment {k}"),
+        None => "Error".to_string(),
     };
     egui::Panel::top("error").show(ui, |ui| {
         ui.horizontal(|ui| {
             ui.label(
-                egui::RichText::new("Error")
+                egui::RichText::new(heading)
                     .strong()
                     .color(ui.visuals().error_fg_color),
             );

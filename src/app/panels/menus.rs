@@ -195,7 +195,7 @@ pub fn export_json(app: &mut TsmApp) {
         &app.history,
         app.history.stride(),
         &app.events,
-        app.error.as_deref(),
+        app.error().as_deref(),
     );
     let done = h.write_json(&path).map(|_| path).map_err(|e| e.to_string());
     confirm(app, done);
@@ -290,7 +290,7 @@ pub fn keep_drive(app: &mut TsmApp) {
         app.set_error(
             "the run is longer than the history kept in memory: only whole runs can be kept as a \
              path (export the history instead)"
-                .into(),
+                .to_string(),
         );
         return;
     }
