@@ -4,7 +4,7 @@
 
 use super::dofs::{relative, DofMap, Ordering};
 use super::follower::follower_response;
-use super::internal::{add_element, add_plain_beam, Internal};
+use super::internal::{add_element, add_plain_beam, Internal, Sink};
 use super::obstacles::{add_obstacles, ObstacleLink};
 use super::packed::PackedBeam;
 use crate::solver::element::beam::BeamElement;
@@ -184,15 +184,10 @@ pub(super) fn assemble_kernel(
     results.contact_forces.resize(ord.links.len(), (0.0, 0.0));
     results.contact_friction.clear();
     results.contact_friction.resize(ctx.grips.len(), None);
-    let held = (&dofs.held[..], &mut out.held_internal[..]);
+    let mut held = (&dofs.held[..], &mut out.held_internal[..]);
     let coupling = &mut out.coupling;
     if !ctx.obstacles.is_empty() {
-        let sink = (
-            &mut internal,
-            (held.0, &mut *held.1),
-            tangent.as_mut(),
-            &mut *coupling,
-        );
+        let sink = Sink::of(&mut internal, &mut held, &mut tangent, &mut *coupling);
         let penalty = ctx.obstacle_penalty;
         let forces = (&mut results.obstacle_forces, &mut results.obstacle_friction);
         add_obstacles(
@@ -245,12 +240,7 @@ pub(super) fn assemble_kernel(
             if let Some(g) = lanes {
                 for (k, b) in pb.into_iter().enumerate() {
                     let (forces, nodal, t) = g.lane(k, &b.constants);
-                    let sink = (
-                        &mut internal,
-                        (held.0, &mut *held.1),
-                        tangent.as_mut(),
-                        &mut *coupling,
-                    );
+                    let sink = Sink::of(&mut internal, &mut held, &mut tangent, &mut *coupling);
                     results.beam_forces[e + k] = forces;
                     let t = with_tangent.then_some(t);
                     add_plain_beam(e + k, b, &nodal, t, (ord, dofs, dp), &mut k6, sink);
@@ -275,12 +265,7 @@ pub(super) fn assemble_kernel(
                 .constants
                 .evaluate_entries(xi, xj, phi[0], phi[1], with_tangent);
             results.beam_forces[e] = r.forces;
-            let sink = (
-                &mut internal,
-                (held.0, &mut *held.1),
-                tangent.as_mut(),
-                &mut *coupling,
-            );
+            let sink = Sink::of(&mut internal, &mut held, &mut tangent, &mut *coupling);
             let nodal: [f64; 6] = r.nodal.into();
             add_plain_beam(e, pb, &nodal, t, (ord, dofs, dp), &mut k6, sink);
         } else {
@@ -328,12 +313,7 @@ pub(super) fn assemble_kernel(
                 .tangent
                 .as_ref()
                 .map(|k| move |a: usize, b: usize| k[(a, b)]);
-            let sink = (
-                &mut internal,
-                (held.0, &mut *held.1),
-                tangent.as_mut(),
-                &mut *coupling,
-            );
+            let sink = Sink::of(&mut internal, &mut held, &mut tangent, &mut *coupling);
             add_element(&gdofs, r.nodal.as_slice(), k, ord, dofs, dp, sink);
         }
         if let Some(factors) = ctx.follower {
@@ -350,12 +330,7 @@ pub(super) fn assemble_kernel(
                         .map(|(n, o)| dofs.dof(n, o)),
                 );
                 let k = with_tangent.then_some(move |a: usize, b: usize| k[a][b]);
-                let sink = (
-                    &mut internal,
-                    (held.0, &mut *held.1),
-                    tangent.as_mut(),
-                    &mut *coupling,
-                );
+                let sink = Sink::of(&mut internal, &mut held, &mut tangent, &mut *coupling);
                 add_element(&gdofs, &nodal, k, ord, dofs, dp, sink);
             }
         }

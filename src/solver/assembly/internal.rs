@@ -167,7 +167,12 @@ pub(super) fn add_plain_beam(
     t: Option<TangentEntries>,
     (ord, dofs, dp): (&Ordering, &DofMap, Option<&[f64]>),
     k6: &mut [[f64; 6]; 6],
-    (internal, held, tangent, coupling): Sink,
+    Sink {
+        internal,
+        held,
+        tangent,
+        coupling,
+    }: Sink,
 ) {
     let (fi, fj) = (pb.first[0] as usize, pb.first[1] as usize);
     let g: [usize; 6] = std::array::from_fn(|a| [fi, fj][a / 3] + a % 3);
@@ -221,14 +226,35 @@ pub(super) fn add_nodal_force(
     }
 }
 
-/// Where element contributions go: internal forces (free equations, then held dofs), the band
-/// tangent, K_fp dp.
-pub(super) type Sink<'a, 'b> = (
-    &'a mut Internal<'b>,
-    Held<'a>,
-    Option<&'a mut BandMatrix>,
-    &'a mut Vec<f64>,
-);
+/// Where element contributions go.
+pub(super) struct Sink<'a, 'b> {
+    /// Internal forces at the free equations.
+    pub(super) internal: &'a mut Internal<'b>,
+    /// The held dofs and the internal forces at them.
+    pub(super) held: Held<'a>,
+    /// The band tangent, where one is assembled.
+    pub(super) tangent: Option<&'a mut BandMatrix>,
+    /// K_fp dp, by equation.
+    pub(super) coupling: &'a mut Vec<f64>,
+}
+
+impl<'a, 'b> Sink<'a, 'b> {
+    /// The sink over the assembly's outputs, borrowed for one element.
+    #[inline(always)]
+    pub(super) fn of(
+        internal: &'a mut Internal<'b>,
+        held: &'a mut Held<'_>,
+        tangent: &'a mut Option<BandMatrix>,
+        coupling: &'a mut Vec<f64>,
+    ) -> Sink<'a, 'b> {
+        Sink {
+            internal,
+            held: (held.0, &mut *held.1),
+            tangent: tangent.as_mut(),
+            coupling,
+        }
+    }
+}
 
 /// Add one element's nodal forces and (if given) its tangent over the global dofs `gdofs`.
 pub(super) fn add_element(
@@ -238,7 +264,12 @@ pub(super) fn add_element(
     ord: &Ordering,
     dofs: &DofMap,
     dp: Option<&[f64]>,
-    (internal, held, band, coupling): Sink,
+    Sink {
+        internal,
+        held,
+        tangent: band,
+        coupling,
+    }: Sink,
 ) {
     for (a, &g) in gdofs.iter().enumerate() {
         add_nodal_force(ord.eq[g], g, nodal[a], internal, (held.0, &mut *held.1));

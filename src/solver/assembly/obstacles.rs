@@ -65,7 +65,12 @@ pub(super) fn add_obstacles(
     with_tangent: bool,
     dp: Option<&[f64]>,
     (forces, frictions): (&mut Vec<f64>, &mut Vec<Option<Traction>>),
-    (internal, held, mut band, coupling): Sink,
+    Sink {
+        internal,
+        held,
+        tangent: mut band,
+        coupling,
+    }: Sink,
 ) {
     forces.clear();
     frictions.clear();
@@ -103,12 +108,12 @@ pub(super) fn add_obstacles(
             gdofs.extend((0..2).map(|o| dofs.dof(p, o)));
         }
         let k = with_tangent.then_some(move |a: usize, b: usize| k[a][b]);
-        let sink = (
-            &mut *internal,
-            (held.0, &mut *held.1),
-            band.as_deref_mut(),
-            &mut *coupling,
-        );
+        let sink = Sink {
+            internal: &mut *internal,
+            held: (held.0, &mut *held.1),
+            tangent: band.as_deref_mut(),
+            coupling: &mut *coupling,
+        };
         add_element(&gdofs, &nodal[..gdofs.len()], k, ord, dofs, dp, sink);
     }
 }
