@@ -23,7 +23,12 @@ const START: f64 = 0.001;
 const STEPS: usize = 20;
 
 fn scene(n: usize, formulation: &str, mu: f64) -> Scene {
-    let text = format!(
+    parse(&scene_text(n, formulation, mu, ""), "pin on a mesh node").expect("a valid scene")
+}
+
+/// The text of `scene`, with `extra` entries (stages) at its end.
+fn scene_text(n: usize, formulation: &str, mu: f64, extra: &str) -> String {
+    format!(
         r#"(
     name: "pin on a mesh node", formulation: {formulation},
     sections: [(name: "s", E: 1.0, A: 1.0e3, I: 1.0, G: 400.0)],
@@ -33,10 +38,10 @@ fn scene(n: usize, formulation: &str, mu: f64) -> Scene {
     prescribed: [(node: 100000, dof: V, per_step: -0.01)],
     contacts: [(nodes: [100000], bodies: ["beam"], mu: {mu})],
     control: (steps: {STEPS}),
+    {extra}
 )"#,
         last = n + 1
-    );
-    parse(&text, "pin on a mesh node").expect("a valid scene")
+    )
 }
 
 /// The same beam with its midspan node driven down as the pin is (no pin, no contact).
@@ -267,22 +272,11 @@ fn example_3_2_completes_where_a_tip_lands_on_a_mesh_node() {
 fn a_pin_drawn_back_off_a_mesh_node_lets_go_and_the_beam_springs_straight() {
     for formulation in ["BernoulliEuler", "Timoshenko"] {
         for n in [8, 16, 32] {
-            let text = format!(
-                r#"(
-    name: "pin on a mesh node, down and up", formulation: {formulation},
-    sections: [(name: "s", E: 1.0, A: 1.0e3, I: 1.0, G: 400.0)],
-    nodes: [(id: 100000, x: 0.5, y: {START}, rotation: false)],
-    bodies: [(name: "beam", section: "s", path: [(0.0, 0.0), (1.0, 0.0)], elements: {n}, first_node: 1)],
-    supports: [(node: 1, u: true, v: true), (node: {last}, u: true, v: true), (node: 100000, u: true)],
-    prescribed: [(node: 100000, dof: V, per_step: -0.01)],
-    contacts: [(nodes: [100000], bodies: ["beam"])],
-    stages: [
+            let stages = r#"stages: [
         (name: "down", steps: 3, prescribed: [(node: 100000, dof: V, by: -0.21282)]),
         (name: "up", steps: 3, prescribed: [(node: 100000, dof: V, by: 0.21282)]),
-    ],
-)"#,
-                last = n + 1
-            );
+    ],"#;
+            let text = scene_text(n, formulation, 0.0, stages);
             let s = parse(&text, "pin down and up").expect("a valid scene");
             let (records, error) = solve(&s);
             assert!(

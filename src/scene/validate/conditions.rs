@@ -34,7 +34,7 @@ pub(super) fn conditions(
         let n = g.node_of(ctx, format!("supports[{k}].node"), s.node)?;
         for (on, dof) in [(s.u, Dof::U), (s.v, Dof::V), (s.phi, Dof::Phi)] {
             if on {
-                let key = ["u", "v", "phi"][dof.offset()];
+                let key = dof.name();
                 g.check_dof(
                     ctx,
                     format!("supports[{k}].{key} (node {})", s.node),

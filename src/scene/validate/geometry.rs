@@ -155,11 +155,7 @@ pub(super) fn geometry<'a>(
             ));
         }
         if body_index.insert(&body.name, b).is_some() {
-            let e = SceneError {
-                line: None,
-                ..ctx.err(field("name"), None, "duplicate body name")
-            };
-            return Err(ctx.in_entry(e, ("bodies", b)));
+            return Err(ctx.err_entry(field("name"), ("bodies", b), "duplicate body name"));
         }
         if let Some(k) = (body.path.iter()).position(|p| !(sized(p.0) && sized(p.1))) {
             return Err(ctx.err(
