@@ -153,11 +153,6 @@ impl TsmApp {
         self.error.as_ref().map(|e| e.to_string())
     }
 
-    /// The error shown, as the worker sent it (the solver's own, typed), if any.
-    pub fn failure(&self) -> Option<&Failure> {
-        self.error.as_ref()
-    }
-
     /// The status line's text.
     pub fn status(&self) -> &str {
         &self.status
