@@ -142,6 +142,10 @@ pub(super) enum Command {
         /// The campaign's seed.
         #[arg(long, default_value_t = 1)]
         seed: u64,
+        /// Run only the drive with this seed (as the report prints it, 0x...) and print how it
+        /// ends, writing no report.
+        #[arg(long, value_parser = parse_drive)]
+        drive: Option<u64>,
         /// Output folder.
         #[arg(long, default_value = "docs")]
         out: PathBuf,
@@ -209,4 +213,14 @@ impl DiagramArg {
             DiagramArg::M => Diagram::Moment,
         }
     }
+}
+
+/// A drive's seed as the robustness report prints it: hexadecimal with `0x`, or decimal.
+#[cfg(feature = "reports")]
+fn parse_drive(text: &str) -> Result<u64, String> {
+    let parsed = match text.strip_prefix("0x") {
+        Some(hex) => u64::from_str_radix(hex, 16),
+        None => text.parse(),
+    };
+    parsed.map_err(|e| format!("{text:?} is not a drive's seed (0x... or decimal): {e}"))
 }

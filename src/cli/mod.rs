@@ -44,8 +44,12 @@ pub fn run() -> i32 {
         Some(Command::Robust {
             per_scene,
             seed,
+            drive,
             out,
-        }) => reports::robust(per_scene, seed, &out),
+        }) => match drive {
+            Some(drive) => reports::robust_drive(per_scene, seed, drive),
+            None => reports::robust(per_scene, seed, &out),
+        },
         #[cfg(feature = "reports")]
         Some(Command::Scale { max, contact }) => reports::scale(max, contact),
         Some(Command::Check { history, scene }) => check::check(&history, scene.as_deref()),

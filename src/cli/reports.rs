@@ -112,6 +112,46 @@ pub(super) fn robust(per_scene: usize, seed: u64, out: &Path) -> i32 {
     0
 }
 
+/// `robust --drive`: the one drive of the campaign with seed `drive`, run and its end printed
+/// (1 where no drive of the campaign has that seed or it stops).
+pub(super) fn robust_drive(per_scene: usize, seed: u64, drive: u64) -> i32 {
+    use tsm_contact::reports::robust;
+    let cases = robust::cases(per_scene, seed);
+    let Some(case) = cases.iter().find(|c| c.seed == drive) else {
+        eprintln!("error: no drive of the campaign (--per-scene {per_scene} --seed {seed}) has seed {drive:#x}");
+        return 1;
+    };
+    let outcome = robust::run(case);
+    let most = outcome.iterations.iter().max().copied().unwrap_or(0);
+    out!(
+        "{} {:?} {} elements, step x{:.3e}, {} steps{}, mu {}",
+        case.scene,
+        case.formulation,
+        case.elements.map_or("own".to_string(), |n| n.to_string()),
+        case.factor,
+        case.steps,
+        if case.reverse { " and back" } else { "" },
+        case.mu
+    );
+    out!(
+        "{} accepted increments, at most {most} iterations in one",
+        outcome.iterations.len()
+    );
+    for finding in &outcome.findings {
+        out!("finding: {finding}");
+    }
+    match &outcome.stop {
+        Some((kind, text)) => {
+            out!("stopped ({kind}): {text}");
+            1
+        }
+        None => {
+            out!("complete");
+            i32::from(!outcome.findings.is_empty())
+        }
+    }
+}
+
 /// `scale`: the cost of one Newton increment against the model's size (`contact`: of a contact
 /// bed against its size, with and without the broad phase), up to `max` elements.
 pub(super) fn scale(max: usize, contact: bool) -> i32 {

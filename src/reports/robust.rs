@@ -444,7 +444,7 @@ pub fn report(outcomes: &[Outcome], per_scene: usize, seed: u64) -> String {
             of.iter().map(|o| o.findings.len()).sum::<usize>()
         );
     }
-    text += "\nEvery stop, with its drive (seed, formulation, elements per segment, step factor, steps, down and up, mu):\n\n";
+    text += "\nEvery stop, with its drive (seed, formulation, elements per segment, step factor, steps, down and up, mu; `tsm-contact robust --drive SEED` runs one again):\n\n";
     for o in outcomes
         .iter()
         .filter(|o| o.stop.is_some() || !o.findings.is_empty())

@@ -62,6 +62,7 @@ impl ContactSet {
                 crossings.push((n, b, p, side));
             }
         }
+        crossings.retain(|&(n, b, p, _)| !self.met_by_a_tip(cv, n, b, &p));
         if self.one_at_a_time {
             let tensile = self.tensile(asm).into_iter().map(|k| {
                 let a = self.active[k];
@@ -89,6 +90,34 @@ impl ContactSet {
             self.one_at_a_time = true;
         }
         changes
+    }
+
+    /// Whether node `n`, found through body `b` at `p` within the free-end margin of a free tip
+    /// of `b`, meets that tip where the tip rests on an element of `n`'s own: the two bodies
+    /// touch tip on node, and the tip's contact holds them apart. A contact of `n` there would
+    /// slide off the tip at the next converged pass and be found through it again, without end.
+    fn met_by_a_tip(&self, cv: &ContactView<'_>, n: usize, b: usize, p: &Probe) -> bool {
+        let m = &cv.model;
+        let beam = &m.beams[p.beam];
+        let margin = cv.params.free_end_margin;
+        let continues = |node: usize| {
+            cv.node_beams[node]
+                .iter()
+                .filter(|&&e| m.beams[e].body == b)
+                .count()
+                > 1
+        };
+        let tip = if p.xi > 1.0 - margin && !continues(beam.j) {
+            beam.j
+        } else if p.xi < margin && !continues(beam.i) {
+            beam.i
+        } else {
+            return false;
+        };
+        (self.active.iter()).any(|a| {
+            let under = &m.beams[a.beam];
+            a.node == tip && (under.i == n || under.j == n)
+        })
     }
 
     /// Make the crossing nodes active contacts. Returns how many.

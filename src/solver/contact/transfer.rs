@@ -67,6 +67,17 @@ impl ContactSet {
         self.transfer_within(cv, d, (increment, 0), true, margin, events)
     }
 
+    /// Whether node `n` may touch element `beam` of body `b`: `(n, b)` is a candidate pair and,
+    /// for a node of `b` itself, the element lies outside the node's own window.
+    fn may_touch(cv: &ContactView<'_>, n: usize, b: usize, beam: usize) -> bool {
+        let own = &cv.model.beams[beam];
+        if own.i == n || own.j == n || !Self::candidates(cv).contains(&(n, b)) {
+            return false;
+        }
+        cv.self_window_of(n, b)
+            .is_none_or(|(lo, hi)| !(lo..=hi).contains(&cv.place[beam]))
+    }
+
     /// `transfer` with the free-end margin given: contacts within `margin` of a free end slide
     /// off (a negative margin: only those past it).
     pub(super) fn transfer_within(
@@ -159,10 +170,14 @@ impl ContactSet {
                 // "jump"): the node sits on the tip, so it sits on the other body's surface.
                 let beam = &m.beams[a.beam];
                 let tip = if xi_now > 0.5 { beam.j } else { beam.i };
-                let under = self
-                    .active
-                    .iter()
-                    .find(|b| b.node == tip && b.body != a.body)
+                // Only to a body the node may touch there: a candidate pair, and for a node of
+                // that body, an element outside its own window (never its own element).
+                let under = (self.active.iter())
+                    .find(|b| {
+                        b.node == tip
+                            && b.body != a.body
+                            && Self::may_touch(cv, a.node, b.body, b.beam)
+                    })
                     .copied();
                 if let Some(u) = under {
                     if !self.is_active(a.node, u.body) {

@@ -1,0 +1,38 @@
+//! Drives of the robustness campaign (`tsm_contact::reports::robust`) at the places that are
+//! hardest for the active set, run whole and audited by the oracle (`tsm_contact::audit`,
+//! which shares no code with the solver): every accepted state in equilibrium, on the right
+//! side of every beam, within the friction law.
+
+use tsm_contact::reports::robust::{cases, run};
+
+/// The campaign's drive with seed `seed` (of 24 per scene, campaign seed 1), run: it completes
+/// and the oracle finds nothing in any accepted state.
+fn completes_audited(seed: u64) {
+    let case = (cases(24, 1).into_iter())
+        .find(|c| c.seed == seed)
+        .expect("the campaign draws this drive");
+    let outcome = run(&case);
+    assert_eq!(outcome.stop, None, "{case:?} stops");
+    assert!(
+        outcome.findings.is_empty(),
+        "{:?}: {}",
+        case.scene,
+        outcome.findings.join("\n")
+    );
+    let done = (case.steps * if case.reverse { 2 } else { 1 }) as f64;
+    assert!(
+        outcome.iterations.len() as f64 >= done,
+        "{} accepted increments for {done} steps",
+        outcome.iterations.len()
+    );
+}
+
+/// Example 3.2 with friction: A's tip comes to rest on B right at B's mesh node 13, so node 13
+/// is found at A's tip as A's tip is at node 13. The tip's contact holds the two apart; a
+/// contact of node 13 on A within the free-end margin of the tip would slide off it at each
+/// pass and be found again.
+#[test]
+fn a_tip_resting_on_the_mesh_node_of_a_frictional_beam_under_it_completes() {
+    completes_audited(0x8ff3_4784_799e_5cbc); // Bernoulli-Euler, mu 0.18, 0.53 of the step
+    completes_audited(0xfa8c_fc36_711c_2db8); // Timoshenko, mu 0.16, down and back up
+}
