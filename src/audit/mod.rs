@@ -117,14 +117,14 @@ fn audit_with(
         }
         let slot = &chains.slot;
         if let Some((n, o, depth)) =
-            obstacles::deepest_inside(&topology.obstacles, slot, &rest, &r.nodes, obstacle_tol)
+            obstacles::deepest_inside(topology, slot, &rest, &r.nodes, obstacle_tol)
         {
             found.push(Finding {
                 increment: r.increment,
                 node: Some(n),
                 body: Some(o.clone()),
                 element: None,
-                what: format!("node {n} is {depth:.3e} m inside obstacle {o} (accepted gap {obstacle_tol:.1e} m)"),
+                what: format!("node {n} is {depth:.3e} m inside obstacle {o} (its face, at its clearance from it; accepted gap {obstacle_tol:.1e} m)"),
             });
         }
         found.extend(friction_and_pressure(topology, r));

@@ -4,7 +4,7 @@
 
 use std::collections::HashMap;
 
-use crate::history::topology::TopologyObstacle;
+use crate::history::topology::Topology;
 use crate::solver::Shape;
 
 /// Round-off units of the coordinates that a distance from an obstacle may be off by.
@@ -105,17 +105,22 @@ fn polyline(points: &[[f64; 2]], p: [f64; 2]) -> Option<f64> {
     Some(if inside { -d } else { d })
 }
 
-/// The deepest candidate node inside an obstacle in state `s`, deeper than `tol` (m):
+/// The deepest candidate node inside an obstacle in state `s` (its face, at its clearance
+/// from the node), deeper than `tol` (m):
 /// (node id, obstacle name, depth).
 pub fn deepest_inside(
-    obstacles: &[TopologyObstacle],
+    topology: &Topology,
     slot: &HashMap<u32, usize>,
     rest: &HashMap<u32, [f64; 2]>,
     s: &[[f64; 3]],
     tol: f64,
 ) -> Option<(u32, String, f64)> {
+    let clearance: HashMap<u32, f64> = (topology.nodes.iter())
+        .filter(|n| n.clearance != 0.0)
+        .map(|n| (n.id, n.clearance))
+        .collect();
     let mut worst: Option<(u32, String, f64)> = None;
-    for o in obstacles {
+    for o in &topology.obstacles {
         let by = o.pilot.map_or([0.0, 0.0], |p| {
             let (now, was) = (s[slot[&p]], rest[&p]);
             [now[0] - was[0], now[1] - was[1]]
@@ -124,9 +129,11 @@ pub fn deepest_inside(
         let scale = shape_scale(&shape);
         for &n in &o.nodes {
             let p = s[slot[&n]];
-            let Some(g) = signed_distance(&shape, [p[0], p[1]]) else {
+            let Some(centre) = signed_distance(&shape, [p[0], p[1]]) else {
                 continue;
             };
+            // The node's face: its clearance nearer the obstacle than the node.
+            let g = centre - clearance.get(&n).copied().unwrap_or(0.0);
             // Beyond the round-off of the positions and the shape's coordinates too.
             let slack = ROUNDOFF_ULPS * f64::EPSILON * (scale + p[0].abs().max(p[1].abs()));
             if -g > tol + slack && worst.as_ref().is_none_or(|w| -g > w.2) {

@@ -66,6 +66,15 @@ pub struct TopologyNode {
     pub x: f64,
     /// Position at rest (m).
     pub y: f64,
+    /// How far the face it touches obstacles with stands from it (m): its radius plus half
+    /// its thickest element's thickness.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub clearance: f64,
+}
+
+/// Whether a size is zero (left out of the file).
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }
 
 /// A beam element.
@@ -190,6 +199,7 @@ impl Topology {
                     id: n.id,
                     x: n.x,
                     y: n.y,
+                    clearance: n.clearance,
                 })
                 .collect(),
             elements: (model.beams.iter())

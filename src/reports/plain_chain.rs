@@ -34,6 +34,7 @@ impl PlainChain {
             ea: 1.0e6,
             ei: 1.0,
             gae: 1.0e12,
+            thickness: 0.0,
         };
         let elements = (0..n)
             .map(|e| BeamElement::new([e as f64, 0.0], [(e + 1) as f64, 0.0], section, 0.0))

@@ -143,6 +143,10 @@ pub struct SectionDef {
     /// their self-weight, density A g per length.
     #[serde(default)]
     pub density: Option<f64>,
+    /// Depth across the plane of bending (m, default 0): the bodies of this section touch
+    /// obstacles with their faces, half of it either side of the axis.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub thickness: Option<f64>,
 }
 
 /// An explicit node.
@@ -158,6 +162,9 @@ pub struct NodeDef {
     /// Whether the node has a rotation dof (default true; false for contact pins).
     #[serde(default = "yes")]
     pub rotation: bool,
+    /// Radius (m, default 0): the node is a pin that touches obstacles with its rim.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius: Option<f64>,
 }
 
 fn yes() -> bool {

@@ -72,6 +72,9 @@ pub struct Node {
     pub y: f64,
     /// Whether the node carries a rotation dof (false for 2-dof contact pins).
     pub rotation: bool,
+    /// Its radius plus half its thickest element's thickness: where it touches obstacles (m).
+    #[serde(default)]
+    pub clearance: f64,
 }
 
 /// Section and material of a beam, reduced to the stiffnesses the element force equation needs.
@@ -83,6 +86,9 @@ pub struct Section {
     pub ei: f64,
     /// Shear stiffness G Ae (N).
     pub gae: f64,
+    /// Depth of the section across the beam's plane of bending (m; 0: a line).
+    #[serde(default)]
+    pub thickness: f64,
 }
 
 impl Section {
@@ -389,11 +395,7 @@ impl Model {
 
     /// Number of dofs of node `n` (2 or 3).
     pub fn node_dofs(&self, n: usize) -> usize {
-        if self.nodes[n].rotation {
-            3
-        } else {
-            2
-        }
+        2 + usize::from(self.nodes[n].rotation)
     }
 
     /// Initial position of node `n`.

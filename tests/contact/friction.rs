@@ -47,6 +47,7 @@ fn friction_tangent_matches_central_differences_in_stick_and_slip() {
         ea: 6.0e3,
         ei: 4.4e-4,
         gae: 2.1e3,
+        thickness: 0.0,
     };
     let len = 0.1;
     let el = BeamElement::new([0.0, 0.0], [len, 0.0], s, s.ei / s.gae);

@@ -17,3 +17,4 @@ mod obstacle_campaign;
 mod obstacles;
 mod oracle;
 mod self_contact;
+mod thickness;

@@ -18,6 +18,7 @@ fn strip() -> Section {
         ea: 2.0e7 * 3.0e-4,
         ei: 2.0e7 * 2.2e-8,
         gae: 7.142e6 * 3.0e-4,
+        thickness: 0.0,
     }
 }
 

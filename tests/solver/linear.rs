@@ -330,6 +330,7 @@ fn a_beam_added_from_its_distinct_entries_is_the_written_out_tangent() {
         ea: 1e4,
         ei: 3.0,
         gae: 300.0,
+        thickness: 0.0,
     };
     let mut direct = 0;
     for e in 0..beams {

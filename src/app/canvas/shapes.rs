@@ -1,7 +1,7 @@
 //! What the viewport draws, in world coordinates: each body's smooth deformed curve (through
 //! `solver::element::shape::element_curve`) with the bending moment at every sample, the undeformed
-//! chords, the outlines of the rigid obstacles where their pilots have moved them, and the
-//! moment colour map shared by the strips and the legend.
+//! chords, the faces of bodies with a thickness, the outlines of the rigid obstacles where
+//! their pilots have moved them, and the moment colour map shared by the strips and the legend.
 
 use egui::Color32;
 
@@ -125,6 +125,25 @@ pub fn deformed_bodies(
         }
     }
     out
+}
+
+/// The faces of a body of thickness `2 half` about its deformed curve `points`: for each point,
+/// the points `half` either side along the curve's normal there (empty for a line).
+pub fn faces(points: &[[f64; 2]], half: f64) -> Vec<[[f64; 2]; 2]> {
+    if half <= 0.0 || points.len() < 2 {
+        return Vec::new();
+    }
+    let last = points.len() - 1;
+    (0..=last)
+        .map(|k| {
+            let (a, b) = (points[k.saturating_sub(1)], points[(k + 1).min(last)]);
+            let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+            let l = dx.hypot(dy).max(f64::MIN_POSITIVE);
+            let n = [-dy / l * half, dx / l * half];
+            let p = points[k];
+            [[p[0] + n[0], p[1] + n[1]], [p[0] - n[0], p[1] - n[1]]]
+        })
+        .collect()
 }
 
 /// Undeformed chords of every body, as polylines through the initial node positions.

@@ -2,7 +2,7 @@
 //! (double-click, the "Fit" button or F), dragging the handle of a prescribed dof, the values of
 //! what the pointer is on (hover) and its selection (click), and the beams
 //! (deformed strips coloured by bending moment over the grey undeformed shape, see
-//! `beams_gpu`) under the overlays of `overlays`.
+//! `beams_gpu`, over the faces of bodies with a thickness) under the overlays of `overlays`.
 
 use std::sync::Arc;
 
@@ -15,7 +15,8 @@ use super::diagrams;
 use super::overlays::{self, INK};
 use super::query::{describe, pick};
 use super::shapes::{
-    deformed_bodies, max_moment, moment_color, obstacle_outlines, undeformed_bodies, BodyCurve,
+    deformed_bodies, faces, max_moment, moment_color, obstacle_outlines, undeformed_bodies,
+    BodyCurve,
 };
 use super::strips::Polyline;
 use crate::app::display::Diagram;
@@ -23,6 +24,9 @@ use crate::app::state::TsmApp;
 use crate::app::view::{bounds, handle_world, Drag};
 
 const GHOST: Color32 = Color32::from_rgb(175, 178, 186);
+/// A body's faces where it has a thickness: the band and its edges.
+const FACE: Color32 = Color32::from_rgba_premultiplied(40, 48, 64, 72);
+const FACE_EDGE: Color32 = Color32::from_rgb(120, 124, 134);
 /// The outline of a rigid obstacle (as the figure draws it, `figure::Kind::Obstacle`).
 const OBSTACLE: Color32 = Color32::from_rgb(90, 90, 96);
 
@@ -128,6 +132,7 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui, gpu: Option<&egui_wgpu::RenderS
         let points: Vec<Pos2> = outline.into_iter().map(to_screen).collect();
         painter.add(egui::Shape::line(points, Stroke::new(3.0, OBSTACLE)));
     }
+    paint_faces(&painter, model, &curves, &to_screen);
     beams_gpu::paint(&painter, rect, &built, gpu);
     obstacle_contacts(&painter, model, r, &to_screen);
 
@@ -312,5 +317,39 @@ fn obstacle_contacts(
         // The tangent (normal_y, -normal_x) on the screen.
         let along = Vec2::new(c.normal[1] as f32, c.normal[0] as f32);
         overlays::friction_arrow(p, at, along, (c.tangential, c.friction), fmax);
+    }
+}
+
+/// The faces of every body with a thickness: a band of its thickness about its deformed curve,
+/// under the moment strip along its axis.
+fn paint_faces(
+    painter: &egui::Painter,
+    model: &crate::solver::Model,
+    curves: &[BodyCurve],
+    to_screen: &impl Fn([f64; 2]) -> Pos2,
+) {
+    for c in curves {
+        let half = (model.bodies[c.body].elements.iter())
+            .map(|&e| 0.5 * model.beams[e].section.thickness)
+            .fold(0.0, f64::max);
+        let sides = faces(&c.points, half);
+        if sides.is_empty() {
+            continue;
+        }
+        let mut mesh = egui::Mesh::default();
+        for (k, [left, right]) in sides.iter().enumerate() {
+            mesh.colored_vertex(to_screen(*left), FACE);
+            mesh.colored_vertex(to_screen(*right), FACE);
+            if k > 0 {
+                let v = 2 * k as u32;
+                mesh.add_triangle(v - 2, v - 1, v);
+                mesh.add_triangle(v - 1, v + 1, v);
+            }
+        }
+        painter.add(mesh);
+        for side in 0..2 {
+            let edge: Vec<Pos2> = sides.iter().map(|f| to_screen(f[side])).collect();
+            painter.add(egui::Shape::line(edge, Stroke::new(1.0, FACE_EDGE)));
+        }
     }
 }

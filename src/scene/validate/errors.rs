@@ -180,6 +180,25 @@ pub(super) fn sized(v: f64) -> bool {
     v.is_finite() && v.abs() < MAGNITUDE
 }
 
+/// An optional size `v` (a thickness, a radius) must be zero or positive, finite and below
+/// `MAGNITUDE`; absent, it is 0.
+pub(super) fn size_or_zero(
+    ctx: &Ctx,
+    field: String,
+    needle: Option<String>,
+    v: Option<f64>,
+) -> Result<f64, SceneError> {
+    match v {
+        None => Ok(0.0),
+        Some(v) if sized(v) && v >= 0.0 => Ok(v),
+        Some(v) => Err(ctx.err(
+            field,
+            needle,
+            format!("must be zero or positive and finite (below 1e100), got {v:e}"),
+        )),
+    }
+}
+
 /// `v` must be positive, finite and below `MAGNITUDE`.
 pub(super) fn positive(
     ctx: &Ctx,

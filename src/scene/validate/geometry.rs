@@ -4,7 +4,7 @@
 
 use std::collections::HashMap;
 
-use super::errors::{positive, sized, Ctx, SceneError};
+use super::errors::{positive, size_or_zero, sized, Ctx, SceneError};
 use crate::scene::format::SceneFile;
 use crate::solver::{Beam, Body, Dof, Node, Section};
 
@@ -32,6 +32,7 @@ pub(super) fn sections<'a>(
         positive(ctx, f("G"), nd.clone(), g)?;
         let ae = s.ae.unwrap_or(s.a);
         positive(ctx, f("Ae"), nd.clone(), ae)?;
+        let thickness = size_or_zero(ctx, f("thickness"), nd.clone(), s.thickness)?;
         // Each factor may be fine and the stiffness still overflow or underflow.
         for (field, what, v) in [
             ("E", "E A", s.e * s.a),
@@ -53,6 +54,7 @@ pub(super) fn sections<'a>(
                     ea: s.e * s.a,
                     ei: s.e * s.i,
                     gae: g * ae,
+                    thickness,
                 },
             )
             .is_some()
@@ -101,11 +103,20 @@ pub(super) fn geometry<'a>(
                 format!("duplicate node id {}", n.id),
             ));
         }
+        let radius = size_or_zero(
+            ctx,
+            format!("nodes[{k}].radius (node {})", n.id),
+            nd,
+            n.radius,
+        )?;
         nodes.push(Node {
             id: n.id,
             x: n.x,
             y: n.y,
             rotation: n.rotation,
+            // The radius; half the thickest element's thickness is added once the bodies are
+            // meshed (`clearances`).
+            clearance: radius,
         });
     }
     let explicit = nodes.len();
@@ -233,6 +244,7 @@ pub(super) fn geometry<'a>(
                         x,
                         y,
                         rotation: true,
+                        clearance: 0.0,
                     });
                     nodes.len() - 1
                 }
@@ -261,6 +273,7 @@ pub(super) fn geometry<'a>(
             elements,
         });
     }
+    clearances(&mut nodes, &beams);
     Ok(Geometry {
         nodes,
         beams,
@@ -315,5 +328,19 @@ impl Geometry<'_> {
                 format!("unknown body \"{name}\""),
             )
         })
+    }
+}
+
+/// Add to each node's clearance (its radius) half the thickness of its thickest element: the
+/// face it touches obstacles with.
+fn clearances(nodes: &mut [Node], beams: &[Beam]) {
+    let mut half = vec![0.0f64; nodes.len()];
+    for b in beams {
+        for n in [b.i, b.j] {
+            half[n] = half[n].max(0.5 * b.section.thickness);
+        }
+    }
+    for (node, h) in nodes.iter_mut().zip(half) {
+        node.clearance += h;
     }
 }

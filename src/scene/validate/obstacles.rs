@@ -59,13 +59,19 @@ pub(super) fn obstacles(
         }
         for &n in &nodes {
             let node = &g.nodes[n];
-            let gap = shape.gap([node.x, node.y]).map_or(0.0, |gap| gap.g);
+            // Its face, at its clearance (radius, half thickness) from it.
+            let gap = shape.gap([node.x, node.y]).map_or(0.0, |gap| gap.g) - node.clearance;
             if gap < -START_INSIDE * size {
+                let face = if node.clearance > 0.0 {
+                    format!(" (its face, {:e} m from it)", node.clearance)
+                } else {
+                    String::new()
+                };
                 return Err(ctx.err(
                     field,
                     here,
                     format!(
-                        "node {} starts {:.3e} inside it: every node that may touch an obstacle starts on its free side",
+                        "node {}{face} starts {:.3e} inside it: every node that may touch an obstacle starts on its free side",
                         node.id, -gap
                     ),
                 ));

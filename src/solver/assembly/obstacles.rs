@@ -37,7 +37,9 @@ pub fn obstacle_offset(model: &Model, dofs: &DofMap, d: &[f64], o: usize) -> [f6
 }
 
 /// Where node `n` lies against obstacle `o` at displacements `d` (`None`: out of its reach),
-/// with the nearest point and the normal in the model's coordinates.
+/// with the nearest point of the obstacle and the normal in the model's coordinates. The gap
+/// is the node's surface's: its distance from the obstacle less its clearance (a pin's radius,
+/// half a beam's thickness), so that the node's face touches where the gap closes.
 pub fn obstacle_gap(model: &Model, dofs: &DofMap, d: &[f64], n: usize, o: usize) -> Option<Gap> {
     let t = obstacle_offset(model, dofs, d, o);
     let f = dofs.first[n];
@@ -46,6 +48,7 @@ pub fn obstacle_gap(model: &Model, dofs: &DofMap, d: &[f64], n: usize, o: usize)
     let x0 = model.position(n);
     let mut gap = model.obstacles[o].shape.gap_at(x0, w)?;
     gap.point = [gap.point[0] + t[0], gap.point[1] + t[1]];
+    gap.g -= model.nodes[n].clearance;
     Some(gap)
 }
 
@@ -92,7 +95,12 @@ pub(super) fn add_obstacles(
             let shape = &model.obstacles[link.obstacle].shape;
             let t = obstacle_offset(model, dofs, d, link.obstacle);
             let place = shape.place([gap.point[0] - t[0], gap.point[1] - t[1]]);
-            let (traction, fnodal, fk) = obstacle_friction(&gap, place, (f, penalty), &grip);
+            // The place's gradient follows the node's own distance from the curve.
+            let centre = Gap {
+                g: gap.g + model.nodes[link.node].clearance,
+                ..gap
+            };
+            let (traction, fnodal, fk) = obstacle_friction(&centre, place, (f, penalty), &grip);
             for a in 0..4 {
                 nodal[a] += fnodal[a];
                 for b in 0..4 {

@@ -347,6 +347,7 @@ mod tests {
             ea: 3.0e6,
             ei: 2.5,
             gae: 1.0e5,
+            thickness: 0.0,
         };
         for (k, psi) in [0.0, 2.5e-5].into_iter().enumerate() {
             let el = BeamElement::new([0.3, -0.2], [1.1, 0.4], section, psi);

@@ -209,6 +209,7 @@ mod tests {
             ea: 3.0e6,
             ei: 2.5,
             gae: 1.0e5,
+            thickness: 0.0,
         };
         let mut rng = crate::test_support::Rng(0x9e37_79b9_7f4a_7c15);
         let mut next = || rng.unit();
