@@ -6,6 +6,7 @@ mod common;
 
 mod acceptance;
 mod bar_on_a_beam_floor;
+#[cfg(feature = "reports")]
 mod campaign;
 mod channel;
 mod contact;

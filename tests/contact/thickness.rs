@@ -91,6 +91,7 @@ fn a_thick_strip_rests_with_its_face_on_the_table_and_lifts_off_as_the_thin_one(
         (lift - 0.175).abs() < 0.01 * 0.175,
         "lifting force {lift} N"
     );
+    println!("thick strip on a table: thick minus thin {d:.1e} m; lifting force {lift:.5} N");
 }
 
 /// The cantilever of `cylinder_wrap`, 4 cm thick, wraps the drum of radius 1 m as the thin
@@ -129,6 +130,7 @@ fn a_thick_cantilever_wraps_a_drum_as_the_thin_one_wraps_a_drum_grown_by_half_it
         d < 1e-9,
         "thick on the drum against thin on the grown drum: {d:e}"
     );
+    println!("thick cantilever on a drum: thick minus thin on the grown drum {d:.1e} m");
     // And it does wrap: the tip comes down by more than 10 cm.
     let tip = thick.last().unwrap().nodes.last().unwrap()[1] - t / 2.0;
     assert!(tip < -0.1, "tip at {tip} m");
@@ -170,6 +172,8 @@ fn a_pin_with_a_radius_stops_with_its_rim_on_the_floor() {
         "tip at {}",
         tip(&without)
     );
+    let error = (tip(&with) - (-0.03 + r)).abs();
+    println!("pin of radius 5 mm on a floor: its centre off r above the floor by {error:.1e} m");
 }
 
 /// The oracle measures a thick body's depth in an obstacle at its face: the thick strip's
