@@ -49,14 +49,9 @@ fn edited(name: &str, edits: &[(&str, &str)]) -> String {
 
 const T: f64 = 0.02;
 
-/// The heavy strip of `table_lift`, 2 cm thick with its axis 1 cm above the table, lies and
-/// lifts off as the thin strip does on the table: every state is the thin one 1 cm higher (to
-/// round-off), the nodes on the table have their axis at t/2, and the lifting force is the
-/// thin strip's, w a / 2 = 0.175 N within 1 %.
-#[test]
-fn a_thick_strip_rests_with_its_face_on_the_table_and_lifts_off_as_the_thin_one() {
-    let (_, thin) = solved(&edited("table_lift", &[]));
-    let thick = edited(
+/// `table_lift` with its strip `T` thick and its axis `T / 2` above the table.
+fn thick_table_lift() -> String {
+    edited(
         "table_lift",
         &[
             ("I: 1.0e-5)", &format!("I: 1.0e-5, thickness: {T})")),
@@ -65,7 +60,17 @@ fn a_thick_strip_rests_with_its_face_on_the_table_and_lifts_off_as_the_thin_one(
                 &format!("[(0.0, {h}), (1.0, {h})]", h = T / 2.0),
             ),
         ],
-    );
+    )
+}
+
+/// The heavy strip of `table_lift`, 2 cm thick with its axis 1 cm above the table, lies and
+/// lifts off as the thin strip does on the table: every state is the thin one 1 cm higher (to
+/// round-off), the nodes on the table have their axis at t/2, and the lifting force is the
+/// thin strip's, w a / 2 = 0.175 N within 1 %.
+#[test]
+fn a_thick_strip_rests_with_its_face_on_the_table_and_lifts_off_as_the_thin_one() {
+    let (_, thin) = solved(&edited("table_lift", &[]));
+    let thick = thick_table_lift();
     let (scene, records) = solved(&thick);
     let d = largest_difference(&records, &thin, [0.0, T / 2.0]);
     assert!(d < 1e-12, "thick minus thin, 1 cm lower: {d:e} m");
@@ -181,16 +186,7 @@ fn a_pin_with_a_radius_stops_with_its_rim_on_the_floor() {
 /// thickness would leave it) is found inside the table, though it is in equilibrium.
 #[test]
 fn the_oracle_finds_a_thick_strip_whose_axis_lies_on_the_table() {
-    let thick = edited(
-        "table_lift",
-        &[
-            ("I: 1.0e-5)", &format!("I: 1.0e-5, thickness: {T})")),
-            (
-                "[(0.0, 0.0), (1.0, 0.0)]",
-                &format!("[(0.0, {h}), (1.0, {h})]", h = T / 2.0),
-            ),
-        ],
-    );
+    let thick = thick_table_lift();
     let (scene, mut records) = solved(&thick);
     for r in &mut records {
         for p in &mut r.nodes {
@@ -210,28 +206,30 @@ fn the_oracle_finds_a_thick_strip_whose_axis_lies_on_the_table() {
 /// axis on an obstacle starts with its face inside it and is refused, naming its node.
 #[test]
 fn bad_thicknesses_and_radii_are_refused_with_their_fields() {
-    let bad = edited(
-        "table_lift",
-        &[("I: 1.0e-5)", "I: 1.0e-5, thickness: -0.01)")],
-    );
-    let e = parse(&bad, "t.ron").unwrap_err().to_string();
-    assert!(
-        e.contains("sections[0].thickness (section \"strip\")"),
-        "{e}"
-    );
-    let inside = edited(
-        "table_lift",
-        &[("I: 1.0e-5)", "I: 1.0e-5, thickness: 0.01)")],
-    );
-    let e = parse(&inside, "t.ron").unwrap_err().to_string();
-    assert!(
-        e.contains("node 1 (its face, 5e-3 m from it) starts"),
-        "{e}"
-    );
-    let radius = edited(
-        "pin_on_cantilever",
-        &[("rotation: false)", "rotation: false, radius: -1.0)")],
-    );
-    let e = parse(&radius, "r.ron").unwrap_err().to_string();
-    assert!(e.contains("nodes[0].radius"), "{e}");
+    let cases = [
+        (
+            "table_lift",
+            "I: 1.0e-5)",
+            "I: 1.0e-5, thickness: -0.01)",
+            "sections[0].thickness (section \"strip\")",
+        ),
+        (
+            "table_lift",
+            "I: 1.0e-5)",
+            "I: 1.0e-5, thickness: 0.01)",
+            "node 1 (its face, 5e-3 m from it) starts",
+        ),
+        (
+            "pin_on_cantilever",
+            "rotation: false)",
+            "rotation: false, radius: -1.0)",
+            "nodes[0].radius",
+        ),
+    ];
+    for (name, from, to, says) in cases {
+        let e = parse(&edited(name, &[(from, to)]), "s.ron")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(says), "{name} with {to:?}: {e}");
+    }
 }
