@@ -16,13 +16,10 @@ use crate::solver::report::{ContactChange, Event};
 impl ContactSet {
     /// Forget the passes of a previous attempt (call at the start of each attempt).
     pub(crate) fn begin_attempt(&mut self) {
-        self.seen.clear();
-        self.one_at_a_time = false;
+        self.beam_guard.clear();
         self.multiplier_updates = 0;
-        self.obstacle_seen.clear();
-        self.obstacle_one_at_a_time = false;
-        self.friction_seen.clear();
-        self.friction_one_at_a_time = false;
+        self.obstacle_guard.clear();
+        self.friction_guard.clear();
         self.friction_turned.clear();
         self.obstacle_touched.clear();
     }
@@ -63,7 +60,7 @@ impl ContactSet {
             }
         }
         crossings.retain(|&(n, b, p, _)| !self.met_by_a_tip(cv, n, b, &p));
-        if self.one_at_a_time {
+        if self.beam_guard.one_at_a_time() {
             let tensile = self.tensile(asm).into_iter().map(|k| {
                 let a = self.active[k];
                 ((a.node, a.body), Some(k))
@@ -86,8 +83,8 @@ impl ContactSet {
         if self.too_deep.is_none() {
             self.too_deep = self.passed_out_of_reach(cv, d, &views, &held);
         }
-        if changes > 0 && !self.seen.insert(self.pairs()) {
-            self.one_at_a_time = true;
+        if changes > 0 {
+            self.beam_guard.reached(self.pairs());
         }
         changes
     }

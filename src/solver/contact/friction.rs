@@ -139,7 +139,7 @@ impl ContactSet {
             let swings = turned.get(&key).copied().unwrap_or(0);
             let want = t.mode(
                 now,
-                self.friction_one_at_a_time || swings >= MAX_TURNS,
+                self.friction_guard.one_at_a_time() || swings >= MAX_TURNS,
                 slack,
             );
             if let (Some(a), Some(b)) = (now, want) {
@@ -171,7 +171,7 @@ impl ContactSet {
             }
         }
         self.friction_turned = turned;
-        if self.friction_one_at_a_time {
+        if self.friction_guard.one_at_a_time() {
             changes.truncate(1);
         }
         let beams = self.active.len();
@@ -191,9 +191,7 @@ impl ContactSet {
                 .map(|a| a.stick.map_or(0, |s| mode_code(s.slip)))
                 .chain(on_obstacles)
                 .collect();
-            if !self.friction_seen.insert(modes) {
-                self.friction_one_at_a_time = true;
-            }
+            self.friction_guard.reached(modes);
         }
         changes.len()
     }

@@ -6,10 +6,12 @@
 //! relative to a body's deformed shape; `sides.rs` remembers sides and detects crossings;
 //! `transfer.rs` moves contacts between elements and off free ends; `active_set.rs` decides
 //! activation and release at a converged pass; `obstacles.rs` the contacts with rigid
-//! obstacles; `friction.rs` the stick points of frictional contacts.
+//! obstacles; `friction.rs` the stick points of frictional contacts; `cycle.rs` the guard
+//! against cycling that each of those stages keeps for an attempt.
 
 mod active_set;
 mod broad_phase;
+mod cycle;
 mod friction;
 mod obstacles;
 mod probe;

@@ -93,7 +93,7 @@ impl ContactSet {
             }
         }
         if !violations.is_empty() {
-            if self.obstacle_one_at_a_time {
+            if self.obstacle_guard.one_at_a_time() {
                 violations.truncate(1);
             }
             for &(k, activate) in &violations {
@@ -113,9 +113,7 @@ impl ContactSet {
                 }
             }
             let set: Vec<bool> = self.obstacle.iter().map(|l| l.active).collect();
-            if !self.obstacle_seen.insert(set) {
-                self.obstacle_one_at_a_time = true;
-            }
+            self.obstacle_guard.reached(set);
             return (violations.len(), 0);
         }
         let mut updated = 0;

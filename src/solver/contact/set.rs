@@ -6,9 +6,10 @@
 //! contact stage reads the solver through a `ContactView`: the structure, and the last
 //! converged displacements and contact set, nothing more.
 
-use std::collections::{HashMap, HashSet};
+use std::collections::HashMap;
 use std::ops::Deref;
 
+use super::cycle::CycleGuard;
 use crate::solver::assembly::{current, Assembled, ContactLink, ObstacleLink};
 use crate::solver::element::beam::Chord;
 use crate::solver::element::contact_law::surface_turn;
@@ -55,15 +56,13 @@ pub struct ContactSet {
     /// `max_penetration` element lengths: (node, body, depth / length). The increment is then
     /// cut back so that the touch is caught close to where it happens.
     pub(crate) too_deep: Option<(usize, usize, f64)>,
-    /// Active sets met at the converged passes of the current attempt, to tell cycling.
-    pub(super) seen: HashSet<Vec<(usize, usize)>>,
+    /// The active sets met at the converged passes of the current attempt: once one comes
+    /// back, each converged pass fixes one violation only (see `after_convergence`).
+    pub(crate) beam_guard: CycleGuard<Vec<(usize, usize)>>,
     /// A candidate pair whose node touches the body with its own beam's neighbouring nodes not
     /// all clear on one side of it, found by `remember_sides` (the first one): its side is
     /// ambiguous, and a scene that starts so is refused ([`SolveError::AmbiguousSide`]).
     pub(crate) ambiguous: Option<(usize, usize)>,
-    /// Set once an active set repeats within an attempt: from then on each converged pass fixes
-    /// one violation only (see `after_convergence`).
-    pub(crate) one_at_a_time: bool,
     /// Every candidate (node, obstacle) pair of the structure, in its order, with its
     /// multiplier (`obstacles.rs`).
     pub obstacle: Vec<ObstacleLink>,
@@ -71,11 +70,9 @@ pub struct ContactSet {
     pub(crate) obstacle_resting: Vec<bool>,
     /// The force each obstacle pair last let go with in the current attempt (by pair).
     pub(super) obstacle_let_go: IndexMap<usize, f64>,
-    /// The obstacle contacts met at the converged passes of the current attempt.
-    pub(super) obstacle_seen: HashSet<Vec<bool>>,
-    /// Set once a set of obstacle contacts repeats within an attempt: from then on each pass
-    /// makes one change.
-    pub(crate) obstacle_one_at_a_time: bool,
+    /// The obstacle contacts met at the converged passes of the current attempt: once a set
+    /// comes back, each pass makes one change.
+    pub(crate) obstacle_guard: CycleGuard<Vec<bool>>,
     /// Set by `obstacle_pass` when a node was found deeper inside an obstacle than
     /// `max_penetration` lengths of its elements: (node, obstacle, depth in m).
     pub(crate) obstacle_too_deep: Option<(usize, usize, f64)>,
@@ -86,11 +83,9 @@ pub struct ContactSet {
     /// The obstacle pairs (by index) that touched during the current attempt: their stick
     /// points are where they touched, not where the last accepted state had them.
     pub(crate) obstacle_touched: Vec<usize>,
-    /// The stick and slip modes met at the converged passes of the current attempt.
-    pub(super) friction_seen: HashSet<Vec<i8>>,
-    /// Set once a set of modes repeats within an attempt: from then on each pass changes the
-    /// mode of one contact.
-    pub(super) friction_one_at_a_time: bool,
+    /// The stick and slip modes met at the converged passes of the current attempt: once a
+    /// set comes back, each pass changes the mode of one contact.
+    pub(super) friction_guard: CycleGuard<Vec<i8>>,
     /// How often each frictional contact (node, body or obstacle, whether an obstacle) has
     /// turned its slip to the other direction within the attempt (`friction_pass`).
     pub(super) friction_turned: HashMap<(usize, usize, bool), usize>,

@@ -101,7 +101,7 @@ impl Newton<'_> {
                 assemble_into(&ctx, &d, true, dp, &mut asm);
             }
             let (norm, reference) = self.residual_norms(&asm, fext);
-            if springback && !predictor && !contacts.one_at_a_time {
+            if springback && !predictor && !contacts.beam_guard.one_at_a_time() {
                 let released = contacts.release_tensile(
                     &self.view(),
                     &asm,
