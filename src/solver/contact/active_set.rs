@@ -17,11 +17,11 @@ impl ContactSet {
     /// Forget the passes of a previous attempt (call at the start of each attempt).
     pub(crate) fn begin_attempt(&mut self) {
         self.beam_guard.clear();
-        self.multiplier_updates = 0;
-        self.obstacle_guard.clear();
-        self.friction_guard.clear();
-        self.friction_turned.clear();
-        self.obstacle_touched.clear();
+        self.obstacles.multiplier_updates = 0;
+        self.obstacles.guard.clear();
+        self.friction.guard.clear();
+        self.friction.turned.clear();
+        self.obstacles.touched.clear();
     }
 
     /// At a converged pass: transfers, releases of tensile contacts and activation of crossing

@@ -127,7 +127,7 @@ impl ContactSet {
         // A slip that has turned to the other direction within the attempt sticks first at its
         // next turn: an unloaded slipping zone whose every node turns at once overshoots, and
         // would swing from one direction to the other, wider at each pass.
-        let mut turned = std::mem::take(&mut self.friction_turned);
+        let mut turned = std::mem::take(&mut self.friction.turned);
         // What a trial force is known to: the state's unbalanced force, and the stick spring
         // over the round-off of the places it stretches between (a stiff spring turns one
         // unit in the last place of a coordinate into a sizeable force).
@@ -139,7 +139,7 @@ impl ContactSet {
             let swings = turned.get(&key).copied().unwrap_or(0);
             let want = t.mode(
                 now,
-                self.friction_guard.one_at_a_time() || swings >= MAX_TURNS,
+                self.friction.guard.one_at_a_time() || swings >= MAX_TURNS,
                 slack,
             );
             if let (Some(a), Some(b)) = (now, want) {
@@ -160,7 +160,7 @@ impl ContactSet {
             }
         }
         let obstacle_tractions = &asm.elements.obstacle_friction;
-        for (k, link) in self.obstacle.iter().enumerate() {
+        for (k, link) in self.obstacles.links.iter().enumerate() {
             let (Some(grip), Some(Some(t))) = (link.grip, obstacle_tractions.get(k)) else {
                 continue;
             };
@@ -170,14 +170,14 @@ impl ContactSet {
                 changes.push((self.active.len() + k, want));
             }
         }
-        self.friction_turned = turned;
-        if self.friction_guard.one_at_a_time() {
+        self.friction.turned = turned;
+        if self.friction.guard.one_at_a_time() {
             changes.truncate(1);
         }
         let beams = self.active.len();
         for &(k, want) in &changes {
             if k >= beams {
-                if let Some(grip) = self.obstacle[k - beams].grip.as_mut() {
+                if let Some(grip) = self.obstacles.links[k - beams].grip.as_mut() {
                     grip.slip = want;
                 }
             } else if let Some(stick) = self.active[k].stick.as_mut() {
@@ -186,12 +186,12 @@ impl ContactSet {
         }
         if !changes.is_empty() {
             let on_obstacles =
-                (self.obstacle.iter()).map(|l| l.grip.map_or(0, |g| mode_code(g.slip)));
+                (self.obstacles.links.iter()).map(|l| l.grip.map_or(0, |g| mode_code(g.slip)));
             let modes = (self.active.iter())
                 .map(|a| a.stick.map_or(0, |s| mode_code(s.slip)))
                 .chain(on_obstacles)
                 .collect();
-            self.friction_guard.reached(modes);
+            self.friction.guard.reached(modes);
         }
         changes.len()
     }
@@ -234,15 +234,15 @@ impl ContactSet {
             self.active[k].stick = Some(stick);
         }
         let tractions = &asm.elements.obstacle_friction;
-        for k in 0..self.obstacle.len() {
-            let link = self.obstacle[k];
+        for k in 0..self.obstacles.links.len() {
+            let link = self.obstacles.links[k];
             let (Some(mut grip), Some(Some(t))) = (link.grip, tractions.get(k)) else {
                 continue;
             };
             if t.slipping {
                 grip.stick += t.slip - t.force / grip.stiffness;
             }
-            let before = cv.contacts.obstacle.get(k).and_then(|b| b.grip);
+            let before = cv.contacts.obstacles.links.get(k).and_then(|b| b.grip);
             let slipped = before.is_some_and(|b| b.slip.is_some());
             if t.slipping != slipped {
                 let m = &cv.model;
@@ -259,7 +259,7 @@ impl ContactSet {
                     force: t.tangential,
                 }));
             }
-            self.obstacle[k].grip = Some(grip);
+            self.obstacles.links[k].grip = Some(grip);
         }
     }
 }

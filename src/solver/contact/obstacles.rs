@@ -21,8 +21,8 @@ impl ContactSet {
     /// from the start.
     pub(crate) fn obstacles_at_rest(&mut self, cv: &ContactView<'_>) {
         let (m, k, tol) = (&cv.model, cv.obstacle_penalty, cv.obstacle_tolerance());
-        self.obstacle.clear();
-        self.obstacle_resting.clear();
+        self.obstacles.links.clear();
+        self.obstacles.resting.clear();
         for &(node, obstacle) in &cv.obstacle_candidates {
             let gap = obstacle_gap(m, &cv.dofs, cv.d, node, obstacle);
             let resting = gap.is_some_and(|g| g.g.abs() <= tol);
@@ -30,14 +30,14 @@ impl ContactSet {
             let grip = resting
                 .then(|| Self::obstacle_grip_at(cv, cv.d, node, obstacle))
                 .flatten();
-            self.obstacle.push(ObstacleLink {
+            self.obstacles.links.push(ObstacleLink {
                 node,
                 obstacle,
                 multiplier,
                 active: resting,
                 grip,
             });
-            self.obstacle_resting.push(resting);
+            self.obstacles.resting.push(resting);
         }
     }
 
@@ -45,7 +45,7 @@ impl ContactSet {
     /// obstacles hold them in there (what holds a body up before it is loaded): the unit
     /// normal, and the tangent too where the obstacle has friction (the node sticks).
     pub(crate) fn resting_normals(&self, cv: &ContactView<'_>) -> Vec<(usize, [f64; 2])> {
-        (self.obstacle.iter().zip(&self.obstacle_resting))
+        (self.obstacles.links.iter().zip(&self.obstacles.resting))
             .filter(|(_, &r)| r)
             .filter_map(|(l, _)| {
                 let gap = obstacle_gap(&cv.model, &cv.dofs, cv.d, l.node, l.obstacle)?;
@@ -74,7 +74,7 @@ impl ContactSet {
         let forces = &asm.elements.obstacle_forces;
         // The violations, in the order of the pairs: (pair, activate).
         let mut violations = Vec::new();
-        for (k, link) in self.obstacle.iter().enumerate() {
+        for (k, link) in self.obstacles.links.iter().enumerate() {
             if link.active {
                 if forces[k] < 0.0 {
                     violations.push((k, false));
@@ -87,38 +87,42 @@ impl ContactSet {
             if gap.g < -tol {
                 violations.push((k, true));
                 let reach = cv.params.max_penetration * node_length(cv, link.node);
-                if !self.obstacle_resting[k] && -gap.g > reach && self.obstacle_too_deep.is_none() {
-                    self.obstacle_too_deep = Some((link.node, link.obstacle, -gap.g));
+                if !self.obstacles.resting[k] && -gap.g > reach && self.obstacles.too_deep.is_none()
+                {
+                    self.obstacles.too_deep = Some((link.node, link.obstacle, -gap.g));
                 }
             }
         }
         if !violations.is_empty() {
-            if self.obstacle_guard.one_at_a_time() {
+            if self.obstacles.guard.one_at_a_time() {
                 violations.truncate(1);
             }
             for &(k, activate) in &violations {
-                let (node, obstacle) = (self.obstacle[k].node, self.obstacle[k].obstacle);
+                let (node, obstacle) = (
+                    self.obstacles.links[k].node,
+                    self.obstacles.links[k].obstacle,
+                );
                 let grip = activate
                     .then(|| Self::obstacle_grip_at(cv, d, node, obstacle))
                     .flatten();
-                let link = &mut self.obstacle[k];
+                let link = &mut self.obstacles.links[k];
                 link.active = activate;
                 link.multiplier = 0.0;
                 link.grip = grip;
                 if activate {
-                    self.obstacle_touched.push(k);
+                    self.obstacles.touched.push(k);
                 }
                 if !activate {
-                    self.obstacle_let_go.insert(k, forces[k]);
+                    self.obstacles.let_go.insert(k, forces[k]);
                 }
             }
-            let set: Vec<bool> = self.obstacle.iter().map(|l| l.active).collect();
-            self.obstacle_guard.reached(set);
+            let set: Vec<bool> = self.obstacles.links.iter().map(|l| l.active).collect();
+            self.obstacles.guard.reached(set);
             return (violations.len(), 0);
         }
         let mut updated = 0;
-        self.widest_gap = None;
-        for (k, link) in self.obstacle.iter_mut().enumerate() {
+        self.obstacles.widest_gap = None;
+        for (k, link) in self.obstacles.links.iter_mut().enumerate() {
             if !link.active {
                 continue;
             }
@@ -128,12 +132,16 @@ impl ContactSet {
             if gap.g.abs() > tol {
                 link.multiplier = forces[k];
                 updated += 1;
-                if self.widest_gap.is_none_or(|w| gap.g.abs() > w.2.abs()) {
-                    self.widest_gap = Some((link.node, link.obstacle, gap.g));
+                if self
+                    .obstacles
+                    .widest_gap
+                    .is_none_or(|w| gap.g.abs() > w.2.abs())
+                {
+                    self.obstacles.widest_gap = Some((link.node, link.obstacle, gap.g));
                 }
             }
         }
-        self.multiplier_updates += usize::from(updated > 0);
+        self.obstacles.multiplier_updates += usize::from(updated > 0);
         (0, updated)
     }
 
@@ -148,16 +156,16 @@ impl ContactSet {
         events: &mut Vec<Event>,
     ) {
         let m = &cv.model;
-        for (k, link) in self.obstacle.iter().enumerate() {
+        for (k, link) in self.obstacles.links.iter().enumerate() {
             let now = link.active;
-            if now == self.obstacle_resting[k] {
+            if now == self.obstacles.resting[k] {
                 continue;
             }
             // A release carries the tensile force it was let go with.
             let (change, force) = if now {
                 (ContactChange::Activated, 0.0)
             } else {
-                let f = self.obstacle_let_go.get(&k).copied().unwrap_or(0.0);
+                let f = self.obstacles.let_go.get(&k).copied().unwrap_or(0.0);
                 (ContactChange::Released, f.max(-f64::MAX))
             };
             events.push(Event::Obstacle(ObstacleEvent {
@@ -168,9 +176,9 @@ impl ContactSet {
                 obstacle: m.obstacles[link.obstacle].name.clone(),
                 force,
             }));
-            self.obstacle_resting[k] = now;
+            self.obstacles.resting[k] = now;
         }
-        self.obstacle_let_go.clear();
+        self.obstacles.let_go.clear();
     }
 
     /// Report states of the pairs that press, from a converged assembly at displacements `d`.
@@ -183,28 +191,32 @@ impl ContactSet {
         let m = &cv.model;
         let o = cv.origin;
         let friction = |k: usize| asm.elements.obstacle_friction.get(k).copied().flatten();
-        (self.obstacle.iter().zip(&asm.elements.obstacle_forces))
-            .enumerate()
-            .filter(|(_, (link, _))| link.active)
-            .filter_map(|(k, (link, &force))| {
-                let gap = obstacle_gap(m, &cv.dofs, d, link.node, link.obstacle)?;
-                Some(ObstacleState {
-                    node: m.nodes[link.node].id,
-                    obstacle: m.obstacles[link.obstacle].name.clone(),
-                    force,
-                    gap: gap.g,
-                    point: [gap.point[0] + o[0], gap.point[1] + o[1]],
-                    normal: gap.n,
-                    tangential: friction(k).map_or(0.0, |t| t.tangential),
-                    friction: match link.grip {
-                        Some(g) if g.slip.is_some() => Friction::Slipping,
-                        Some(_) => Friction::Sticking,
-                        None => Friction::Frictionless,
-                    },
-                    stick: link.grip.map(|g| g.stick),
-                })
+        (self
+            .obstacles
+            .links
+            .iter()
+            .zip(&asm.elements.obstacle_forces))
+        .enumerate()
+        .filter(|(_, (link, _))| link.active)
+        .filter_map(|(k, (link, &force))| {
+            let gap = obstacle_gap(m, &cv.dofs, d, link.node, link.obstacle)?;
+            Some(ObstacleState {
+                node: m.nodes[link.node].id,
+                obstacle: m.obstacles[link.obstacle].name.clone(),
+                force,
+                gap: gap.g,
+                point: [gap.point[0] + o[0], gap.point[1] + o[1]],
+                normal: gap.n,
+                tangential: friction(k).map_or(0.0, |t| t.tangential),
+                friction: match link.grip {
+                    Some(g) if g.slip.is_some() => Friction::Slipping,
+                    Some(_) => Friction::Sticking,
+                    None => Friction::Frictionless,
+                },
+                stick: link.grip.map(|g| g.stick),
             })
-            .collect()
+        })
+        .collect()
     }
 }
 

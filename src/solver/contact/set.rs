@@ -63,32 +63,47 @@ pub struct ContactSet {
     /// all clear on one side of it, found by `remember_sides` (the first one): its side is
     /// ambiguous, and a scene that starts so is refused ([`SolveError::AmbiguousSide`]).
     pub(crate) ambiguous: Option<(usize, usize)>,
+    /// The contacts with rigid obstacles (`obstacles.rs`).
+    pub obstacles: ObstacleContacts,
+    /// The friction modes' passes (`friction.rs`).
+    pub(super) friction: FrictionModes,
+}
+
+/// The contact stage of rigid obstacles: every candidate pair and what its passes keep
+/// through an attempt.
+#[derive(Clone, Debug, Default)]
+pub struct ObstacleContacts {
     /// Every candidate (node, obstacle) pair of the structure, in its order, with its
-    /// multiplier (`obstacles.rs`).
-    pub obstacle: Vec<ObstacleLink>,
-    /// Whether each pair of `obstacle` was in contact at the last accepted state.
-    pub(crate) obstacle_resting: Vec<bool>,
-    /// The force each obstacle pair last let go with in the current attempt (by pair).
-    pub(super) obstacle_let_go: IndexMap<usize, f64>,
-    /// The obstacle contacts met at the converged passes of the current attempt: once a set
-    /// comes back, each pass makes one change.
-    pub(crate) obstacle_guard: CycleGuard<Vec<bool>>,
+    /// multiplier.
+    pub links: Vec<ObstacleLink>,
+    /// Whether each pair of `links` was in contact at the last accepted state.
+    pub(crate) resting: Vec<bool>,
+    /// The force each pair last let go with in the current attempt (by pair).
+    pub(super) let_go: IndexMap<usize, f64>,
+    /// The contacts met at the converged passes of the current attempt: once a set comes
+    /// back, each pass makes one change.
+    pub(crate) guard: CycleGuard<Vec<bool>>,
     /// Set by `obstacle_pass` when a node was found deeper inside an obstacle than
     /// `max_penetration` lengths of its elements: (node, obstacle, depth in m).
-    pub(crate) obstacle_too_deep: Option<(usize, usize, f64)>,
+    pub(crate) too_deep: Option<(usize, usize, f64)>,
     /// Passes of the current attempt that updated multipliers.
     pub(crate) multiplier_updates: usize,
     /// The contact whose gap the last update found widest: (node, obstacle, gap in m).
     pub(crate) widest_gap: Option<(usize, usize, f64)>,
-    /// The obstacle pairs (by index) that touched during the current attempt: their stick
-    /// points are where they touched, not where the last accepted state had them.
-    pub(crate) obstacle_touched: Vec<usize>,
-    /// The stick and slip modes met at the converged passes of the current attempt: once a
-    /// set comes back, each pass changes the mode of one contact.
-    pub(super) friction_guard: CycleGuard<Vec<i8>>,
+    /// The pairs (by index) that touched during the current attempt: their stick points are
+    /// where they touched, not where the last accepted state had them.
+    pub(crate) touched: Vec<usize>,
+}
+
+/// The friction stage: what the stick and slip passes keep through an attempt.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct FrictionModes {
+    /// The modes met at the converged passes of the current attempt: once a set comes back,
+    /// each pass changes the mode of one contact.
+    pub(super) guard: CycleGuard<Vec<i8>>,
     /// How often each frictional contact (node, body or obstacle, whether an obstacle) has
     /// turned its slip to the other direction within the attempt (`friction_pass`).
-    pub(super) friction_turned: HashMap<(usize, usize, bool), usize>,
+    pub(super) turned: HashMap<(usize, usize, bool), usize>,
 }
 
 /// Whether node `n` is a node of body `body`.

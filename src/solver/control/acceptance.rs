@@ -95,12 +95,12 @@ impl Solver {
     /// obstacle's tangent (its places grow that way).
     fn obstacle_friction_records(&self, c: &Converged) -> Vec<FrictionRecord> {
         let tractions = &c.assembled.elements.obstacle_friction;
-        let before = &self.state.contacts.obstacle;
-        (c.contacts.obstacle.iter().enumerate())
+        let before = &self.state.contacts.obstacles.links;
+        (c.contacts.obstacles.links.iter().enumerate())
             .filter_map(|(k, link)| {
                 let grip = link.grip.filter(|_| link.active)?;
                 let t = tractions.get(k).copied().flatten()?;
-                let anew = c.contacts.obstacle_touched.contains(&k);
+                let anew = c.contacts.obstacles.touched.contains(&k);
                 let was = before.get(k).and_then(|b| b.grip).filter(|_| !anew);
                 Some(FrictionRecord {
                     node: link.node,

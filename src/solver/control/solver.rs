@@ -78,7 +78,7 @@ impl Solver {
         let work = Workspace::default();
         let ord = work.ordering_for(&structure, &state.contacts);
         let (free, complete) =
-            structure.mechanism_dofs(&ord, &state.d, (&state.contacts.obstacle, &grips));
+            structure.mechanism_dofs(&ord, &state.d, (&state.contacts.obstacles.links, &grips));
         if !free.is_empty() {
             return Err(structure.mechanism(&free, complete));
         }
@@ -143,7 +143,7 @@ impl Solver {
         let grips = self.state.contacts.grips(&self.view());
         let ctx = AssemblyContext {
             follower: (self.model.has_followers()).then_some(&self.state.load_factors[..]),
-            obstacles: &self.state.contacts.obstacle,
+            obstacles: &self.state.contacts.obstacles.links,
             grips: &grips,
             ..self.context(&ord)
         };

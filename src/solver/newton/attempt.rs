@@ -69,7 +69,7 @@ impl Newton<'_> {
         // coupling K_fp dp).
         let mut reuse = false;
         if ordering.links.is_empty()
-            && contacts.obstacle.is_empty()
+            && contacts.obstacles.links.is_empty()
             && path.starts_at_the_converged_state()
             && !self.model.has_followers()
         {
@@ -90,7 +90,7 @@ impl Newton<'_> {
                 contact: p.contact_options(pass_iter + 1),
                 loads: &loads,
                 follower: self.model.has_followers().then(|| path.load_factors()),
-                obstacles: &contacts.obstacle,
+                obstacles: &contacts.obstacles.links,
                 grips: &grips,
                 ..self.context(&ordering)
             };

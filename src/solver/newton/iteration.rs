@@ -98,7 +98,7 @@ impl<'a> Newton<'a> {
         if let Some((node, body, depth)) = contacts.too_deep {
             return Err(AttemptError::TooDeep { node, body, depth });
         }
-        match contacts.obstacle_too_deep {
+        match contacts.obstacles.too_deep {
             Some((node, obstacle, depth)) => Err(AttemptError::ObstacleTooDeep {
                 node,
                 obstacle,
@@ -111,10 +111,12 @@ impl<'a> Newton<'a> {
     /// Whether the obstacle contacts' multipliers may be updated once more in this attempt
     /// (`MAX_MULTIPLIER_UPDATES` passes).
     pub(super) fn gaps_closing(&self, contacts: &ContactSet) -> Result<(), AttemptError> {
-        match contacts.widest_gap {
-            Some((node, obstacle, gap)) if contacts.multiplier_updates > MAX_MULTIPLIER_UPDATES => {
+        match contacts.obstacles.widest_gap {
+            Some((node, obstacle, gap))
+                if contacts.obstacles.multiplier_updates > MAX_MULTIPLIER_UPDATES =>
+            {
                 Err(AttemptError::GapsOpen {
-                    updates: contacts.multiplier_updates,
+                    updates: contacts.obstacles.multiplier_updates,
                     node,
                     obstacle,
                     gap,
