@@ -382,7 +382,7 @@ fn comb_brushes_fifty_teeth_and_broad_phase_changes_nothing() {
     assert_eq!(most, 50);
     assert_eq!(slid_off, 50);
     // At the end, 49 pins press on the next tooth (the last pin has none).
-    assert_eq!(solver.contacts().active.len(), 49);
+    assert_eq!(solver.contacts().beams.active.len(), 49);
 
     let text = tsm_contact::scene::builtin::BUILTIN
         .iter()

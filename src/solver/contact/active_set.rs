@@ -16,7 +16,7 @@ use crate::solver::report::{ContactChange, Event};
 impl ContactSet {
     /// Forget the passes of a previous attempt (call at the start of each attempt).
     pub(crate) fn begin_attempt(&mut self) {
-        self.beam_guard.clear();
+        self.beams.guard.clear();
         self.obstacles.multiplier_updates = 0;
         self.obstacles.guard.clear();
         self.friction.guard.clear();
@@ -54,15 +54,15 @@ impl ContactSet {
         for (n, b) in near {
             if let Some((p, side)) = self.crossing(cv, d, n, b, &views) {
                 if -p.gap * side > cv.params.max_penetration * p.length {
-                    self.too_deep = Some((n, b, -p.gap * side / p.length));
+                    self.beams.too_deep = Some((n, b, -p.gap * side / p.length));
                 }
                 crossings.push((n, b, p, side));
             }
         }
         crossings.retain(|&(n, b, p, _)| !self.met_by_a_tip(cv, n, b, &p));
-        if self.beam_guard.one_at_a_time() {
+        if self.beams.guard.one_at_a_time() {
             let tensile = self.tensile(asm).into_iter().map(|k| {
-                let a = self.active[k];
+                let a = self.beams.active[k];
                 ((a.node, a.body), Some(k))
             });
             let crossing = crossings.iter().map(|&(n, b, ..)| ((n, b), None));
@@ -80,11 +80,11 @@ impl ContactSet {
             changes += self.release_tensile(cv, asm, increment, iteration, events);
             changes += self.activate(cv, &crossings, increment, iteration, events);
         }
-        if self.too_deep.is_none() {
-            self.too_deep = self.passed_out_of_reach(cv, d, &views, &held);
+        if self.beams.too_deep.is_none() {
+            self.beams.too_deep = self.passed_out_of_reach(cv, d, &views, &held);
         }
         if changes > 0 {
-            self.beam_guard.reached(self.pairs());
+            self.beams.guard.reached(self.pairs());
         }
         changes
     }
@@ -111,7 +111,7 @@ impl ContactSet {
         } else {
             return false;
         };
-        (self.active.iter()).any(|a| {
+        (self.beams.active.iter()).any(|a| {
             let under = &m.beams[a.beam];
             a.node == tip && (under.i == n || under.j == n)
         })
@@ -143,7 +143,7 @@ impl ContactSet {
                 p.xi,
                 0.0,
             ));
-            self.active.push(a);
+            self.beams.active.push(a);
         }
         crossings.len()
     }
@@ -151,8 +151,8 @@ impl ContactSet {
     /// Indices of the active contacts whose force (from `asm`) is tensile.
     fn tensile(&self, asm: &Assembled) -> Vec<usize> {
         let forces = &asm.elements.contact_forces;
-        (0..self.active.len())
-            .filter(|&k| self.active[k].side * forces[k].0 > 0.0)
+        (0..self.beams.active.len())
+            .filter(|&k| self.beams.active[k].side * forces[k].0 > 0.0)
             .collect()
     }
 
@@ -172,7 +172,7 @@ impl ContactSet {
             let (yc, xi) = forces[k];
             events.push(Self::event(
                 cv,
-                &self.active[k],
+                &self.beams.active[k],
                 ContactChange::Released,
                 increment,
                 iteration,
@@ -181,7 +181,7 @@ impl ContactSet {
             ));
         }
         let mut k = 0;
-        self.active.retain(|_| {
+        self.beams.active.retain(|_| {
             k += 1;
             which.binary_search(&(k - 1)).is_err()
         });
@@ -203,8 +203,8 @@ impl ContactSet {
         // most tensile is released; the others are judged again after the next converged pass.
         let mut worst: IndexMap<usize, (f64, usize)> = IndexMap::default();
         for k in self.tensile(asm) {
-            let t = self.active[k].side * forces[k].0;
-            let w = worst.entry(self.active[k].beam).or_insert((0.0, k));
+            let t = self.beams.active[k].side * forces[k].0;
+            let w = worst.entry(self.beams.active[k].beam).or_insert((0.0, k));
             if t > w.0 {
                 *w = (t, k);
             }
@@ -237,7 +237,7 @@ impl ContactSet {
                 continue;
             }
             let stick = Self::stick_at(cv, n, b, p.beam, p.xi);
-            self.active.push(ActiveContact {
+            self.beams.active.push(ActiveContact {
                 node: n,
                 beam: p.beam,
                 body: b,
@@ -253,7 +253,7 @@ impl ContactSet {
     pub(crate) fn resting_on_beams(&self, cv: &ContactView<'_>) -> Vec<(usize, [f64; 2])> {
         let m = &cv.model;
         let mut out = Vec::new();
-        for a in &self.active {
+        for a in &self.beams.active {
             let beam = &m.beams[a.beam];
             let (xi, _) = current(m, &cv.dofs, cv.d, beam.i);
             let (xj, _) = current(m, &cv.dofs, cv.d, beam.j);

@@ -95,10 +95,14 @@ impl ContactSet {
     /// The grip of every active contact, in their order, for the assembly: empty where no
     /// contact has friction.
     pub fn grips(&self, cv: &ContactView<'_>) -> Vec<Option<Grip>> {
-        if cv.friction.is_empty() || self.active.iter().all(|a| a.stick.is_none()) {
+        if cv.friction.is_empty() || self.beams.active.iter().all(|a| a.stick.is_none()) {
             return Vec::new();
         }
-        self.active.iter().map(|a| Self::grip(cv, a)).collect()
+        self.beams
+            .active
+            .iter()
+            .map(|a| Self::grip(cv, a))
+            .collect()
     }
 
     fn grip(cv: &ContactView<'_>, a: &ActiveContact) -> Option<Grip> {
@@ -149,7 +153,7 @@ impl ContactSet {
             }
             want
         };
-        for (k, a) in self.active.iter().enumerate() {
+        for (k, a) in self.beams.active.iter().enumerate() {
             let (Some(stick), Some(Some(t))) = (a.stick, tractions.get(k)) else {
                 continue;
             };
@@ -167,27 +171,27 @@ impl ContactSet {
             let place = slack(grip.stiffness, grip.stick);
             let want = want((link.node, link.obstacle, true), grip.slip, t, place);
             if want != grip.slip {
-                changes.push((self.active.len() + k, want));
+                changes.push((self.beams.active.len() + k, want));
             }
         }
         self.friction.turned = turned;
         if self.friction.guard.one_at_a_time() {
             changes.truncate(1);
         }
-        let beams = self.active.len();
+        let beams = self.beams.active.len();
         for &(k, want) in &changes {
             if k >= beams {
                 if let Some(grip) = self.obstacles.links[k - beams].grip.as_mut() {
                     grip.slip = want;
                 }
-            } else if let Some(stick) = self.active[k].stick.as_mut() {
+            } else if let Some(stick) = self.beams.active[k].stick.as_mut() {
                 stick.slip = want;
             }
         }
         if !changes.is_empty() {
             let on_obstacles =
                 (self.obstacles.links.iter()).map(|l| l.grip.map_or(0, |g| mode_code(g.slip)));
-            let modes = (self.active.iter())
+            let modes = (self.beams.active.iter())
                 .map(|a| a.stick.map_or(0, |s| mode_code(s.slip)))
                 .chain(on_obstacles)
                 .collect();
@@ -209,15 +213,15 @@ impl ContactSet {
         events: &mut Vec<Event>,
     ) {
         let tractions = &asm.elements.contact_friction;
-        for k in 0..self.active.len() {
-            let a = self.active[k];
+        for k in 0..self.beams.active.len() {
+            let a = self.beams.active[k];
             let (Some(mut stick), Some(Some(t))) = (a.stick, tractions.get(k)) else {
                 continue;
             };
             if t.slipping {
                 stick.at += t.slip - t.force / stick_stiffness(cv, a.node, a.beam);
             }
-            let before = (cv.contacts.active.iter())
+            let before = (cv.contacts.beams.active.iter())
                 .find(|b| b.node == a.node && b.body == a.body)
                 .and_then(|b| b.stick);
             let slipped = before.is_some_and(|b| b.slip.is_some());
@@ -231,7 +235,7 @@ impl ContactSet {
                 let event = Self::event(cv, &a, change, increment, iteration, xi, t.tangential);
                 events.push(event);
             }
-            self.active[k].stick = Some(stick);
+            self.beams.active[k].stick = Some(stick);
         }
         let tractions = &asm.elements.obstacle_friction;
         for k in 0..self.obstacles.links.len() {

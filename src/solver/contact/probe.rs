@@ -79,6 +79,7 @@ impl ContactSet {
         let (xi, pi) = current(m, &cv.dofs, d, beam.i);
         let (xj, pj) = current(m, &cv.dofs, d, beam.j);
         let on: Vec<[f64; 2]> = self
+            .beams
             .active
             .iter()
             .filter(|a| a.beam == e)
@@ -205,7 +206,8 @@ impl ContactSet {
     /// Gap of every active contact node from its beam's deformed shape, relative to the element
     /// length (should be round-off small).
     pub fn active_gaps(&self, cv: &ContactView<'_>, d: &[f64]) -> Vec<f64> {
-        self.active
+        self.beams
+            .active
             .iter()
             .map(|a| {
                 let sh = self.shape(cv, d, a.beam);

@@ -44,9 +44,22 @@ pub struct Stick {
     pub slip: Option<f64>,
 }
 
-/// The active contacts and the remembered sides of every candidate pair.
+/// The contact set as its stages: node-on-beam contacts, contacts with rigid obstacles and the
+/// friction modes of both, each with what it keeps through an attempt.
 #[derive(Clone, Debug, Default)]
 pub struct ContactSet {
+    /// The node-on-beam contacts (`active_set.rs`, `sides.rs`, `transfer.rs`).
+    pub beams: BeamContacts,
+    /// The contacts with rigid obstacles (`obstacles.rs`).
+    pub obstacles: ObstacleContacts,
+    /// The friction modes' passes (`friction.rs`).
+    pub(super) friction: FrictionModes,
+}
+
+/// The contact stage of nodes on beams: the active contacts and the remembered sides of every
+/// candidate pair.
+#[derive(Clone, Debug, Default)]
+pub struct BeamContacts {
     /// Active contacts.
     pub active: Vec<ActiveContact>,
     /// Per (node, body): the side (+1/-1 along the chord normal) and the element it was
@@ -58,15 +71,11 @@ pub struct ContactSet {
     pub(crate) too_deep: Option<(usize, usize, f64)>,
     /// The active sets met at the converged passes of the current attempt: once one comes
     /// back, each converged pass fixes one violation only (see `after_convergence`).
-    pub(crate) beam_guard: CycleGuard<Vec<(usize, usize)>>,
+    pub(crate) guard: CycleGuard<Vec<(usize, usize)>>,
     /// A candidate pair whose node touches the body with its own beam's neighbouring nodes not
     /// all clear on one side of it, found by `remember_sides` (the first one): its side is
     /// ambiguous, and a scene that starts so is refused ([`SolveError::AmbiguousSide`]).
     pub(crate) ambiguous: Option<(usize, usize)>,
-    /// The contacts with rigid obstacles (`obstacles.rs`).
-    pub obstacles: ObstacleContacts,
-    /// The friction modes' passes (`friction.rs`).
-    pub(super) friction: FrictionModes,
 }
 
 /// The contact stage of rigid obstacles: every candidate pair and what its passes keep
@@ -116,14 +125,16 @@ pub(super) fn on_body(cv: &ContactView<'_>, n: usize, body: usize) -> bool {
 impl ContactSet {
     /// The (node, body) pairs in contact, sorted.
     pub fn pairs(&self) -> Vec<(usize, usize)> {
-        let mut set: Vec<(usize, usize)> = self.active.iter().map(|a| (a.node, a.body)).collect();
+        let mut set: Vec<(usize, usize)> =
+            self.beams.active.iter().map(|a| (a.node, a.body)).collect();
         set.sort_unstable();
         set
     }
 
     /// The assembly's view of the active contacts.
     pub fn links(&self) -> Vec<ContactLink> {
-        self.active
+        self.beams
+            .active
             .iter()
             .map(|a| ContactLink {
                 node: a.node,
@@ -133,7 +144,10 @@ impl ContactSet {
     }
 
     pub(crate) fn is_active(&self, node: usize, body: usize) -> bool {
-        self.active.iter().any(|a| a.node == node && a.body == body)
+        self.beams
+            .active
+            .iter()
+            .any(|a| a.node == node && a.body == body)
     }
 
     /// Candidate (node, body) pairs of the cv's model (computed once).
@@ -156,7 +170,8 @@ impl ContactSet {
             let ch = Chord::new(pi, pj, cv.elements[a.beam].alpha0, 0.5 * (fi + fj));
             surface_turn(fi - ch.beta, fj - ch.beta, xi)
         };
-        self.active
+        self.beams
+            .active
             .iter()
             .zip(&asm.elements.contact_forces)
             .enumerate()

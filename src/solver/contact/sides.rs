@@ -140,36 +140,41 @@ impl ContactSet {
         let boxes = BodyBoxes::new(cv, &[d], FAR + 1.0);
         let view = StateView::default();
         for &(n, b) in pairs {
-            if let Some(a) = self.active.iter().find(|a| a.node == n && a.body == b) {
-                self.sides.insert((n, b), (a.side, a.beam));
+            if let Some(a) = self
+                .beams
+                .active
+                .iter()
+                .find(|a| a.node == n && a.body == b)
+            {
+                self.beams.sides.insert((n, b), (a.side, a.beam));
                 continue;
             }
             // Broad phase: far from the body, the side is worked out when the node comes near
             // (`side_of`, from this converged state).
             if !boxes.near(cv, &[d], n, b) {
-                self.sides.remove(&(n, b));
+                self.beams.sides.remove(&(n, b));
                 continue;
             }
             match self.probe_near(cv, d, n, b, Some(&view)) {
                 Some(p) if p.gap.abs() > cv.touching(SIDE, p.length) => {
                     // Every crossing since the last converged state was caught by
                     // `after_convergence`, so the side now is the side to keep.
-                    self.sides.insert((n, b), (p.gap.signum(), p.beam));
+                    self.beams.sides.insert((n, b), (p.gap.signum(), p.beam));
                 }
                 // Touching: the node lies on the body, so its own position says nothing. The
                 // side the scene declares; else a node of a beam touches from the side its own
                 // beam lies on: take the side of its neighbouring nodes (a pin has none and
                 // must start with a gap).
-                Some(p) if !self.sides.contains_key(&(n, b)) => {
+                Some(p) if !self.beams.sides.contains_key(&(n, b)) => {
                     let declared = cv.declared_sides.get(&(n, b)).copied();
                     match declared.or_else(|| self.neighbour_side(cv, d, n, b, Some(&view))) {
                         Some(side) => {
-                            self.sides.insert((n, b), (side, p.beam));
+                            self.beams.sides.insert((n, b), (side, p.beam));
                         }
                         // A node of a beam whose neighbours do not all lie clear on one side:
                         // no rule gives its side.
                         None if !cv.node_beams[n].is_empty() => {
-                            self.ambiguous.get_or_insert((n, b));
+                            self.beams.ambiguous.get_or_insert((n, b));
                         }
                         None => {}
                     }
@@ -179,10 +184,10 @@ impl ContactSet {
                 // the wedge outside a convex mesh node of it, where both elements meeting
                 // there have it on the side it had: that side is kept.
                 None => {
-                    let kept = (self.sides.get(&(n, b)))
+                    let kept = (self.beams.sides.get(&(n, b)))
                         .is_some_and(|&(_, was)| Self::beside_a_convex_node(cv, d, n, b, was));
                     if !kept {
-                        self.sides.remove(&(n, b));
+                        self.beams.sides.remove(&(n, b));
                     }
                 }
             }
@@ -229,8 +234,12 @@ impl ContactSet {
         }
         let states = [cv.d, d];
         let boxes = BodyBoxes::new(cv, &states, FAR + 1.0);
-        let active: IndexMap<(usize, usize), ()> =
-            self.active.iter().map(|a| ((a.node, a.body), ())).collect();
+        let active: IndexMap<(usize, usize), ()> = self
+            .beams
+            .active
+            .iter()
+            .map(|a| ((a.node, a.body), ()))
+            .collect();
         pairs
             .iter()
             .copied()
@@ -248,7 +257,7 @@ impl ContactSet {
         b: usize,
         view: Option<&StateView>,
     ) -> Option<(f64, usize)> {
-        if let Some(&s) = self.sides.get(&(n, b)) {
+        if let Some(&s) = self.beams.sides.get(&(n, b)) {
             return Some(s);
         }
         let p = self.probe_near(cv, cv.d, n, b, view)?;
@@ -361,6 +370,7 @@ impl ContactSet {
         // it), and the contact there is what keeps the bodies apart.
         let (ei, ej) = (m.beams[e].i, m.beams[e].j);
         if self
+            .beams
             .active
             .iter()
             .any(|a| (a.node == ei || a.node == ej) && on_body(cv, n, a.body))
@@ -455,6 +465,7 @@ impl ContactSet {
             let (ei, ej) = (m.beams[e].i, m.beams[e].j);
             // A node of that element resting on the node's own beam keeps them apart there.
             let explained = self
+                .beams
                 .active
                 .iter()
                 .any(|a| (a.node == ei || a.node == ej) && on_body(cv, n, a.body));

@@ -93,8 +93,8 @@ impl ContactSet {
         let tol = cv.params.transfer_tolerance;
         let mut changes = 0;
         let mut k = 0;
-        while k < self.active.len() {
-            let mut a = self.active[k];
+        while k < self.beams.active.len() {
+            let mut a = self.beams.active[k];
             let mut moved = false;
             let mut off_end = false;
             let mut xi_now = 0.0;
@@ -172,7 +172,7 @@ impl ContactSet {
                 let tip = if xi_now > 0.5 { beam.j } else { beam.i };
                 // Only to a body the node may touch there: a candidate pair, and for a node of
                 // that body, an element outside its own window (never its own element).
-                let under = (self.active.iter())
+                let under = (self.beams.active.iter())
                     .find(|b| {
                         b.node == tip
                             && b.body != a.body
@@ -198,14 +198,14 @@ impl ContactSet {
                             xi_there,
                             0.0,
                         ));
-                        self.sides.insert((a.node, u.body), (u.side, u.beam));
-                        self.active[k] = h;
+                        self.beams.sides.insert((a.node, u.body), (u.side, u.beam));
+                        self.beams.active[k] = h;
                         changes += 1;
                         k += 1;
                         continue;
                     }
                 }
-                self.active.remove(k);
+                self.beams.active.remove(k);
                 changes += 1;
                 continue;
             }
@@ -220,7 +220,7 @@ impl ContactSet {
                     xi_there,
                     0.0,
                 ));
-                self.active[k] = a;
+                self.beams.active[k] = a;
                 changes += 1;
             }
             k += 1;

@@ -68,12 +68,12 @@ impl Solver {
                     && x.body == self.model.bodies[body].name)
             })
         };
-        (c.contacts.active.iter().enumerate())
+        (c.contacts.beams.active.iter().enumerate())
             .filter_map(|(k, a)| {
                 let stick = a.stick?;
                 let t = tractions.get(k).copied().flatten()?;
                 let [si, sj] = self.body_length_at[a.beam];
-                let before = (self.state.contacts.active.iter())
+                let before = (self.state.contacts.beams.active.iter())
                     .find(|b| b.node == a.node && b.body == a.body && !began(a.node, a.body))
                     .and_then(|b| b.stick);
                 Some(FrictionRecord {

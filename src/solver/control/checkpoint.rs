@@ -44,7 +44,7 @@ impl Checkpoint {
         let s = &self.state;
         let arc = s.arc.last.as_ref().map_or(0, Vec::len);
         (s.d.len() + s.prescribed.len() + s.load_factors.len() + arc) * 8
-            + s.contacts.active.len() * 32
+            + s.contacts.beams.active.len() * 32
             + self.crossing.bytes()
             + std::mem::size_of::<Checkpoint>()
     }

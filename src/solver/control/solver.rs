@@ -92,7 +92,7 @@ impl Solver {
         };
         let mut contacts = std::mem::take(&mut solver.state.contacts);
         contacts.remember_sides(&solver.view(), &solver.state.d);
-        if let Some((n, b)) = contacts.ambiguous {
+        if let Some((n, b)) = contacts.beams.ambiguous {
             return Err(SolveError::AmbiguousSide {
                 node: solver.model.nodes[n].id,
                 body: solver.model.bodies[b].name.clone(),

@@ -101,7 +101,7 @@ impl Newton<'_> {
                 assemble_into(&ctx, &d, true, dp, &mut asm);
             }
             let (norm, reference) = self.residual_norms(&asm, fext);
-            if springback && !predictor && !contacts.beam_guard.one_at_a_time() {
+            if springback && !predictor && !contacts.beams.guard.one_at_a_time() {
                 let released = contacts.release_tensile(
                     &self.view(),
                     &asm,
@@ -132,7 +132,7 @@ impl Newton<'_> {
                         relative_residual: rel,
                         reference,
                         step_norm: last_step,
-                        active_contacts: contacts.active.len(),
+                        active_contacts: contacts.beams.active.len(),
                     },
                 )?;
                 let (scale, floor) = if bound.may_decide(rel, &tangent, reference, p, pass_iter) {

@@ -95,7 +95,7 @@ impl<'a> Newton<'a> {
     /// The error for a node found deeper through a body than `max_penetration` at a converged
     /// pass (the increment is then cut back), if there is one.
     pub(super) fn too_deep(&self, contacts: &ContactSet) -> Result<(), AttemptError> {
-        if let Some((node, body, depth)) = contacts.too_deep {
+        if let Some((node, body, depth)) = contacts.beams.too_deep {
             return Err(AttemptError::TooDeep { node, body, depth });
         }
         match contacts.obstacles.too_deep {
