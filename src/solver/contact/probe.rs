@@ -63,6 +63,37 @@ pub(super) fn chord_fraction_of(p: [f64; 2], xi: [f64; 2], xj: [f64; 2]) -> f64 
     ((p[0] - xi[0]) * dx + (p[1] - xi[1]) * dy) / (dx * dx + dy * dy)
 }
 
+/// Whether node `n` at `d` lies past an end of element `was` of body `b` that is a mesh
+/// node inside the body, and before the start of the next element there: in the wedge
+/// between the two elements' normals at that node, which no element covers.
+pub(super) fn beside_a_convex_node(
+    cv: &ContactView<'_>,
+    d: &[f64],
+    n: usize,
+    b: usize,
+    was: usize,
+) -> bool {
+    let els = &cv.model.bodies[b].elements;
+    let Some(k) = els.iter().position(|&e| e == was) else {
+        return false;
+    };
+    let t = ContactSet::chord_fraction(cv, d, n, was);
+    let next = if t > 1.0 {
+        els.get(k + 1)
+            .map(|&e| (e, ContactSet::chord_fraction(cv, d, n, e) < 0.0))
+    } else if t < 0.0 {
+        k.checked_sub(1)
+            .map(|j| (els[j], ContactSet::chord_fraction(cv, d, n, els[j]) > 1.0))
+    } else {
+        None
+    };
+    // The neighbour must share the mesh node (a body's elements follow one another).
+    next.is_some_and(|(e, beyond)| {
+        let (w, o) = (&cv.model.beams[was], &cv.model.beams[e]);
+        beyond && (w.j == o.i || w.i == o.j)
+    })
+}
+
 impl ContactSet {
     /// li/l of node `n` on the current chord of beam `e`.
     pub(super) fn chord_fraction(cv: &ContactView<'_>, d: &[f64], n: usize, e: usize) -> f64 {

@@ -3,7 +3,7 @@
 //! a body since the last converged state (on the wrong side now, or swept through a chord).
 
 use super::broad_phase::BodyBoxes;
-use super::probe::{chord_fraction_of, PassViews, Probe, StateView, FAR};
+use super::probe::{beside_a_convex_node, chord_fraction_of, PassViews, Probe, StateView, FAR};
 use super::set::ContactView;
 use super::set::{on_body, ContactSet};
 use crate::solver::assembly::current;
@@ -185,44 +185,13 @@ impl ContactSet {
                 // there have it on the side it had: that side is kept.
                 None => {
                     let kept = (self.beams.sides.get(&(n, b)))
-                        .is_some_and(|&(_, was)| Self::beside_a_convex_node(cv, d, n, b, was));
+                        .is_some_and(|&(_, was)| beside_a_convex_node(cv, d, n, b, was));
                     if !kept {
                         self.beams.sides.remove(&(n, b));
                     }
                 }
             }
         }
-    }
-
-    /// Whether node `n` at `d` lies past an end of element `was` of body `b` that is a mesh
-    /// node inside the body, and before the start of the next element there: in the wedge
-    /// between the two elements' normals at that node, which no element covers.
-    fn beside_a_convex_node(
-        cv: &ContactView<'_>,
-        d: &[f64],
-        n: usize,
-        b: usize,
-        was: usize,
-    ) -> bool {
-        let els = &cv.model.bodies[b].elements;
-        let Some(k) = els.iter().position(|&e| e == was) else {
-            return false;
-        };
-        let t = Self::chord_fraction(cv, d, n, was);
-        let next = if t > 1.0 {
-            els.get(k + 1)
-                .map(|&e| (e, Self::chord_fraction(cv, d, n, e) < 0.0))
-        } else if t < 0.0 {
-            k.checked_sub(1)
-                .map(|j| (els[j], Self::chord_fraction(cv, d, n, els[j]) > 1.0))
-        } else {
-            None
-        };
-        // The neighbour must share the mesh node (a body's elements follow one another).
-        next.is_some_and(|(e, beyond)| {
-            let (w, o) = (&cv.model.beams[was], &cv.model.beams[e]);
-            beyond && (w.j == o.i || w.i == o.j)
-        })
     }
 
     /// Candidate pairs not in contact whose node came near the body between the last converged
