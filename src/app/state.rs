@@ -92,8 +92,9 @@ pub struct TsmApp {
     pub(crate) generation: u64,
     /// Whether the shortcuts window is open.
     pub(crate) show_shortcuts: bool,
-    /// The dof (0 u, 1 v, 2 phi) of the selected node the response plot is drawn against.
-    pub(crate) plot_dof: usize,
+    /// The dof of the selected node the response plot is drawn against (a node without a
+    /// rotation: v in place of phi).
+    pub(crate) plot_dof: crate::solver::Dof,
     /// The table window's choices.
     pub(crate) table: TableView,
     /// Histories set aside (a branch's later increments, a run before a change), newest last.

@@ -87,7 +87,7 @@ impl TsmApp {
             pinned: None,
             generation: 0,
             show_shortcuts: false,
-            plot_dof: 1,
+            plot_dof: crate::solver::Dof::V,
             table: Default::default(),
             undo: Vec::new(),
             redo: Vec::new(),

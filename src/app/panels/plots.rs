@@ -352,7 +352,7 @@ fn convergence(app: &mut TsmApp, ui: &mut egui::Ui) {
 }
 
 /// The response plot; returns the dof of the selected node the user picked for its x axis.
-fn reaction(app: &TsmApp, ui: &mut egui::Ui) -> Option<usize> {
+fn reaction(app: &TsmApp, ui: &mut egui::Ui) -> Option<Dof> {
     let mut plot_dof = None;
     let Some(l) = &app.loaded else { return None };
     let model = &l.scene.model;
@@ -409,9 +409,9 @@ fn reaction(app: &TsmApp, ui: &mut egui::Ui) -> Option<usize> {
         // A node picked in the view: the same response against its own displacement.
         Some(Picked::Node(n)) => {
             let o = if model.nodes[n].rotation {
-                app.plot_dof.min(2)
+                app.plot_dof.offset()
             } else {
-                app.plot_dof.min(1)
+                app.plot_dof.offset().min(1)
             };
             let x0 = [model.nodes[n].x, model.nodes[n].y, 0.0][o];
             let xs = app.history.iter().map(|r| r.nodes[n][o] - x0);
@@ -431,10 +431,13 @@ fn reaction(app: &TsmApp, ui: &mut egui::Ui) -> Option<usize> {
     ui.horizontal(|ui| {
         ui.label(title);
         if let Some(Picked::Node(n)) = app.pinned {
-            let dofs = if model.nodes[n].rotation { 3 } else { 2 };
-            for (k, name) in ["u", "v", "phi"].iter().enumerate().take(dofs) {
-                if ui.selectable_label(app.plot_dof == k, *name).clicked() {
-                    plot_dof = Some(k);
+            let dofs = model.node_dofs(n);
+            for dof in Dof::ALL.into_iter().take(dofs) {
+                if ui
+                    .selectable_label(app.plot_dof == dof, dof.name())
+                    .clicked()
+                {
+                    plot_dof = Some(dof);
                 }
             }
         }
