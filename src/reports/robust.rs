@@ -59,7 +59,7 @@ pub struct Family {
 }
 
 /// The families of the campaign.
-pub const FAMILIES: [Family; 4] = [
+pub const FAMILIES: [Family; 5] = [
     Family {
         name: "pin on a mesh node",
         steps: 20,
@@ -83,6 +83,12 @@ pub const FAMILIES: [Family; 4] = [
         steps: 10,
         scene: bar_on_a_line,
         mu: Some(0.3),
+    },
+    Family {
+        name: "a pin pressing two cantilevers",
+        steps: 24,
+        scene: pin_on_two_cantilevers,
+        mu: None,
     },
 ];
 
@@ -138,6 +144,31 @@ fn pin_on_a_node(n: usize) -> String {
     control: (steps: 20),
 )"#,
         last = n + 1
+    )
+}
+
+/// A pin 2 cm above a cantilever of `n` elements (clamped at x = 0) driven 0.48 m down at
+/// x = 0.6, pressing it onto a second cantilever of `n` elements 5 cm below, clamped at
+/// x = 1.2 and reaching back to x = 0.2: the upper one's tip slides along the lower one, and
+/// each beam's nodes may touch the other.
+fn pin_on_two_cantilevers(n: usize) -> String {
+    format!(
+        r#"(
+    name: "a pin pressing two cantilevers",
+    sections: [(name: "s", E: 1.0, A: 1.0e6, I: 1.0, G: 0.4)],
+    nodes: [(id: 100000, x: 0.6, y: 0.02, rotation: false)],
+    bodies: [
+        (name: "upper", section: "s", path: [(0.0, 0.0), (1.0, 0.0)], elements: {n}, first_node: 1),
+        (name: "lower", section: "s", path: [(1.2, -0.05), (0.2, -0.05)], elements: {n}, first_node: 1001),
+    ],
+    supports: [(node: 1, u: true, v: true, phi: true), (node: 1001, u: true, v: true, phi: true),
+               (node: 100000, u: true)],
+    prescribed: [(node: 100000, dof: V, per_step: -0.02)],
+    contacts: [(nodes: [100000], bodies: ["upper", "lower"]),
+               (node_bodies: ["upper"], bodies: ["lower"]),
+               (node_bodies: ["lower"], bodies: ["upper"])],
+    control: (steps: 24),
+)"#
     )
 }
 
