@@ -1,9 +1,10 @@
 //! The robustness campaign (`tsm-contact robust`): seeded random drives of every built-in scene
 //! (the scene's own mesh or, for a one-body scene, half or twice as many elements; either
 //! formulation; steps from 3e-4 to 50 times the scene's; down only, or down and back up; friction
-//! mu in [0, 1] on every contact), and of two families with a plain answer (a pin pressed onto
-//! the midspan node of a pinned-pinned beam, two cantilevers pressed onto each other, on 8 to
-//! 128 elements) counted by how they end, with the Newton iterations of every
+//! mu in [0, 1] on every contact), and of five families with a plain answer (`FAMILIES`: a pin
+//! pressed onto the midspan node of a pinned-pinned beam, two cantilevers pressed onto each
+//! other, a bar on a rough beam floor and on a rough line, a pin pressing one cantilever far
+//! onto another; on 8 to 128 elements) counted by how they end, with the Newton iterations of every
 //! increment (its failed attempts and cut-backs included) and what the independent audit
 //! (`crate::audit`) finds in every accepted state. A measurement, not a test: it reports.
 
