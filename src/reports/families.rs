@@ -1,0 +1,102 @@
+//! The scenes of the robustness campaign's families (`robust.rs`, `FAMILIES`): scenes with a
+//! plain answer, as scene text on `n` elements per body.
+
+/// A steel bar of `n` elements lying on a clamped floor beam (zero gap, declared above it),
+/// its left end held along the floor, under its own weight.
+pub(crate) fn bar_on_a_beam_floor(n: usize) -> String {
+    bar_on(
+        n,
+        r#"(name: "floor", section: "floor", path: [(0.0, 0.0), (1.2, 0.0)], elements: 12, first_node: 1001),"#,
+        r#"(node: 1001, u: true, v: true, phi: true), (node: 1013, u: true, v: true, phi: true),"#,
+        r#"contacts: [(node_bodies: ["bar"], bodies: ["floor"], side: Left)],"#,
+    )
+}
+
+/// The bar of `bar_on_a_beam_floor` on a rigid line instead.
+pub(crate) fn bar_on_a_line(n: usize) -> String {
+    bar_on(
+        n,
+        "",
+        "",
+        r#"obstacles: [(name: "floor", shape: Line(from: (0.0, 0.0), to: (1.2, 0.0)), bodies: ["bar"])],"#,
+    )
+}
+
+/// The bar with a floor body, its supports, and the contact or obstacle entry.
+fn bar_on(n: usize, floor: &str, held: &str, contact: &str) -> String {
+    format!(
+        r#"(
+    name: "bar on a floor", units: N_m, formulation: BernoulliEuler,
+    sections: [(name: "bar", E: 2.0e11, A: 1.0e-4, I: 8.3333e-10, density: 7850.0),
+               (name: "floor", E: 2.0e11, A: 1.0e-3, I: 8.3333e-8)],
+    bodies: [(name: "bar", section: "bar", path: [(0.1, 0.0), (1.1, 0.0)], elements: {n}, first_node: 1),
+             {floor}],
+    supports: [{held} (node: 1, u: true)],
+    {contact}
+    control: (steps: 10, gravity: (0.0, -9.81)),
+)"#
+    )
+}
+
+/// A pin pressed onto the midspan node of a pinned-pinned beam of `n` elements (n even), EA =
+/// 1e3 EI / L^2.
+pub(crate) fn pin_on_a_node(n: usize) -> String {
+    format!(
+        r#"(
+    name: "pin on a mesh node",
+    sections: [(name: "s", E: 1.0, A: 1.0e3, I: 1.0, G: 400.0)],
+    nodes: [(id: 100000, x: 0.5, y: 0.001, rotation: false)],
+    bodies: [(name: "beam", section: "s", path: [(0.0, 0.0), (1.0, 0.0)], elements: {n}, first_node: 1)],
+    supports: [(node: 1, u: true, v: true), (node: {last}, u: true, v: true), (node: 100000, u: true)],
+    prescribed: [(node: 100000, dof: V, per_step: -0.01)],
+    contacts: [(nodes: [100000], bodies: ["beam"])],
+    control: (steps: 20),
+)"#,
+        last = n + 1
+    )
+}
+
+/// A pin 2 cm above a cantilever of `n` elements (clamped at x = 0) driven 0.48 m down at
+/// x = 0.6, pressing it onto a second cantilever of `n` elements 5 cm below, clamped at
+/// x = 1.2 and reaching back to x = 0.2: the upper one's tip slides along the lower one, and
+/// each beam's nodes may touch the other.
+pub(crate) fn pin_on_two_cantilevers(n: usize) -> String {
+    format!(
+        r#"(
+    name: "a pin pressing two cantilevers",
+    sections: [(name: "s", E: 1.0, A: 1.0e6, I: 1.0, G: 0.4)],
+    nodes: [(id: 100000, x: 0.6, y: 0.02, rotation: false)],
+    bodies: [
+        (name: "upper", section: "s", path: [(0.0, 0.0), (1.0, 0.0)], elements: {n}, first_node: 1),
+        (name: "lower", section: "s", path: [(1.2, -0.05), (0.2, -0.05)], elements: {n}, first_node: 1001),
+    ],
+    supports: [(node: 1, u: true, v: true, phi: true), (node: 1001, u: true, v: true, phi: true),
+               (node: 100000, u: true)],
+    prescribed: [(node: 100000, dof: V, per_step: -0.02)],
+    contacts: [(nodes: [100000], bodies: ["upper", "lower"]),
+               (node_bodies: ["upper"], bodies: ["lower"]),
+               (node_bodies: ["lower"], bodies: ["upper"])],
+    control: (steps: 24),
+)"#
+    )
+}
+
+/// Two cantilevers of `n` elements, one above the other and overlapping by 0.7 of their
+/// length; the upper one's clamp is driven down onto the lower one.
+pub(crate) fn stacked_cantilevers(n: usize) -> String {
+    format!(
+        r#"(
+    name: "stacked cantilevers",
+    sections: [(name: "s", E: 1.0, A: 1.0e3, I: 1.0, G: 400.0)],
+    bodies: [
+        (name: "upper", section: "s", path: [(0.0, 0.0), (1.0, 0.0)], elements: {n}, first_node: 1),
+        (name: "lower", section: "s", path: [(1.3, -0.05), (0.3, -0.05)], elements: {n}, first_node: {lower}),
+    ],
+    supports: [(node: 1, u: true, phi: true), (node: {lower}, u: true, v: true, phi: true)],
+    prescribed: [(node: 1, dof: V, per_step: -0.01)],
+    contacts: [(node_bodies: ["upper"], bodies: ["lower"]), (node_bodies: ["lower"], bodies: ["upper"])],
+    control: (steps: 30),
+)"#,
+        lower = n + 2
+    )
+}
