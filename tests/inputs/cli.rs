@@ -267,6 +267,39 @@ fn robust_writes_a_row_per_scene_and_an_audit_count() {
     }
 }
 
+/// `robust --drive SEED` runs the one drive of the campaign with that seed and says how it
+/// ends (exit 0: complete and audited); a seed no drive has is an error that names it.
+#[cfg(feature = "reports")]
+#[test]
+fn robust_drive_reruns_one_drive_by_its_seed() {
+    let drive = |seed: &str| {
+        Command::new(env!("CARGO_BIN_EXE_tsm-contact"))
+            .args(["robust", "--per-scene", "1", "--drive", seed])
+            .output()
+            .expect("runs")
+    };
+    let case = &tsm_contact::reports::robust::cases(1, 1)[0];
+    let found = drive(&format!("{:#x}", case.seed));
+    let text = String::from_utf8_lossy(&found.stdout);
+    assert_eq!(found.status.code(), Some(0), "{text}");
+    assert!(text.starts_with(&format!("{} ", case.scene)), "{text}");
+    assert!(text.trim_end().ends_with("complete"), "{text}");
+    let missing = drive("0x1");
+    let err = String::from_utf8_lossy(&missing.stderr);
+    assert_eq!(missing.status.code(), Some(1));
+    assert!(
+        err.contains("no drive of the campaign") && err.contains("0x1"),
+        "{err}"
+    );
+    let bad = drive("zz");
+    assert_eq!(
+        bad.status.code(),
+        Some(2),
+        "{}",
+        String::from_utf8_lossy(&bad.stderr)
+    );
+}
+
 /// `solve` on a scene with stages names each stage as its first increment comes, prints every
 /// load group's factor, makes the stages' steps (15: 5 + 10), and ends where the last stage
 /// says; `figure` draws the state after the path.
