@@ -6,7 +6,9 @@
 use std::path::Path;
 
 use super::diagrams::value_at;
-use super::shapes::{chord_frame, deformed_bodies, obstacle_outlines, undeformed_bodies};
+use super::shapes::{
+    chord_frame, deformed_bodies, faces, half_thickness, obstacle_outlines, undeformed_bodies,
+};
 use crate::app::display::Diagram;
 use crate::solver::{IncrementRecord, Model};
 use crate::worker::Loaded;
@@ -28,6 +30,8 @@ pub enum Kind {
     Diagram,
     /// A rigid obstacle's outline.
     Obstacle,
+    /// A face of a body with a thickness, half of it from the axis.
+    Face,
 }
 
 impl Kind {
@@ -38,6 +42,7 @@ impl Kind {
             Kind::Body => ([0, 0, 0], 2.0),
             Kind::Diagram => ([40, 90, 200], 1.2),
             Kind::Obstacle => ([90, 90, 96], 3.0),
+            Kind::Face => ([120, 124, 134], 1.0),
         }
     }
 }
@@ -151,6 +156,16 @@ pub fn figure(loaded: &Loaded, r: &IncrementRecord, diagram: Option<Diagram>) ->
         });
     }
     for c in deformed_bodies(model, &loaded.elements, r) {
+        let sides = faces(&c.points, half_thickness(model, c.body));
+        for side in 0..2 {
+            if !sides.is_empty() {
+                f.lines.push(Line {
+                    kind: Kind::Face,
+                    name: String::new(),
+                    points: sides.iter().map(|s| s[side]).collect(),
+                });
+            }
+        }
         f.lines.push(Line {
             kind: Kind::Body,
             name: model.bodies[c.body].name.clone(),

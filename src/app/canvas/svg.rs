@@ -38,12 +38,13 @@ pub fn svg(loaded: &Loaded, r: &IncrementRecord, diagram: Option<Diagram>, width
                 xml_escape(&line.name),
                 pts.join(" L")
             ),
-            Kind::Ghost | Kind::Diagram | Kind::Obstacle => writeln!(
+            Kind::Ghost | Kind::Diagram | Kind::Obstacle | Kind::Face => writeln!(
                 out,
                 "<polyline class=\"{}\" points=\"{}\" {stroke}/>",
                 match line.kind {
                     Kind::Ghost => "undeformed",
                     Kind::Obstacle => "obstacle",
+                    Kind::Face => "face",
                     _ => "diagram",
                 },
                 pts.join(" ")

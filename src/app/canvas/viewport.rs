@@ -15,8 +15,8 @@ use super::diagrams;
 use super::overlays::{self, INK};
 use super::query::{describe, pick};
 use super::shapes::{
-    deformed_bodies, faces, max_moment, moment_color, obstacle_outlines, undeformed_bodies,
-    BodyCurve,
+    deformed_bodies, faces, half_thickness, max_moment, moment_color, obstacle_outlines,
+    undeformed_bodies, BodyCurve,
 };
 use super::strips::Polyline;
 use crate::app::display::Diagram;
@@ -329,10 +329,7 @@ fn paint_faces(
     to_screen: &impl Fn([f64; 2]) -> Pos2,
 ) {
     for c in curves {
-        let half = (model.bodies[c.body].elements.iter())
-            .map(|&e| 0.5 * model.beams[e].section.thickness)
-            .fold(0.0, f64::max);
-        let sides = faces(&c.points, half);
+        let sides = faces(&c.points, half_thickness(model, c.body));
         if sides.is_empty() {
             continue;
         }
