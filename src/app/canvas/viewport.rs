@@ -132,7 +132,12 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui, gpu: Option<&egui_wgpu::RenderS
         let points: Vec<Pos2> = outline.into_iter().map(to_screen).collect();
         painter.add(egui::Shape::line(points, Stroke::new(3.0, OBSTACLE)));
     }
-    paint_faces(&painter, model, &curves, &to_screen);
+    // Only a scene with a section of some thickness has faces: the frame loop looks at its few
+    // sections, not at every element.
+    let thick = (l.scene.file.sections.iter()).any(|s| s.thickness.is_some_and(|t| t > 0.0));
+    if thick {
+        paint_faces(&painter, model, &curves, &to_screen);
+    }
     beams_gpu::paint(&painter, rect, &built, gpu);
     obstacle_contacts(&painter, model, r, &to_screen);
 
