@@ -643,6 +643,28 @@ proptest! {
     }
 }
 
+/// A pin presses an 8-element cantilever onto another of 8 elements, whose meshes come to lie
+/// node over node. A node of the lower beam, resting on the upper beam's last element, slides
+/// off the upper tip while that tip rests on nothing: the tip now rests on the lower beam at
+/// that node (the same touch, seen from the tip), and the pin goes on down. Both
+/// formulations complete all 7 steps, the oracle passes every state, and the upper tip
+/// (node 9) ends in contact with the lower beam.
+#[test]
+fn a_lower_node_sliding_off_the_upper_tip_leaves_the_tip_resting_on_the_lower_beam() {
+    for f in ["BernoulliEuler", "Timoshenko"] {
+        let text = two_cantilevers(f, 8, 8, 0.6, 0.02, 0.05);
+        let scene = parse(&text, "two").unwrap();
+        let (records, err) = run(&scene, 7);
+        assert!(err.is_none(), "{f}: {}", err.unwrap());
+        let last = records.last().expect("records");
+        assert!(
+            (last.contacts.iter()).any(|c| c.node == 9 && c.body == "lower"),
+            "{f}: {:?}",
+            last.contacts
+        );
+    }
+}
+
 /// A case of `random_pins_on_two_cantilevers_never_pass_through` kept by itself (Bernoulli-
 /// Euler, 28 and 17 elements, pin at x = 0.562, 2 cm above, the beams 1 mm apart): the pin bends
 /// the upper cantilever far down, and its tip comes to lie right over a mesh node of the lower

@@ -78,6 +78,56 @@ impl ContactSet {
             .is_none_or(|(lo, hi)| !(lo..=hi).contains(&cv.place[beam]))
     }
 
+    /// The contact of tip `tip` on the body of node `a.node`, which slides off that tip: on the
+    /// element at the node that the tip projects onto, from the side opposite to the node's
+    /// (the elements lying roughly parallel). `None` where the node is no interior mesh node
+    /// of a body, the tip may not touch that body there or already rests on it, or the two
+    /// elements cross steeply (the side would be a guess).
+    fn tip_onto_node_body(
+        &self,
+        cv: &ContactView<'_>,
+        d: &[f64],
+        a: &ActiveContact,
+        tip: usize,
+    ) -> Option<ActiveContact> {
+        let m = &cv.model;
+        let &[e1, e2] = cv.node_beams[a.node].as_slice() else {
+            return None;
+        };
+        let body = m.beams[e1].body;
+        if m.beams[e2].body != body || body == a.body || self.is_active(tip, body) {
+            return None;
+        }
+        let outside = |e: usize| {
+            let t = Self::chord_fraction(cv, d, tip, e);
+            (-t).max(t - 1.0).max(0.0)
+        };
+        let e = if outside(e1) <= outside(e2) { e1 } else { e2 };
+        if !Self::may_touch(cv, tip, body, e) {
+            return None;
+        }
+        let normal = |e: usize| {
+            let (xi, _) = current(m, &cv.dofs, d, m.beams[e].i);
+            let (xj, _) = current(m, &cv.dofs, d, m.beams[e].j);
+            let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
+            let l = dx.hypot(dy);
+            [-dy / l, dx / l]
+        };
+        let (na, nb) = (normal(a.beam), normal(e));
+        let cos = na[0] * nb[0] + na[1] * nb[1];
+        if cos.abs() < 0.5 {
+            return None;
+        }
+        let xi = Self::chord_fraction(cv, d, tip, e);
+        Some(ActiveContact {
+            node: tip,
+            beam: e,
+            body,
+            side: -a.side * cos.signum(),
+            stick: Self::stick_at(cv, tip, body, e, xi),
+        })
+    }
+
     /// `transfer` with the free-end margin given: contacts within `margin` of a free end slide
     /// off (a negative margin: only those past it).
     pub(super) fn transfer_within(
@@ -204,6 +254,26 @@ impl ContactSet {
                         k += 1;
                         continue;
                     }
+                }
+                // A node of another body sliding off a tip that rests on nothing of that body
+                // leaves the tip resting on the body at the node: the same touch, seen from
+                // the tip.
+                if let Some(h) = self.tip_onto_node_body(cv, d, &a, tip) {
+                    let xi_there = Self::chord_fraction(cv, d, h.node, h.beam);
+                    events.push(Self::event(
+                        cv,
+                        &h,
+                        ContactChange::Activated,
+                        increment,
+                        iteration,
+                        xi_there,
+                        0.0,
+                    ));
+                    self.beams.sides.insert((h.node, h.body), (h.side, h.beam));
+                    self.beams.active[k] = h;
+                    changes += 1;
+                    k += 1;
+                    continue;
                 }
                 self.beams.active.remove(k);
                 changes += 1;
