@@ -4,31 +4,6 @@
 
 use crate::app::units::num;
 
-/// Which diagram is drawn.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Diagram {
-    /// Axial force (tension positive).
-    Axial,
-    /// Shear force.
-    Shear,
-    /// Bending moment.
-    Moment,
-}
-
-impl Diagram {
-    /// Every diagram, in the order the picker lists them.
-    pub const ALL: [Diagram; 3] = [Diagram::Axial, Diagram::Shear, Diagram::Moment];
-
-    /// Its letter ("N", "V", "M").
-    pub fn letter(self) -> &'static str {
-        match self {
-            Diagram::Axial => "N",
-            Diagram::Shear => "V",
-            Diagram::Moment => "M",
-        }
-    }
-}
-
 /// How angles are shown.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Angles {

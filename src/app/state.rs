@@ -10,8 +10,9 @@ use crate::solver::{Event, IncrementRecord, IterationRecord};
 use crate::worker::{Command, Failure, Loaded, Message, Worker};
 
 use super::branches::SetAside;
-use super::display::{Angles, Diagram, Picked, TableView};
+use super::display::{Angles, Picked, TableView};
 use super::frame_log::FrameLog;
+use crate::figure::Diagram;
 
 use super::files::dialog::Dialogs;
 use super::files::scenes::{is_file, Recent};

@@ -171,7 +171,7 @@ pub(super) enum Command {
     /// Draw a scene's state after some steps as a figure for papers, without a window: the
     /// undeformed shape, the deformed beams, a force diagram, pins and contact nodes; a PNG of
     /// the chosen size or an SVG, by the extension of --out.
-    #[cfg(feature = "gui")]
+    #[cfg(feature = "figures")]
     #[command(
         after_help = "Example: tsm-contact figure example_3_2 --steps 40 --diagram m --out fig.png --size 1200x700"
     )]
@@ -194,7 +194,7 @@ pub(super) enum Command {
 }
 
 /// A force diagram drawn along the beams: axial force N, shear V or bending moment M.
-#[cfg(feature = "gui")]
+#[cfg(feature = "figures")]
 #[derive(Clone, Copy, Debug, clap::ValueEnum)]
 pub enum DiagramArg {
     N,
@@ -202,11 +202,11 @@ pub enum DiagramArg {
     M,
 }
 
-#[cfg(feature = "gui")]
+#[cfg(feature = "figures")]
 impl DiagramArg {
     /// The diagram it names.
-    pub fn diagram(self) -> tsm_contact::app::display::Diagram {
-        use tsm_contact::app::display::Diagram;
+    pub fn diagram(self) -> tsm_contact::figure::Diagram {
+        use tsm_contact::figure::Diagram;
         match self {
             DiagramArg::N => Diagram::Axial,
             DiagramArg::V => Diagram::Shear,

@@ -1,11 +1,11 @@
 //! `figure`: a scene's state after some steps drawn as a figure for papers, without a window
-//! (`app::canvas::figure`): a PNG of the chosen size or an SVG, by the extension of the file.
+//! (`tsm_contact::figure`): a PNG of the chosen size or an SVG, by the extension of the file.
 
 use std::path::Path;
 use std::sync::Arc;
 
 use super::args::DiagramArg;
-use tsm_contact::app::canvas::{figure, svg};
+use tsm_contact::figure::{raster, svg};
 use tsm_contact::scene::builtin::open;
 use tsm_contact::solver::Silent;
 use tsm_contact::worker::{initial_record, Loaded};
@@ -66,7 +66,7 @@ fn draw(
     };
     let diagram = diagram.map(DiagramArg::diagram);
     if ext == "png" {
-        figure::write_png(out, &loaded, &last, diagram, size)
+        raster::write_png(out, &loaded, &last, diagram, size)
     } else {
         svg::write_svg(out, &loaded, &last, diagram)
             .map_err(|e| format!("cannot write {}: {e}", out.display()))

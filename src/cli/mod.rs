@@ -1,7 +1,7 @@
 //! Command-line interface, one file per subcommand: `solve` runs a scene headless
 //! (`solve.rs`); `bench`, `stress` and `scale` measure the solver (`reports.rs`); `scenes`
 //! lists the built-in scenes; `check` audits a written history (`check.rs`); `view` (feature `gui`) opens the visualiser or renders a
-//! screenshot; `figure` (feature `gui`) draws a state as a PNG or SVG without a window
+//! screenshot; `figure` (feature `figures`) draws a state as a PNG or SVG without a window
 //! (`figure.rs`). `args.rs` is the command line as clap parses it.
 
 /// `println!` that ends the program quietly when stdout is closed (output piped into `head`)
@@ -20,7 +20,7 @@ macro_rules! out {
 
 mod args;
 mod check;
-#[cfg(feature = "gui")]
+#[cfg(feature = "figures")]
 mod figure;
 #[cfg(feature = "reports")]
 mod reports;
@@ -75,7 +75,7 @@ pub fn run() -> i32 {
                 ..Default::default()
             })
         }
-        #[cfg(feature = "gui")]
+        #[cfg(feature = "figures")]
         Some(Command::Figure {
             scene,
             steps,

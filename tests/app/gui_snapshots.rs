@@ -11,8 +11,8 @@ use std::time::Duration;
 
 use egui_kittest::kittest::Queryable;
 use egui_kittest::{Harness, SnapshotOptions};
-use tsm_contact::app::display::Diagram;
 use tsm_contact::app::{Startup, TsmApp};
+use tsm_contact::figure::Diagram;
 
 use crate::gui_support;
 use gui_support::{loaded, solving, wait};

@@ -123,7 +123,7 @@ fn contacts_in_the_history_carry_their_place_in_their_body() {
 /// `figure` writes the state after the steps without a window: a PNG of the asked size with the
 /// beams drawn, an SVG with one path per body (Example 3.2 has three), and a clear error for a
 /// size it cannot draw or a format it does not write.
-#[cfg(feature = "gui")]
+#[cfg(feature = "figures")]
 #[test]
 fn figure_draws_the_state_as_a_png_of_the_asked_size_or_an_svg() {
     let dir = std::env::temp_dir().join(format!("tsm-cli-figure-{}", std::process::id()));

@@ -211,11 +211,11 @@ fn converges_as_h_squared(what: &str, load: &str, reference: [f64; 2]) {
 /// of two elements under a small uniform load w, M(s) = w (L - s)^2 / 2 and V(s) = w (L - s)
 /// in size at every quarter of the element at the clamp (the end values come from the solver,
 /// the parabola between them from the load), to 1e-3 of the clamp's values.
-#[cfg(feature = "gui")]
+#[cfg(feature = "figures")]
 #[test]
 fn the_diagrams_follow_the_load_inside_an_element() {
-    use tsm_contact::app::canvas::diagrams::value_at;
-    use tsm_contact::app::display::Diagram;
+    use tsm_contact::figure::value_at;
+    use tsm_contact::figure::Diagram;
     let w = 1e-3;
     let text = format!(
         r#"(

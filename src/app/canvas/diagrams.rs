@@ -1,11 +1,11 @@
 //! Force diagrams along the deformed beams: the axial force N, the shear V or the bending
 //! moment M of each element, drawn off its chord (positive to the chord's left), scaled so that
-//! the largest value spans `REACH` points, with that extreme labelled.
+//! the largest value spans `REACH` points, with that extreme labelled; and the colour map of
+//! the bending moment shared by the strips and the legend.
 
 use egui::{Color32, FontId, Pos2, Shape, Stroke, Vec2};
 
-use super::shapes::{moment_at, transverse_load};
-use crate::app::display::Diagram;
+use crate::figure::{value_at, Diagram};
 use crate::solver::{IncrementRecord, Model};
 
 /// Screen points the largest value of a diagram spans.
@@ -13,28 +13,6 @@ const REACH: f32 = 45.0;
 
 /// Samples per element (the moment and shear jump at contact points inside an element).
 const SAMPLES: usize = 16;
-
-/// The value of `diagram` at fraction `x` along element `e`.
-pub fn value_at(model: &Model, r: &IncrementRecord, diagram: Diagram, e: usize, x: f64) -> f64 {
-    let f = r.element_forces.get(e).copied().unwrap_or([0.0; 3]);
-    match diagram {
-        Diagram::Axial => f[0],
-        Diagram::Moment => moment_at(model, r, e, x),
-        Diagram::Shear => {
-            // dM/ds of `moment_at`: the end moments' share, and each contact force's jump.
-            let l = model.beam_length(e);
-            let mut v = -(f[1] + f[2]) / l;
-            for c in r.contacts.iter().filter(|c| c.element == e) {
-                let a = c.xi.clamp(0.0, 1.0);
-                v += c.force * if x < a { 1.0 - a } else { -a };
-            }
-            if let Some([pi, pj]) = transverse_load(model, r, e) {
-                v += l * ((2.0 * pi + pj) / 6.0 - pi * x - (pj - pi) * x * x / 2.0);
-            }
-            v
-        }
-    }
-}
 
 /// The extreme of `diagram` over the structure: (value, element, fraction along it).
 pub fn extreme(model: &Model, r: &IncrementRecord, diagram: Diagram) -> Option<(f64, usize, f64)> {
@@ -119,5 +97,33 @@ pub fn paint(
             FontId::proportional(13.0),
             Color32::from_gray(20),
         );
+    }
+}
+
+/// Colour of moment `m` on a diverging scale: blue (negative), slate (zero), red (positive).
+pub fn moment_color(m: f64, mmax: f64) -> Color32 {
+    let t = (m / mmax.max(1e-30)).clamp(-1.0, 1.0) as f32;
+    let zero = [70.0, 78.0, 92.0];
+    let end = if t >= 0.0 {
+        [214.0, 39.0, 40.0]
+    } else {
+        [31.0, 119.0, 220.0]
+    };
+    let a = t.abs().sqrt();
+    let c: Vec<u8> = (0..3)
+        .map(|i| (zero[i] + (end[i] - zero[i]) * a).round() as u8)
+        .collect();
+    Color32::from_rgb(c[0], c[1], c[2])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn colour_map_ends_and_middle() {
+        assert_eq!(moment_color(0.0, 1.0), Color32::from_rgb(70, 78, 92));
+        assert_eq!(moment_color(2.0, 1.0), Color32::from_rgb(214, 39, 40));
+        assert_eq!(moment_color(-1.0, 1.0), Color32::from_rgb(31, 119, 220));
     }
 }

@@ -7,7 +7,7 @@ use egui::{Align2, Color32, FontId, Pos2, Rect, Shape, Stroke, Vec2};
 use crate::scene::units::Units;
 use crate::solver::{Dof, Friction, IncrementRecord, Model};
 
-use super::shapes::moment_color;
+use super::diagrams::moment_color;
 use crate::app::state::TsmApp;
 use crate::app::units::num;
 use crate::app::view::handle_world;
@@ -213,7 +213,7 @@ pub(crate) fn friction_arrow(
 pub(crate) fn body_names(
     p: &egui::Painter,
     model: &Model,
-    curves: &[super::shapes::BodyCurve],
+    curves: &[crate::figure::geometry::BodyCurve],
     s: &dyn Fn([f64; 2]) -> Pos2,
 ) {
     let mut placed: Vec<Rect> = Vec::new();
@@ -455,7 +455,7 @@ pub(crate) fn distributed_loads(
         if !d.follower {
             return q;
         }
-        let Some((t, n, _)) = super::shapes::chord_frame(model, r, d.beam) else {
+        let Some((t, n, _)) = crate::figure::geometry::chord_frame(model, r, d.beam) else {
             return q;
         };
         [q[0] * t[0] + q[1] * n[0], q[0] * t[1] + q[1] * n[1]]

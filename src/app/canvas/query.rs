@@ -4,9 +4,9 @@
 
 use egui::Pos2;
 
-use super::diagrams::value_at;
-use crate::app::display::{Angles, Diagram, Picked};
+use crate::app::display::{Angles, Picked};
 use crate::app::units::num;
+use crate::figure::{value_at, Diagram};
 use crate::scene::units::Units;
 use crate::solver::{Dof, IncrementRecord, Model};
 

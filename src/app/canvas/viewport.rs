@@ -11,17 +11,17 @@ use egui::{Align2, Color32, FontId, Pos2, Rect, Sense, Stroke, Vec2};
 use crate::solver::Dof;
 
 use super::beams_gpu::{self, Built, Strip};
-use super::diagrams;
+use super::diagrams::{self, moment_color};
 use super::overlays::{self, INK};
 use super::query::{describe, pick};
-use super::shapes::{
-    deformed_bodies, faces, half_thickness, max_moment, moment_color, obstacle_outlines,
-    undeformed_bodies, BodyCurve,
-};
 use super::strips::Polyline;
-use crate::app::display::Diagram;
 use crate::app::state::TsmApp;
 use crate::app::view::{bounds, handle_world, Drag};
+use crate::figure::geometry::{
+    deformed_bodies, faces, half_thickness, max_moment, obstacle_outlines, undeformed_bodies,
+    BodyCurve,
+};
+use crate::figure::Diagram;
 
 const GHOST: Color32 = Color32::from_rgb(175, 178, 186);
 /// A body's faces where it has a thickness: the band and its edges.

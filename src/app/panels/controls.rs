@@ -5,8 +5,9 @@
 use crate::solver::{Formulation, StretchCorrection};
 use crate::worker::Command;
 
-use crate::app::display::{Angles, Diagram};
+use crate::app::display::Angles;
 use crate::app::state::TsmApp;
+use crate::figure::Diagram;
 
 /// The stretch-correction mode of Newton's updates (`StretchCorrection`): a change reloads
 /// the scene, as the formulation toggle does.

@@ -9,13 +9,13 @@ use std::path::{Path, PathBuf};
 
 use egui::containers::menu::{MenuButton, MenuConfig};
 
-use crate::app::canvas::{figure, svg};
 use crate::app::display::Picked;
 use crate::app::files::dialog::{Answer, Purpose};
 use crate::app::files::export;
 use crate::app::files::scenes::{dropped_scene, is_file, save_scene};
 use crate::app::files::screenshot::Shot;
 use crate::app::state::TsmApp;
+use crate::figure::{raster, svg};
 
 /// The three menus.
 pub fn menus(app: &mut TsmApp, ui: &mut egui::Ui) {
@@ -233,7 +233,7 @@ pub fn export_png(app: &mut TsmApp) {
         return;
     };
     let path = with_ext(&app.export_stem, "png");
-    let done = figure::write_png(&path, loaded, r, app.diagram, app.png_size).map(|_| path);
+    let done = raster::write_png(&path, loaded, r, app.diagram, app.png_size).map(|_| path);
     confirm(app, done);
 }
 

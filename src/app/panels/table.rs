@@ -4,10 +4,10 @@
 
 use egui::RichText;
 
-use crate::app::canvas::diagrams::value_at;
-use crate::app::display::{Diagram, Rows, TableView};
+use crate::app::display::{Rows, TableView};
 use crate::app::state::TsmApp;
 use crate::app::units::num;
+use crate::figure::{value_at, Diagram};
 use crate::solver::{IncrementRecord, Model};
 
 /// A row: its cells as text, and the numbers it sorts by (NaN for a text column).

@@ -1,12 +1,11 @@
-//! The viewed state as SVG, for papers: the figure of `figure.rs` with each body's deformed
+//! The viewed state as SVG, for papers: the figure of `drawing.rs` with each body's deformed
 //! curve as one `<path>` named after the body, the ghost and the diagram as `<polyline>`s, pins
 //! and contact nodes as circles, in the scene's units with y up, written atomically.
 
 use std::fmt::Write as _;
 use std::path::Path;
 
-use super::figure::{figure, Kind};
-use crate::app::display::Diagram;
+use super::drawing::{figure, Diagram, Kind};
 use crate::history::write_atomic;
 use crate::solver::IncrementRecord;
 use crate::worker::Loaded;

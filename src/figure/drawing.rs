@@ -1,17 +1,39 @@
 //! The viewed state as a figure for papers, independent of the window: the rigid obstacles, the
 //! undeformed shape as a grey ghost, each body's deformed curve (the curve the viewport draws), the force
 //! diagram if one is chosen, pins as open circles and contact nodes as red dots, all in world
-//! coordinates. `svg.rs` writes it as SVG; `raster` draws it as a PNG of any size.
+//! coordinates. `svg.rs` writes it as SVG; `raster.rs` draws it as a PNG of any size.
 
-use std::path::Path;
-
-use super::diagrams::value_at;
-use super::shapes::{
-    chord_frame, deformed_bodies, faces, half_thickness, obstacle_outlines, undeformed_bodies,
+use super::geometry::{
+    chord_frame, deformed_bodies, faces, half_thickness, moment_at, obstacle_outlines,
+    transverse_load, undeformed_bodies,
 };
-use crate::app::display::Diagram;
 use crate::solver::{IncrementRecord, Model};
 use crate::worker::Loaded;
+
+/// Which diagram is drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Diagram {
+    /// Axial force (tension positive).
+    Axial,
+    /// Shear force.
+    Shear,
+    /// Bending moment.
+    Moment,
+}
+
+impl Diagram {
+    /// Every diagram, in the order the picker lists them.
+    pub const ALL: [Diagram; 3] = [Diagram::Axial, Diagram::Shear, Diagram::Moment];
+
+    /// Its letter ("N", "V", "M").
+    pub fn letter(self) -> &'static str {
+        match self {
+            Diagram::Axial => "N",
+            Diagram::Shear => "V",
+            Diagram::Moment => "M",
+        }
+    }
+}
 
 /// Samples per element of a diagram.
 const DIAGRAM_SAMPLES: usize = 8;
@@ -243,74 +265,24 @@ fn diagram_lines(model: &Model, r: &IncrementRecord, d: Diagram, reach: f64) -> 
     out
 }
 
-/// The figure drawn into an RGBA image of `width` x `height` pixels, white behind.
-pub fn raster(f: &Figure, width: u32, height: u32) -> Result<tiny_skia::Pixmap, String> {
-    use tiny_skia::{Color, FillRule, Paint, PathBuilder, Pixmap, Stroke, Transform};
-    let mut pm = Pixmap::new(width, height)
-        .ok_or_else(|| format!("cannot draw an image of {width} x {height} pixels"))?;
-    pm.fill(Color::WHITE);
-    let frame = f.frame(f64::from(width), f64::from(height));
-    // Lines as wide as in a 1200 px figure, in proportion.
-    let grow = (f64::from(width.max(height)) / 1200.0).max(0.5);
-    let paint = |rgb: [u8; 3]| {
-        let mut p = Paint::default();
-        p.set_color_rgba8(rgb[0], rgb[1], rgb[2], 255);
-        p.anti_alias = true;
-        p
-    };
-    for line in &f.lines {
-        let mut pb = PathBuilder::new();
-        for (k, p) in line.points.iter().enumerate() {
-            let [x, y] = frame.px(*p);
-            if k == 0 {
-                pb.move_to(x as f32, y as f32);
-            } else {
-                pb.line_to(x as f32, y as f32);
+/// The value of `diagram` at fraction `x` along element `e`.
+pub fn value_at(model: &Model, r: &IncrementRecord, diagram: Diagram, e: usize, x: f64) -> f64 {
+    let f = r.element_forces.get(e).copied().unwrap_or([0.0; 3]);
+    match diagram {
+        Diagram::Axial => f[0],
+        Diagram::Moment => moment_at(model, r, e, x),
+        Diagram::Shear => {
+            // dM/ds of `moment_at`: the end moments' share, and each contact force's jump.
+            let l = model.beam_length(e);
+            let mut v = -(f[1] + f[2]) / l;
+            for c in r.contacts.iter().filter(|c| c.element == e) {
+                let a = c.xi.clamp(0.0, 1.0);
+                v += c.force * if x < a { 1.0 - a } else { -a };
             }
+            if let Some([pi, pj]) = transverse_load(model, r, e) {
+                v += l * ((2.0 * pi + pj) / 6.0 - pi * x - (pj - pi) * x * x / 2.0);
+            }
+            v
         }
-        let Some(path) = pb.finish() else { continue };
-        let (rgb, w) = line.kind.style();
-        let stroke = Stroke {
-            width: (w * grow) as f32,
-            ..Stroke::default()
-        };
-        pm.stroke_path(&path, &paint(rgb), &stroke, Transform::identity(), None);
     }
-    for d in &f.dots {
-        let [x, y] = frame.px(d.at);
-        let radius = (4.0 * grow) as f32;
-        let Some(circle) = PathBuilder::from_circle(x as f32, y as f32, radius) else {
-            continue;
-        };
-        let (fill, edge) = if d.contact {
-            ([210, 40, 40], [120, 0, 0])
-        } else {
-            ([255, 255, 255], [0, 0, 0])
-        };
-        let id = Transform::identity();
-        pm.fill_path(&circle, &paint(fill), FillRule::Winding, id, None);
-        let stroke = Stroke {
-            width: grow as f32,
-            ..Stroke::default()
-        };
-        pm.stroke_path(&circle, &paint(edge), &stroke, id, None);
-    }
-    Ok(pm)
-}
-
-/// Write the figure of record `r` as a PNG of `width` x `height` pixels.
-pub fn write_png(
-    path: &Path,
-    loaded: &Loaded,
-    r: &IncrementRecord,
-    diagram: Option<Diagram>,
-    size: [u32; 2],
-) -> Result<(), String> {
-    let pm = raster(&figure(loaded, r, diagram), size[0], size[1])?;
-    let img = egui::ColorImage::from_rgba_premultiplied(
-        [pm.width() as usize, pm.height() as usize],
-        pm.data(),
-    );
-    crate::app::files::export::save_png(path, &img)
-        .map_err(|e| format!("cannot write {}: {e}", path.display()))
 }

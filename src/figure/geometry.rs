@@ -1,9 +1,7 @@
-//! What the viewport draws, in world coordinates: each body's smooth deformed curve (through
-//! `solver::element::shape::element_curve`) with the bending moment at every sample, the undeformed
-//! chords, the faces of bodies with a thickness, the outlines of the rigid obstacles where
-//! their pilots have moved them, and the moment colour map shared by the strips and the legend.
-
-use egui::Color32;
+//! What the figure and the viewport draw, in world coordinates: each body's smooth deformed
+//! curve (through `solver::element::shape::element_curve`) with the bending moment at every
+//! sample, the undeformed chords, the faces of bodies with a thickness, and the outlines of
+//! the rigid obstacles where their pilots have moved them.
 
 use crate::solver::element::beam::BeamElement;
 use crate::solver::{IncrementRecord, Model, Shape};
@@ -188,22 +186,6 @@ pub fn max_moment(curves: &[BodyCurve]) -> f64 {
         .fold(1e-30, |a, m| a.max(m.abs()))
 }
 
-/// Colour of moment `m` on a diverging scale: blue (negative), slate (zero), red (positive).
-pub fn moment_color(m: f64, mmax: f64) -> Color32 {
-    let t = (m / mmax.max(1e-30)).clamp(-1.0, 1.0) as f32;
-    let zero = [70.0, 78.0, 92.0];
-    let end = if t >= 0.0 {
-        [214.0, 39.0, 40.0]
-    } else {
-        [31.0, 119.0, 220.0]
-    };
-    let a = t.abs().sqrt();
-    let c: Vec<u8> = (0..3)
-        .map(|i| (zero[i] + (end[i] - zero[i]) * a).round() as u8)
-        .collect();
-    Color32::from_rgb(c[0], c[1], c[2])
-}
-
 /// Points per full turn of a drawn circle (the solver's circles are exact; only the drawing is
 /// a polygon).
 const CIRCLE_POINTS: usize = 128;
@@ -278,13 +260,6 @@ pub fn obstacle_outlines(model: &Model, r: &IncrementRecord) -> Vec<Vec<[f64; 2]
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn colour_map_ends_and_middle() {
-        assert_eq!(moment_color(0.0, 1.0), Color32::from_rgb(70, 78, 92));
-        assert_eq!(moment_color(2.0, 1.0), Color32::from_rgb(214, 39, 40));
-        assert_eq!(moment_color(-1.0, 1.0), Color32::from_rgb(31, 119, 220));
-    }
 
     /// The faces of a quarter circle of radius 1 drawn 0.1 thick are the circles of radius
     /// 0.95 and 1.05 (to the chord's sag, 3e-4 at 64 pieces); a line has none.
