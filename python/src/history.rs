@@ -261,10 +261,7 @@ type FindingRow = (usize, Option<u32>, Option<String>, String);
 /// checks): every finding as (increment, node or None, body or None, text). An empty list: it
 /// found nothing wrong.
 #[pyfunction]
-pub fn check(
-    py: Python<'_>,
-    history: &PyHistory,
-) -> PyResult<Vec<FindingRow>> {
+pub fn check(py: Python<'_>, history: &PyHistory) -> PyResult<Vec<FindingRow>> {
     let found = py
         .detach(|| audit_history(&history.history, None))
         .map_err(PyValueError::new_err)?;
