@@ -49,9 +49,28 @@ impl Startup {
     }
 }
 
-/// The visualiser.
+/// The visualiser: the worker and the app's state in parts, each with one owner. The panels
+/// read the parts they show and change the parts they drive.
 pub struct TsmApp {
     pub(crate) worker: Worker,
+    /// The scene, the history held, the drive's targets and the runs set aside.
+    pub(crate) session: Session,
+    /// The timeline's playback and the increment viewed.
+    pub(crate) playback: Playback,
+    /// What the user looks at and how.
+    pub(crate) look: Look,
+    /// Dialogs, recent files and exports.
+    pub(crate) files: Files,
+    /// The status line and the error panel.
+    pub(crate) notices: Notices,
+    /// The window's run-time state (drawing path, layout, screenshot run, frame log).
+    pub(crate) frame: Frame,
+}
+
+/// What is being solved and what it produced: the scene, the converged states and events,
+/// the drive's targets, and the runs set aside for Undo and Redo.
+#[derive(Default)]
+pub(crate) struct Session {
     /// Name the current scene was opened by (built-in name or path).
     pub(crate) scene_name: String,
     pub(crate) loaded: Option<Box<Loaded>>,
@@ -60,44 +79,14 @@ pub struct TsmApp {
     pub(crate) events: Vec<Event>,
     /// Iterations of the increment being solved.
     pub(crate) live: Vec<IterationRecord>,
-    pub(crate) selected: usize,
+    /// Whether the worker is solving.
     pub(crate) busy: bool,
-    pub(crate) playing: bool,
-    pub(crate) last_play: f64,
-    pub(crate) view: View,
-    pub(crate) fit_pending: bool,
     /// Target value of every prescribed dof (what the sliders and the handle show).
     pub(crate) targets: Vec<f64>,
+    /// Whether the targets are being driven (a slider or handle held).
     pub(crate) targeting: bool,
-    pub(crate) plot_all: bool,
-    pub(crate) status: String,
-    pub(crate) error: Option<Failure>,
-    pub(crate) open_path: String,
-    pub(crate) export_stem: String,
-    pub(crate) gpu: bool,
-    pub(crate) shot: Option<Shot>,
-    /// Where this frame drew the viewport and the convergence plot (for the screenshot sidecar).
-    pub(crate) layout: Layout,
+    /// Steps to run once the scene is loaded.
     pub(crate) run_steps: Option<usize>,
-    pub(crate) drag: Option<Drag>,
-    pub(crate) hover_handle: Option<usize>,
-    pub(crate) frame_log: Option<FrameLog>,
-    pub(crate) persist: bool,
-    /// The force diagram drawn along the beams, if any.
-    pub(crate) diagram: Option<Diagram>,
-    /// How rotations are shown.
-    pub(crate) angles: Angles,
-    /// The node or element clicked in the viewport, shown in the details panel.
-    pub(crate) pinned: Option<Picked>,
-    /// Counts the scenes loaded: what the viewport's cached geometry belongs to.
-    pub(crate) generation: u64,
-    /// Whether the shortcuts window is open.
-    pub(crate) show_shortcuts: bool,
-    /// The dof of the selected node the response plot is drawn against (a node without a
-    /// rotation: v in place of phi).
-    pub(crate) plot_dof: crate::solver::Dof,
-    /// The table window's choices.
-    pub(crate) table: TableView,
     /// Histories set aside (a branch's later increments, a run before a change), newest last.
     pub(crate) undo: Vec<SetAside>,
     /// Histories Undo replaced, newest last (cleared by a new branch or change).
@@ -109,14 +98,79 @@ pub struct TsmApp {
     pub(crate) stale: bool,
     /// A run brought back by Undo, taken up when its scene is loaded again.
     pub(crate) restoring: Option<SetAside>,
+    /// Counts the scenes loaded: what the viewport's cached geometry belongs to.
+    pub(crate) generation: u64,
+}
+
+/// The timeline's playback: the increment viewed and whether it advances by itself.
+#[derive(Default)]
+pub(crate) struct Playback {
+    pub(crate) selected: usize,
+    pub(crate) playing: bool,
+    /// When playback last advanced (s, egui's clock).
+    pub(crate) last_play: f64,
+}
+
+/// What the user looks at and how: the camera, the diagram, the picked node or element, the
+/// plots' and the table's choices.
+pub(crate) struct Look {
+    pub(crate) camera: View,
+    /// Fit the camera to the model at the next frame.
+    pub(crate) fit_pending: bool,
+    /// A prescribed dof's handle being dragged.
+    pub(crate) drag: Option<Drag>,
+    /// The handle under the pointer.
+    pub(crate) hover_handle: Option<usize>,
+    /// The force diagram drawn along the beams, if any.
+    pub(crate) diagram: Option<Diagram>,
+    /// How rotations are shown.
+    pub(crate) angles: Angles,
+    /// The node or element clicked in the viewport, shown in the details panel.
+    pub(crate) pinned: Option<Picked>,
+    /// The dof of the selected node the response plot is drawn against (a node without a
+    /// rotation: v in place of phi).
+    pub(crate) plot_dof: crate::solver::Dof,
+    /// Whether the convergence plot shows every increment (else the one viewed).
+    pub(crate) plot_all: bool,
+    /// The table window's choices.
+    pub(crate) table: TableView,
+    /// Whether the shortcuts window is open.
+    pub(crate) show_shortcuts: bool,
+}
+
+/// Files: the dialog in progress, the scene files opened last, where exports go.
+pub(crate) struct Files {
+    /// The path typed into File > Open.
+    pub(crate) open_path: String,
+    /// The stem of the exports' file names.
+    pub(crate) export_stem: String,
     /// The file dialog in progress.
     pub(crate) dialogs: Dialogs,
     /// The scene files opened last.
     pub(crate) recent: Recent,
     /// The size of the view's PNG export (px).
     pub(crate) png_size: [u32; 2],
+}
+
+/// What the app tells the user: the status line and the error panel.
+#[derive(Default)]
+pub(crate) struct Notices {
+    pub(crate) status: String,
+    pub(crate) error: Option<Failure>,
     /// Whether the error panel is shown (it opens with each new error).
     pub(crate) show_error: bool,
+}
+
+/// The window's run-time state, never saved: whether the beams go through wgpu, where the
+/// last frame drew its parts, the screenshot run, the frame log, and whether settings persist.
+pub(crate) struct Frame {
+    pub(crate) gpu: bool,
+    /// Where this frame drew the viewport and the convergence plot (for the screenshot sidecar).
+    pub(crate) layout: Layout,
+    pub(crate) shot: Option<Shot>,
+    pub(crate) frame_log: Option<FrameLog>,
+    /// Whether the settings are saved (not for a screenshot run).
+    pub(crate) persist: bool,
 }
 
 impl TsmApp {
@@ -127,16 +181,16 @@ impl TsmApp {
         match crate::scene::builtin::open(name).map_err(|e| e.to_string()) {
             Ok(scene) => {
                 self.set_aside_run();
-                self.scene_name = name.to_string();
+                self.session.scene_name = name.to_string();
                 if is_file(name) {
-                    self.recent.opened(std::path::Path::new(name));
+                    self.files.recent.opened(std::path::Path::new(name));
                 }
-                self.error = None;
-                self.status = format!("loading {}", scene.file.name);
+                self.notices.error = None;
+                self.notices.status = format!("loading {}", scene.file.name);
                 self.worker.send(Command::LoadScene(Box::new(scene)));
             }
             Err(e) => {
-                if let Some(shot) = &mut self.shot {
+                if let Some(shot) = &mut self.frame.shot {
                     shot.fail(&e);
                 }
                 self.set_error(e);
@@ -146,48 +200,48 @@ impl TsmApp {
 
     /// Show `e` in the error panel.
     pub(crate) fn set_error(&mut self, e: impl Into<Failure>) {
-        self.error = Some(e.into());
-        self.show_error = true;
+        self.notices.error = Some(e.into());
+        self.notices.show_error = true;
     }
 
     /// The error shown, if any, in words.
     pub fn error(&self) -> Option<String> {
-        self.error.as_ref().map(|e| e.to_string())
+        self.notices.error.as_ref().map(|e| e.to_string())
     }
 
     /// The status line's text.
     pub fn status(&self) -> &str {
-        &self.status
+        &self.notices.status
     }
 
     /// The converged states held: the undeformed state, then the increments.
     pub fn history(&self) -> &[IncrementRecord] {
-        &self.history
+        &self.session.history
     }
 
     /// The events of the history held.
     pub fn events(&self) -> &[Event] {
-        &self.events
+        &self.session.events
     }
 
     /// The name the current scene was opened by (a path or a built-in name).
     pub fn scene_name(&self) -> &str {
-        &self.scene_name
+        &self.session.scene_name
     }
 
     /// The scene files opened last, newest first (File > Open recent).
     pub fn recent_files(&self) -> &[std::path::PathBuf] {
-        self.recent.files()
+        self.files.recent.files()
     }
 
     /// Whether a file dialog is open.
     pub fn dialog_open(&self) -> bool {
-        self.dialogs.open()
+        self.files.dialogs.open()
     }
 
     /// How many file dialogs the app has shown.
     pub fn dialogs_shown(&self) -> usize {
-        self.dialogs.shown()
+        self.files.dialogs.shown()
     }
 
     /// Send a command to the worker (and note that work was requested).
@@ -196,19 +250,21 @@ impl TsmApp {
             c,
             Command::Run | Command::RunSteps(_) | Command::Step | Command::SetTarget { .. }
         ) {
-            self.busy = true;
+            self.session.busy = true;
         }
         self.worker.send(c);
     }
 
     /// Index of the last converged state.
     pub(crate) fn last(&self) -> usize {
-        self.history.len().saturating_sub(1)
+        self.session.history.len().saturating_sub(1)
     }
 
     /// The selected state, if a scene is loaded.
     pub(crate) fn record(&self) -> Option<&IncrementRecord> {
-        self.history.get(self.selected.min(self.last()))
+        self.session
+            .history
+            .get(self.playback.selected.min(self.last()))
     }
 
     /// Number of converged increments so far.
@@ -224,22 +280,22 @@ impl TsmApp {
     /// The viewport drawn in the last frame, and where node `id` of the viewed increment lies
     /// in it (screen points), if a scene is loaded and has that node.
     pub fn node_on_screen(&self, id: u32) -> Option<(egui::Rect, egui::Pos2)> {
-        let rect = self.layout.viewport?;
-        let model = &self.loaded.as_ref()?.scene.model;
+        let rect = self.frame.layout.viewport?;
+        let model = &self.session.loaded.as_ref()?.scene.model;
         let n = model.nodes.iter().position(|x| x.id == id)?;
         let p = self.record()?.nodes.get(n)?;
-        Some((rect, self.view.to_screen(rect, [p[0], p[1]])))
+        Some((rect, self.look.camera.to_screen(rect, [p[0], p[1]])))
     }
 
     /// Whether the beams go through the wgpu callback (else the egui-painter fallback).
     pub fn uses_gpu(&self) -> bool {
-        self.gpu
+        self.frame.gpu
     }
 
     /// "K increments accepted at the round-off floor (worst 4.1e-6)" when the history has any
     /// (they are in equilibrium only to that residual, not to the tolerance).
     pub(crate) fn roundoff_summary(&self) -> Option<String> {
-        let at_floor: Vec<f64> = (self.history.iter())
+        let at_floor: Vec<f64> = (self.session.history.iter())
             .filter(|r| matches!(r.status, crate::solver::IncrementStatus::RoundOff { .. }))
             .map(|r| r.relative_residual)
             .collect();
@@ -255,7 +311,7 @@ impl TsmApp {
     /// Apply every waiting worker message. Never blocks.
     pub(crate) fn drain(&mut self) {
         while let Some(m) = self.worker.try_recv() {
-            if self.stale
+            if self.session.stale
                 && matches!(
                     m,
                     Message::Increment(_)
@@ -267,88 +323,92 @@ impl TsmApp {
                 continue;
             }
             match m {
-                Message::Checkpoint(c) => self.history.attach(c),
-                Message::Restored(_) => self.stale = false,
+                Message::Checkpoint(c) => self.session.history.attach(c),
+                Message::Restored(_) => self.session.stale = false,
                 Message::Loaded(l) => {
-                    self.stale = false;
-                    self.history.reset(l.initial.clone());
-                    self.history.attach(l.checkpoint.clone());
-                    self.branch_points.clear();
-                    self.targets = l.initial.prescribed.clone();
-                    self.status = format!(
+                    self.session.stale = false;
+                    self.session.history.reset(l.initial.clone());
+                    self.session.history.attach(l.checkpoint.clone());
+                    self.session.branch_points.clear();
+                    self.session.targets = l.initial.prescribed.clone();
+                    self.notices.status = format!(
                         "{} elements ({:?})",
                         l.scene.model.beams.len(),
                         l.scene.model.formulation
                     );
-                    self.loaded = Some(l);
+                    self.session.loaded = Some(l);
                     // A scene opened in the app is fitted to the viewport.
-                    self.fit_pending = true;
-                    self.pinned = None;
-                    self.generation += 1;
-                    self.events.clear();
-                    self.live.clear();
-                    self.selected = 0;
-                    if let Some(k) = self.run_steps.take() {
+                    self.look.fit_pending = true;
+                    self.look.pinned = None;
+                    self.session.generation += 1;
+                    self.session.events.clear();
+                    self.session.live.clear();
+                    self.playback.selected = 0;
+                    if let Some(k) = self.session.run_steps.take() {
                         self.send(Command::RunSteps(k));
                     }
-                    if let Some(run) = self.restoring.take() {
+                    if let Some(run) = self.session.restoring.take() {
                         let _ = self.take_back(run);
                     }
-                    if let Some(shot) = &mut self.shot {
-                        shot.loaded(self.busy);
+                    if let Some(shot) = &mut self.frame.shot {
+                        shot.loaded(self.session.busy);
                     }
                 }
                 Message::Increment(r) => {
-                    let follow = self.selected >= self.last();
-                    if !self.targeting {
-                        self.targets = r.prescribed.clone();
+                    let follow = self.playback.selected >= self.last();
+                    if !self.session.targeting {
+                        self.session.targets = r.prescribed.clone();
                     }
-                    let shown = self.history.get(self.selected).map(|h| h.increment);
-                    if self.history.push(*r) {
-                        self.status = format!(
+                    let shown = self
+                        .session
+                        .history
+                        .get(self.playback.selected)
+                        .map(|h| h.increment);
+                    if self.session.history.push(*r) {
+                        self.notices.status = format!(
                             "{} earlier increments dropped from memory to stay within {} MiB",
-                            self.history.dropped(),
+                            self.session.history.dropped(),
                             HISTORY_BUDGET >> 20
                         );
                         if let Some(inc) = shown {
-                            self.selected = self.history.at_or_before(inc);
+                            self.playback.selected = self.session.history.at_or_before(inc);
                         }
                     }
-                    self.live.clear();
+                    self.session.live.clear();
                     if follow {
-                        self.selected = self.last();
+                        self.playback.selected = self.last();
                     }
                 }
-                Message::Iteration(r) => self.live.push(r),
-                Message::Event(e) => self.events.push(e),
+                Message::Iteration(r) => self.session.live.push(r),
+                Message::Event(e) => self.session.events.push(e),
                 Message::Error(e) => {
-                    self.stale = false;
-                    if let Some(shot) = &mut self.shot {
+                    self.session.stale = false;
+                    if let Some(shot) = &mut self.frame.shot {
                         shot.record_failure(&e.to_string());
                     }
                     self.set_error(e);
-                    self.live.clear();
+                    self.session.live.clear();
                 }
                 Message::Busy => {
-                    self.busy = true;
-                    if let Some(shot) = &mut self.shot {
+                    self.session.busy = true;
+                    if let Some(shot) = &mut self.frame.shot {
                         shot.started();
                     }
                 }
                 Message::Idle => {
-                    self.busy = false;
+                    self.session.busy = false;
                     // Iterations of an abandoned attempt.
-                    self.live.clear();
-                    if self.targeting && self.drag.is_none() {
-                        self.targeting = false;
-                        if let Some(r) = self.history.last() {
-                            self.targets = r.prescribed.clone();
+                    self.session.live.clear();
+                    if self.session.targeting && self.look.drag.is_none() {
+                        self.session.targeting = false;
+                        if let Some(r) = self.session.history.last() {
+                            self.session.targets = r.prescribed.clone();
                         }
                     }
-                    if let Some(shot) = &mut self.shot {
+                    if let Some(shot) = &mut self.frame.shot {
                         if shot.idle() {
-                            self.selected = self.last();
-                            self.fit_pending = true;
+                            self.playback.selected = self.last();
+                            self.look.fit_pending = true;
                         }
                     }
                 }
@@ -358,16 +418,16 @@ impl TsmApp {
 
     /// Advance the playback of the timeline.
     pub(crate) fn play(&mut self, ctx: &egui::Context) {
-        if !self.playing {
+        if !self.playback.playing {
             return;
         }
         let now = ctx.input(|i| i.time);
-        if now - self.last_play >= 0.05 {
-            self.last_play = now;
-            if self.selected < self.last() {
-                self.selected += 1;
+        if now - self.playback.last_play >= 0.05 {
+            self.playback.last_play = now;
+            if self.playback.selected < self.last() {
+                self.playback.selected += 1;
             } else {
-                self.playing = false;
+                self.playback.playing = false;
             }
         }
         ctx.request_repaint_after(std::time::Duration::from_millis(16));

@@ -13,56 +13,57 @@ impl TsmApp {
     /// Drive prescribed dof `index` to `value` (a slider or the handle). With an earlier
     /// increment viewed, the run goes on from there and the later increments are set aside.
     pub(crate) fn drive(&mut self, index: usize, value: f64) {
-        if self.selected < self.last() {
+        if self.playback.selected < self.last() {
             self.branch();
         }
-        if let Some(t) = self.targets.get_mut(index) {
+        if let Some(t) = self.session.targets.get_mut(index) {
             *t = value;
         }
-        self.targeting = true;
+        self.session.targeting = true;
         self.send(Command::SetTarget { index, value });
     }
 
     /// Go on from the viewed increment: the later ones are set aside for Undo.
     pub(crate) fn branch(&mut self) {
-        let k = self.selected.min(self.last());
-        let Some(c) = self.history.checkpoint(k) else {
-            self.status = format!(
+        let k = self.playback.selected.min(self.last());
+        let Some(c) = self.session.history.checkpoint(k) else {
+            self.notices.status = format!(
                 "increment {} has no state to go on from yet",
-                self.history[k].increment
+                self.session.history[k].increment
             );
             return;
         };
-        if self.busy {
+        if self.session.busy {
             self.worker.send(Command::Cancel);
         }
-        let at = self.history[k].increment;
-        let mut tail = self.history.split_off(k + 1);
+        let at = self.session.history[k].increment;
+        let mut tail = self.session.history.split_off(k + 1);
         tail.trim_to_checkpoint();
-        let events = events_after(&mut self.events, at);
+        let events = events_after(&mut self.session.events, at);
         self.set_aside(SetAside::Branch {
             tail,
             events,
             branched: false,
         });
-        self.branch_points.push(at);
+        self.session.branch_points.push(at);
         self.restore(c);
-        self.status = format!("going on from increment {at}; Ctrl+Z brings back the old path");
+        self.notices.status =
+            format!("going on from increment {at}; Ctrl+Z brings back the old path");
     }
 
     /// Let the worker go on from `c`, skipping what it still sends of earlier work.
     pub(crate) fn restore(&mut self, c: std::sync::Arc<crate::solver::Checkpoint>) {
-        self.targets = c.prescribed().to_vec();
+        self.session.targets = c.prescribed().to_vec();
         self.worker.send(Command::Restore(c));
-        self.stale = true;
-        self.live.clear();
-        self.pinned = None;
+        self.session.stale = true;
+        self.session.live.clear();
+        self.look.pinned = None;
     }
 
     /// Set the run aside before a change of scene or setting (or Reset) replaces it; nothing
     /// to set aside before its first increment.
     pub(crate) fn set_aside_run(&mut self) {
-        self.error = None;
+        self.notices.error = None;
         if self.last() == 0 {
             return;
         }
@@ -74,25 +75,25 @@ impl TsmApp {
     /// The current run, taken out of the app to be set aside (the worker's messages of it
     /// skipped from now on).
     fn take_run(&mut self) -> Option<SetAside> {
-        let l = self.loaded.as_ref()?;
-        if self.busy {
+        let l = self.session.loaded.as_ref()?;
+        if self.session.busy {
             self.worker.send(Command::Cancel);
         }
-        self.stale = true;
+        self.session.stale = true;
         Some(SetAside::Run {
             scene: Box::new(l.scene.clone()),
-            history: std::mem::take(&mut self.history),
-            events: std::mem::take(&mut self.events),
-            selected: self.selected,
-            name: self.scene_name.clone(),
-            branches: std::mem::take(&mut self.branch_points),
+            history: std::mem::take(&mut self.session.history),
+            events: std::mem::take(&mut self.session.events),
+            selected: self.playback.selected,
+            name: self.session.scene_name.clone(),
+            branches: std::mem::take(&mut self.session.branch_points),
         })
     }
 
     /// Keep `s` for Undo (a new branch or change: nothing is left to redo).
     fn set_aside(&mut self, s: SetAside) {
-        self.redo.clear();
-        keep(&mut self.undo, s);
+        self.session.redo.clear();
+        keep(&mut self.session.undo, s);
     }
 
     /// Bring back what was set aside last (Ctrl+Z): the history as it was, and the worker
@@ -109,16 +110,20 @@ impl TsmApp {
     /// Bring back the newest entry of the undo (`undo`) or the redo stack, and keep what it
     /// replaces on the other.
     fn swap(&mut self, undo: bool) {
-        let from = if undo { &mut self.undo } else { &mut self.redo };
+        let from = if undo {
+            &mut self.session.undo
+        } else {
+            &mut self.session.redo
+        };
         let Some(s) = from.pop() else {
-            self.status = format!("nothing to {}", if undo { "undo" } else { "redo" });
+            self.notices.status = format!("nothing to {}", if undo { "undo" } else { "redo" });
             return;
         };
-        if self.busy {
+        if self.session.busy {
             self.worker.send(Command::Cancel);
         }
-        self.playing = false;
-        self.status = format!("brought back {}", s.describe());
+        self.playback.playing = false;
+        self.notices.status = format!("brought back {}", s.describe());
         let replaced = match s {
             SetAside::Branch { .. } => self.take_back(s),
             SetAside::Run {
@@ -127,15 +132,22 @@ impl TsmApp {
                 ..
             } => {
                 let current = self.take_run();
-                self.scene_name = name.clone();
+                self.session.scene_name = name.clone();
                 self.worker.send(Command::LoadScene(scene.clone()));
-                self.stale = true;
-                self.restoring = Some(s);
+                self.session.stale = true;
+                self.session.restoring = Some(s);
                 current
             }
         };
         if let Some(r) = replaced {
-            keep(if undo { &mut self.redo } else { &mut self.undo }, r);
+            keep(
+                if undo {
+                    &mut self.session.redo
+                } else {
+                    &mut self.session.undo
+                },
+                r,
+            );
         }
     }
 
@@ -149,17 +161,17 @@ impl TsmApp {
                 branched,
             } => {
                 let at = tail.at;
-                let from = self.history.get(at - 1).map_or(0, |r| r.increment);
-                let old_events = events_after(&mut self.events, from);
-                self.events.extend(events);
-                let mut old = self.history.rejoin(tail);
+                let from = self.session.history.get(at - 1).map_or(0, |r| r.increment);
+                let old_events = events_after(&mut self.session.events, from);
+                self.session.events.extend(events);
+                let mut old = self.session.history.rejoin(tail);
                 old.trim_to_checkpoint();
                 if branched {
-                    self.branch_points.push(from);
+                    self.session.branch_points.push(from);
                 } else {
-                    self.branch_points.pop();
+                    self.session.branch_points.pop();
                 }
-                self.selected = self.last();
+                self.playback.selected = self.last();
                 Some(SetAside::Branch {
                     tail: old,
                     events: old_events,
@@ -173,15 +185,15 @@ impl TsmApp {
                 branches,
                 ..
             } => {
-                self.history = history;
-                self.events = events;
-                self.selected = selected.min(self.last());
-                self.branch_points = branches;
+                self.session.history = history;
+                self.session.events = events;
+                self.playback.selected = selected.min(self.last());
+                self.session.branch_points = branches;
                 None
             }
         };
-        if let Some(l) = &self.loaded {
-            let c = end_checkpoint(&self.history, &l.checkpoint);
+        if let Some(l) = &self.session.loaded {
+            let c = end_checkpoint(&self.session.history, &l.checkpoint);
             self.restore(c);
         }
         replaced

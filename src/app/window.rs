@@ -8,8 +8,7 @@ use super::files::scenes::{startup_scene, Recent};
 use super::files::screenshot::{Layout, Shot};
 use super::frame_log::FrameLog;
 use super::panels::{controls, details, errors, menus, plots, shortcuts, table, timeline};
-use super::retention::KeptHistory;
-use super::state::{Startup, TsmApp};
+use super::state::{Files, Frame, Look, Notices, Playback, Session, Startup, TsmApp};
 use super::view::View;
 use crate::worker::Worker;
 
@@ -31,80 +30,59 @@ impl TsmApp {
             && std::env::var_os("TSM_NO_GPU").is_none()
             && cc.wgpu_render_state.as_ref().is_some_and(beams_gpu::init);
         let persist = startup.screenshot.is_none();
-        let stored_scene: Option<String> = if persist {
-            (startup.remembered.clone())
-                .or_else(|| cc.storage.and_then(|s| eframe::get_value(s, KEY_SCENE)))
+        let saved = if persist {
+            Saved::load(cc.storage, startup.remembered.clone())
         } else {
-            None
-        };
-        let stored_view: Option<View> = if persist {
-            cc.storage.and_then(|s| eframe::get_value(s, KEY_VIEW))
-        } else {
-            None
-        };
-        let recent: Recent = if persist {
-            cc.storage
-                .and_then(|s| eframe::get_value(s, KEY_RECENT))
-                .unwrap_or_default()
-        } else {
-            Recent::default()
+            Saved::default()
         };
         let default = crate::scene::builtin::BUILTIN[0].0.trim_end_matches(".ron");
-        let (name, why) = startup_scene(startup.scene.clone(), stored_scene.clone(), default);
-        let keep_view = stored_view.is_some() && stored_scene.as_deref() == Some(name.as_str());
+        let (name, why) = startup_scene(startup.scene.clone(), saved.scene.clone(), default);
+        let keep_view = saved.camera.is_some() && saved.scene.as_deref() == Some(name.as_str());
         let mut app = TsmApp {
             worker,
-            scene_name: name.clone(),
-            loaded: None,
-            history: KeptHistory::default(),
-            events: Vec::new(),
-            live: Vec::new(),
-            selected: 0,
-            busy: false,
-            playing: false,
-            last_play: 0.0,
-            view: stored_view.unwrap_or_default(),
-            fit_pending: !keep_view,
-            targets: Vec::new(),
-            targeting: false,
-            plot_all: true,
-            status: String::new(),
-            error: None,
-            open_path: String::new(),
-            export_stem: "tsm-history".into(),
-            gpu,
-            shot: startup
-                .screenshot
-                .map(|p| Shot::new(p, startup.exit.clone(), true)),
-            layout: Layout::default(),
-            run_steps: startup.steps.filter(|&k| k > 0),
-            drag: None,
-            hover_handle: None,
-            frame_log: FrameLog::from_env(),
-            persist,
-            diagram: startup.diagram,
-            angles: Angles::default(),
-            pinned: None,
-            generation: 0,
-            show_shortcuts: false,
-            plot_dof: crate::solver::Dof::V,
-            table: Default::default(),
-            undo: Vec::new(),
-            redo: Vec::new(),
-            branch_points: Vec::new(),
-            stale: false,
-            restoring: None,
-            dialogs: Default::default(),
-            recent,
-            png_size: [1600, 1000],
-            show_error: false,
+            session: Session {
+                scene_name: name.clone(),
+                run_steps: startup.steps.filter(|&k| k > 0),
+                ..Session::default()
+            },
+            playback: Playback::default(),
+            look: Look {
+                camera: saved.camera.unwrap_or_default(),
+                fit_pending: !keep_view,
+                drag: None,
+                hover_handle: None,
+                diagram: startup.diagram,
+                angles: Angles::default(),
+                pinned: None,
+                plot_dof: crate::solver::Dof::V,
+                plot_all: true,
+                table: Default::default(),
+                show_shortcuts: false,
+            },
+            files: Files {
+                open_path: String::new(),
+                export_stem: "tsm-history".into(),
+                dialogs: Default::default(),
+                recent: saved.recent,
+                png_size: [1600, 1000],
+            },
+            notices: Notices::default(),
+            frame: Frame {
+                gpu,
+                layout: Layout::default(),
+                shot: startup
+                    .screenshot
+                    .map(|p| Shot::new(p, startup.exit.clone(), true)),
+                frame_log: FrameLog::from_env(),
+                persist,
+            },
         };
         app.open(&name);
         if let Some(why) = why {
             app.set_error(why);
         }
         if !keep_view {
-            app.fit_pending = true;
+            app.look.fit_pending = true;
         }
         app
     }
@@ -139,7 +117,7 @@ impl eframe::App for TsmApp {
                     details::show(self, ui);
                 });
             });
-        let gpu = if self.gpu {
+        let gpu = if self.frame.gpu {
             frame.wgpu_render_state().cloned()
         } else {
             None
@@ -148,29 +126,63 @@ impl eframe::App for TsmApp {
         shortcuts::window(self, &ctx);
         menus::drop_hint(&ctx);
         table::window(self, &ctx);
-        if let Some(shot) = &mut self.shot {
-            shot.frame(&ctx, &self.layout);
+        if let Some(shot) = &mut self.frame.shot {
+            shot.frame(&ctx, &self.frame.layout);
             if shot.finished() {
-                self.shot = None;
+                self.frame.shot = None;
             }
         }
         let increments = self.last();
-        if let Some(log) = &mut self.frame_log {
-            log.frame(t0.elapsed(), self.busy, increments);
+        if let Some(log) = &mut self.frame.frame_log {
+            log.frame(t0.elapsed(), self.session.busy, increments);
             // Keep drawing so that idle frames are measured too.
             ctx.request_repaint();
         }
     }
 
     fn persist_egui_memory(&self) -> bool {
-        self.persist
+        self.frame.persist
     }
 
     fn save(&mut self, storage: &mut dyn eframe::Storage) {
-        if self.persist {
-            eframe::set_value(storage, KEY_SCENE, &self.scene_name);
-            eframe::set_value(storage, KEY_VIEW, &self.view);
-            eframe::set_value(storage, KEY_RECENT, &self.recent);
+        if self.frame.persist {
+            Saved {
+                scene: Some(self.session.scene_name.clone()),
+                camera: Some(self.look.camera),
+                recent: self.files.recent.clone(),
+            }
+            .store(storage);
         }
+    }
+}
+
+/// The settings kept from one run of the app to the next (eframe's storage): the scene last
+/// open, its camera and the recent files. Everything else is run-time state.
+#[derive(Default)]
+struct Saved {
+    scene: Option<String>,
+    camera: Option<View>,
+    recent: Recent,
+}
+
+impl Saved {
+    /// The settings in `storage`, the scene `remembered` (if given) in place of the stored one.
+    fn load(storage: Option<&dyn eframe::Storage>, remembered: Option<String>) -> Saved {
+        Saved {
+            scene: remembered.or_else(|| storage.and_then(|s| eframe::get_value(s, KEY_SCENE))),
+            camera: storage.and_then(|s| eframe::get_value(s, KEY_VIEW)),
+            recent: (storage.and_then(|s| eframe::get_value(s, KEY_RECENT))).unwrap_or_default(),
+        }
+    }
+
+    /// Keep these settings in `storage`.
+    fn store(&self, storage: &mut dyn eframe::Storage) {
+        if let Some(scene) = &self.scene {
+            eframe::set_value(storage, KEY_SCENE, scene);
+        }
+        if let Some(camera) = &self.camera {
+            eframe::set_value(storage, KEY_VIEW, camera);
+        }
+        eframe::set_value(storage, KEY_RECENT, &self.recent);
     }
 }

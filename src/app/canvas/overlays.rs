@@ -267,14 +267,14 @@ pub(crate) fn prescribed(
             4.0,
             3.0,
         ));
-        let Some(t) = app.targets.get(k) else {
+        let Some(t) = app.session.targets.get(k) else {
             continue;
         };
         let Some(w) = handle_world(model, r, k, *t) else {
             continue;
         };
         let at = s(w);
-        let active = app.drag.is_some_and(|d| d.index == k);
+        let active = app.look.drag.is_some_and(|d| d.index == k);
         if active {
             p.line_segment([now, at], Stroke::new(1.0, HANDLE));
         }
@@ -297,7 +297,7 @@ pub(crate) fn prescribed(
                 Stroke::NONE,
             ));
         }
-        if active || app.hover_handle == Some(k) {
+        if active || app.look.hover_handle == Some(k) {
             p.text(
                 at + Vec2::new(24.0, 0.0),
                 Align2::LEFT_CENTER,

@@ -44,7 +44,7 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui, gpu: Option<&egui_wgpu::RenderS
     let bg = ui.allocate_rect(rect, Sense::click_and_drag());
     let painter = ui.painter_at(rect);
     painter.rect_filled(rect, 0.0, Color32::from_rgb(251, 251, 253));
-    if app.loaded.is_none() {
+    if app.session.loaded.is_none() {
         let msg = app.error().unwrap_or_else(|| "loading...".into());
         painter.text(
             rect.center(),
@@ -57,24 +57,24 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui, gpu: Option<&egui_wgpu::RenderS
     }
     handles(app, ui, rect);
     navigate(app, ui, &bg, rect);
-    if app.fit_pending {
+    if app.look.fit_pending {
         fit(app, rect);
-        app.fit_pending = false;
+        app.look.fit_pending = false;
     }
-    app.layout.viewport = Some(rect);
-    app.layout.view = app.view;
-    app.layout.increment = app.record().map_or(0, |r| r.increment);
-    let (Some(l), Some(r)) = (app.loaded.as_ref(), app.record()) else {
+    app.frame.layout.viewport = Some(rect);
+    app.frame.layout.view = app.look.camera;
+    app.frame.layout.increment = app.record().map_or(0, |r| r.increment);
+    let (Some(l), Some(r)) = (app.session.loaded.as_ref(), app.record()) else {
         return;
     };
     let model = &l.scene.model;
-    let view = app.view;
+    let view = app.look.camera;
     let to_screen = |p: [f64; 2]| view.to_screen(rect, p);
     let ppp = ui.ctx().pixels_per_point();
 
     // Beams: ghost first, then the deformed strips. The curves of the viewed increment are
     // built once and kept while it stays in view.
-    let key = (app.generation, r.increment, r.seconds.to_bits());
+    let key = (app.session.generation, r.increment, r.seconds.to_bits());
     let id = ui.scope_id().with("deformed curves");
     let cached: Option<(CurveKey, Arc<Vec<BodyCurve>>)> = ui.data(|d| d.get_temp(id));
     let curves = match cached {
@@ -146,7 +146,7 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui, gpu: Option<&egui_wgpu::RenderS
     overlays::body_names(&painter, model, &curves, &to_screen);
     overlays::prescribed(&painter, app, model, r, &to_screen);
     let units = l.scene.file.units;
-    if let Some(d) = app.diagram {
+    if let Some(d) = app.look.diagram {
         let unit = match d {
             Diagram::Moment => units.moment(),
             _ => units.force().to_string(),
@@ -162,7 +162,7 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui, gpu: Option<&egui_wgpu::RenderS
     let hovered = at.and_then(|at| pick(model, r, at, &to_screen));
     if let (Some(h), Some(at)) = (hovered, at) {
         // Shown at once (not after a tooltip's delay), beside the pointer.
-        let lines = describe(model, r, h, units, app.angles);
+        let lines = describe(model, r, h, units, app.look.angles);
         egui::Area::new(ui.scope_id().with("query"))
             .order(egui::Order::Tooltip)
             .fixed_pos(at + Vec2::new(14.0, 14.0))
@@ -179,7 +179,11 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui, gpu: Option<&egui_wgpu::RenderS
     let text = format!(
         "increment {}{}",
         r.increment,
-        if app.busy { "  (solving...)" } else { "" }
+        if app.session.busy {
+            "  (solving...)"
+        } else {
+            ""
+        }
     );
     painter.text(
         rect.right_top() + Vec2::new(-10.0, 10.0),
@@ -189,26 +193,31 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui, gpu: Option<&egui_wgpu::RenderS
         INK,
     );
     if let Some(p) = clicked {
-        app.pinned = p;
+        app.look.pinned = p;
     }
 }
 
 /// Interact with the prescribed-dof handles: dragging one sets its target.
 fn handles(app: &mut TsmApp, ui: &mut egui::Ui, rect: Rect) {
-    let (Some(l), Some(r)) = (app.loaded.as_ref(), app.record()) else {
+    let (Some(l), Some(r)) = (app.session.loaded.as_ref(), app.record()) else {
         return;
     };
     let model = &l.scene.model;
     // (index, dof, current target, screen position) of every draggable handle.
     let spots: Vec<(usize, Dof, f64, Pos2)> = (0..model.prescribed.len())
         .filter_map(|k| {
-            let t = app.targets.get(k).copied()?;
+            let t = app.session.targets.get(k).copied()?;
             let w = handle_world(model, r, k, t)?;
-            Some((k, model.prescribed[k].dof, t, app.view.to_screen(rect, w)))
+            Some((
+                k,
+                model.prescribed[k].dof,
+                t,
+                app.look.camera.to_screen(rect, w),
+            ))
         })
         .collect();
     let mut send = None;
-    app.hover_handle = None;
+    app.look.hover_handle = None;
     for (k, dof, t, pos) in spots {
         let id = ui.scope_id().with(("handle", k));
         let resp = ui.interact(
@@ -223,31 +232,31 @@ fn handles(app: &mut TsmApp, ui: &mut egui::Ui, rect: Rect) {
             })
             .on_hover_text("drag to set the target of this prescribed dof");
         if resp.hovered() {
-            app.hover_handle = Some(k);
+            app.look.hover_handle = Some(k);
         }
         if resp.drag_started() {
-            app.drag = Some(Drag {
+            app.look.drag = Some(Drag {
                 index: k,
                 start: t,
                 moved: Vec2::ZERO,
             });
         }
         if resp.dragged() {
-            if let Some(d) = &mut app.drag {
+            if let Some(d) = &mut app.look.drag {
                 d.moved += resp.drag_delta();
                 let along = if dof == Dof::U { d.moved.x } else { -d.moved.y };
-                let value = d.start + f64::from(along) / app.view.scale;
+                let value = d.start + f64::from(along) / app.look.camera.scale;
                 if (value - t).abs() > 1e-12 {
                     send = Some((d.index, value));
                 }
             }
         }
         if resp.drag_stopped() {
-            app.drag = None;
+            app.look.drag = None;
             // The worker may have reached the last target while the handle was held (its
             // `Idle` then left `targeting` on): follow the converged states again.
-            if !app.busy && send.is_none() {
-                app.targeting = false;
+            if !app.session.busy && send.is_none() {
+                app.session.targeting = false;
             }
         }
     }
@@ -259,21 +268,25 @@ fn handles(app: &mut TsmApp, ui: &mut egui::Ui, rect: Rect) {
 /// Pan by dragging empty space, zoom at the cursor by scrolling, fit on double-click, on F and
 /// when the viewport changes size.
 fn navigate(app: &mut TsmApp, ui: &egui::Ui, bg: &egui::Response, rect: Rect) {
-    if bg.dragged() && app.drag.is_none() {
-        app.view.pan(bg.drag_delta());
+    if bg.dragged() && app.look.drag.is_none() {
+        app.look.camera.pan(bg.drag_delta());
     }
     let fit_key =
         ui.input(|i| i.key_pressed(egui::Key::F)) && !ui.ctx().egui_wants_keyboard_input();
     // A resized viewport (window or panels) is fitted again.
-    let resized = app.layout.viewport.is_some_and(|r| r.size() != rect.size());
+    let resized = app
+        .frame
+        .layout
+        .viewport
+        .is_some_and(|r| r.size() != rect.size());
     if bg.double_clicked() || fit_key || resized {
-        app.fit_pending = true;
+        app.look.fit_pending = true;
     }
     if let Some(at) = bg.hover_pos() {
         let (scroll, zoom) = ui.input(|i| (i.smooth_scroll_delta.y, i.zoom_delta()));
         let factor = f64::from(zoom) * (f64::from(scroll) * 0.002).exp();
         if (factor - 1.0).abs() > 1e-6 {
-            app.view.zoom_at(rect, at, factor);
+            app.look.camera.zoom_at(rect, at, factor);
         }
     }
 }
@@ -283,16 +296,16 @@ const LEGEND_ROOM: f32 = 70.0;
 
 /// Fit the undeformed shape and every converged state into the viewport below the legend.
 fn fit(app: &mut TsmApp, rect: Rect) {
-    let b = bounds(app.history.iter().flat_map(|r| r.nodes.iter()));
+    let b = bounds(app.session.history.iter().flat_map(|r| r.nodes.iter()));
     let room = if rect.height() > 3.0 * LEGEND_ROOM {
         LEGEND_ROOM
     } else {
         0.0
     };
     let below = Rect::from_min_max(rect.min + Vec2::new(0.0, room), rect.max);
-    app.view.fit(below, b);
+    app.look.camera.fit(below, b);
     // `fit` centred the bounds in `below`; the view is anchored at the centre of `rect`.
-    app.view.center[1] += f64::from(room / 2.0) / app.view.scale;
+    app.look.camera.center[1] += f64::from(room / 2.0) / app.look.camera.scale;
 }
 
 /// The nodes resting on obstacles: a disc at the node and an arrow of the obstacle's push

@@ -44,21 +44,21 @@ fn stretch_correction(app: &mut TsmApp, mode: StretchCorrection, ui: &mut egui::
 fn diagram_and_angles(app: &mut TsmApp, ui: &mut egui::Ui) {
     let name = |d: Option<Diagram>| d.map_or("none", |d| d.letter());
     egui::ComboBox::from_label("Diagram")
-        .selected_text(name(app.diagram))
+        .selected_text(name(app.look.diagram))
         .show_ui(ui, |ui| {
             for d in std::iter::once(None).chain(Diagram::ALL.map(Some)) {
-                ui.selectable_value(&mut app.diagram, d, name(d));
+                ui.selectable_value(&mut app.look.diagram, d, name(d));
             }
         })
         .response
         .on_hover_text("axial force N, shear V or bending moment M along the deformed beams");
-    let deg = app.angles == Angles::Degrees;
+    let deg = app.look.angles == Angles::Degrees;
     if ui
         .selectable_label(deg, "deg")
         .on_hover_text("show rotations in degrees")
         .clicked()
     {
-        app.angles = if deg {
+        app.look.angles = if deg {
             Angles::Radians
         } else {
             Angles::Degrees
@@ -72,9 +72,9 @@ pub fn toolbar(app: &mut TsmApp, ui: &mut egui::Ui) {
     ui.horizontal_wrapped(|ui| {
         super::menus::menus(app, ui);
         ui.separator();
-        ui.add_enabled_ui(app.loaded.is_some(), |ui| {
+        ui.add_enabled_ui(app.session.loaded.is_some(), |ui| {
             ui.label("Element:");
-            let (f, mode) = app.loaded.as_ref().map_or(
+            let (f, mode) = app.session.loaded.as_ref().map_or(
                 (Formulation::Timoshenko, StretchCorrection::default()),
                 |l| (l.scene.model.formulation, l.scene.params.stretch_correction),
             );
@@ -100,15 +100,15 @@ pub fn toolbar(app: &mut TsmApp, ui: &mut egui::Ui) {
             .on_hover_text("fit the structure to the view (F)")
             .clicked()
         {
-            app.fit_pending = true;
+            app.look.fit_pending = true;
         }
         diagram_and_angles(app, ui);
         if ui
-            .selectable_label(app.table.open, "Table")
+            .selectable_label(app.look.table.open, "Table")
             .on_hover_text("nodes, elements, contacts and reactions of the viewed increment")
             .clicked()
         {
-            app.table.open = !app.table.open;
+            app.look.table.open = !app.look.table.open;
         }
         ui.separator();
         status(app, ui);
@@ -122,20 +122,19 @@ pub fn toolbar(app: &mut TsmApp, ui: &mut egui::Ui) {
 fn status(app: &TsmApp, ui: &mut egui::Ui) {
     let side = ui.spacing().interact_size.y;
     let (slot, _) = ui.allocate_exact_size(egui::vec2(side, side), egui::Sense::hover());
-    let line = if app.busy {
+    let line = if app.session.busy {
         egui::Spinner::new().paint_at(ui, slot);
         egui::RichText::new("solving...")
     } else {
-        match (&app.error, app.roundoff_summary()) {
-            (Some(_), _) if app.show_error => {
+        match (&app.notices.error, app.roundoff_summary()) {
+            (Some(_), _) if app.notices.show_error => {
                 egui::RichText::new("error: see the panel below").color(ui.visuals().error_fg_color)
             }
             // The panel closed: the message in the line (whole on hover).
             (Some(e), _) => egui::RichText::new(e.to_string()).color(ui.visuals().error_fg_color),
-            (None, Some(s)) => {
-                egui::RichText::new(format!("{}; {s}", app.status)).color(super::plots::ROUNDOFF)
-            }
-            (None, None) => egui::RichText::new(&app.status),
+            (None, Some(s)) => egui::RichText::new(format!("{}; {s}", app.notices.status))
+                .color(super::plots::ROUNDOFF),
+            (None, None) => egui::RichText::new(&app.notices.status),
         }
     };
     // The rest of the row (a row of its own when little is left), whatever the text.
@@ -151,7 +150,7 @@ fn status(app: &TsmApp, ui: &mut egui::Ui) {
 
 /// One slider per prescribed dof ("node 34 v"), driving its target.
 pub fn sliders(app: &mut TsmApp, ui: &mut egui::Ui) {
-    let Some(l) = &app.loaded else { return };
+    let Some(l) = &app.session.loaded else { return };
     ui.heading("Drive");
     let model = &l.scene.model;
     if model.prescribed.is_empty() {
@@ -184,7 +183,7 @@ pub fn sliders(app: &mut TsmApp, ui: &mut egui::Ui) {
             span.max(0.0).max(span.abs() * 0.1),
         );
         let label = l.prescribed_labels.get(k).cloned().unwrap_or_default();
-        let Some(t) = app.targets.get_mut(k) else {
+        let Some(t) = app.session.targets.get_mut(k) else {
             continue;
         };
         let mut v = *t;
@@ -205,7 +204,7 @@ pub fn sliders(app: &mut TsmApp, ui: &mut egui::Ui) {
     // One row of button height either way, so the details below do not jump.
     ui.horizontal(|ui| {
         ui.set_min_height(ui.spacing().interact_size.y);
-        if app.busy {
+        if app.session.busy {
             ui.label("solving: Stop under the view, or Esc, ends it");
         } else {
             ui.label(format!(

@@ -16,7 +16,7 @@ use crate::solver::{Dof, Friction, IncrementStatus};
 
 /// Show the details of the selected increment.
 pub fn show(app: &TsmApp, ui: &mut egui::Ui) {
-    let Some(l) = &app.loaded else {
+    let Some(l) = &app.session.loaded else {
         ui.label("no scene loaded");
         return;
     };
@@ -159,6 +159,7 @@ pub fn show(app: &TsmApp, ui: &mut egui::Ui) {
         // Round-off far below every reaction of the run (like 1e-178 N once stress-free) is 0.
         let floor = 1e-12
             * app
+                .session
                 .history
                 .iter()
                 .flat_map(|r| r.reactions.iter())
@@ -181,11 +182,11 @@ pub fn show(app: &TsmApp, ui: &mut egui::Ui) {
 
 /// The node or element picked in the viewport, and the extreme of the diagram drawn.
 fn selected(app: &TsmApp, ui: &mut egui::Ui) {
-    let (Some(l), Some(r)) = (&app.loaded, app.record()) else {
+    let (Some(l), Some(r)) = (&app.session.loaded, app.record()) else {
         return;
     };
     let (model, units) = (&l.scene.model, l.scene.file.units);
-    if let Some(d) = app.diagram {
+    if let Some(d) = app.look.diagram {
         if let Some((v, e, x)) = extreme(model, r, d) {
             let unit = match d.letter() {
                 "M" => units.moment(),
@@ -199,10 +200,10 @@ fn selected(app: &TsmApp, ui: &mut egui::Ui) {
             ));
         }
     }
-    if let Some(p) = app.pinned {
+    if let Some(p) = app.look.pinned {
         ui.separator();
         ui.label(RichText::new("Selected").strong());
-        for line in describe(model, r, p, units, app.angles) {
+        for line in describe(model, r, p, units, app.look.angles) {
             ui.label(line);
         }
     }

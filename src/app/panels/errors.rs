@@ -11,7 +11,7 @@ const MAX_HEIGHT: f32 = 160.0;
 
 /// Show the panel while there is an error to show.
 pub fn panel(app: &mut TsmApp, ui: &mut egui::Ui) {
-    let Some(failure) = app.error.clone().filter(|_| app.show_error) else {
+    let Some(failure) = app.notices.error.clone().filter(|_| app.notices.show_error) else {
         return;
     };
     let e = failure.to_string();
@@ -32,10 +32,10 @@ pub fn panel(app: &mut TsmApp, ui: &mut egui::Ui) {
                 .clicked()
             {
                 ui.ctx().copy_text(e.clone());
-                app.status = "error message copied".into();
+                app.notices.status = "error message copied".into();
             }
             if ui.button("Close").clicked() {
-                app.show_error = false;
+                app.notices.show_error = false;
             }
         });
         egui::ScrollArea::vertical()

@@ -26,7 +26,7 @@ pub fn menus(app: &mut TsmApp, ui: &mut egui::Ui) {
         .ui(ui, |ui| export_menu(app, ui));
     ui.menu_button("Help", |ui| {
         if ui.button("Shortcuts (?)").clicked() {
-            app.show_shortcuts = true;
+            app.look.show_shortcuts = true;
         }
     });
 }
@@ -38,7 +38,7 @@ fn file_menu(app: &mut TsmApp, ui: &mut egui::Ui) {
             open_dialog(app, ui.ctx());
         }
         ui.menu_button("Open recent", |ui| {
-            let recent = app.recent.files().to_vec();
+            let recent = app.files.recent.files().to_vec();
             if recent.is_empty() {
                 ui.label("no scene files opened yet");
             }
@@ -51,7 +51,7 @@ fn file_menu(app: &mut TsmApp, ui: &mut egui::Ui) {
         ui.menu_button("Built-in scenes", |ui| {
             for (file, _) in crate::scene::builtin::BUILTIN {
                 let name = file.trim_end_matches(".ron");
-                if ui.selectable_label(app.scene_name == name, name).clicked() {
+                if ui.selectable_label(app.session.scene_name == name, name).clicked() {
                     app.open(name);
                 }
             }
@@ -59,13 +59,13 @@ fn file_menu(app: &mut TsmApp, ui: &mut egui::Ui) {
         ui.horizontal(|ui| {
             let name = ui.label("path");
             ui.add(
-                egui::TextEdit::singleline(&mut app.open_path)
+                egui::TextEdit::singleline(&mut app.files.open_path)
                     .hint_text("scene.ron")
                     .desired_width(180.0),
             )
             .labelled_by(name.id);
-            if ui.button("Open path").clicked() && !app.open_path.trim().is_empty() {
-                let p = app.open_path.trim().to_string();
+            if ui.button("Open path").clicked() && !app.files.open_path.trim().is_empty() {
+                let p = app.files.open_path.trim().to_string();
                 app.open(&p);
             }
         });
@@ -81,8 +81,8 @@ fn file_menu(app: &mut TsmApp, ui: &mut egui::Ui) {
             keep_drive(app);
         }
         if ui.button("Save scene as...").clicked() {
-            let folder = folder_of(&app.scene_name);
-            app.dialogs
+            let folder = folder_of(&app.session.scene_name);
+            app.files.dialogs
                 .show(Purpose::SaveScene, folder, ui.ctx().clone());
         }
     });
@@ -97,8 +97,10 @@ fn folder_of(name: &str) -> Option<PathBuf> {
 
 /// Show the Open dialog (Ctrl+O).
 pub fn open_dialog(app: &mut TsmApp, ctx: &egui::Context) {
-    let folder = folder_of(&app.scene_name);
-    app.dialogs.show(Purpose::OpenScene, folder, ctx.clone());
+    let folder = folder_of(&app.session.scene_name);
+    app.files
+        .dialogs
+        .show(Purpose::OpenScene, folder, ctx.clone());
 }
 
 /// The Export menu.
@@ -106,7 +108,7 @@ fn export_menu(app: &mut TsmApp, ui: &mut egui::Ui) {
     ui.horizontal(|ui| {
         let name = ui.label("Export as");
         ui.add(
-            egui::TextEdit::singleline(&mut app.export_stem)
+            egui::TextEdit::singleline(&mut app.files.export_stem)
                 .hint_text("folder/name, no extension")
                 .desired_width(200.0),
         )
@@ -116,8 +118,11 @@ fn export_menu(app: &mut TsmApp, ui: &mut egui::Ui) {
             .on_hover_text("pick the folder and name")
             .clicked()
         {
-            let folder = Path::new(&app.export_stem).parent().map(Path::to_path_buf);
-            app.dialogs
+            let folder = Path::new(&app.files.export_stem)
+                .parent()
+                .map(Path::to_path_buf);
+            app.files
+                .dialogs
                 .show(Purpose::ExportStem, folder, ui.ctx().clone());
         }
     });
@@ -152,21 +157,21 @@ fn export_menu(app: &mut TsmApp, ui: &mut egui::Ui) {
             export_png(app);
         }
         let w = ui.label("width");
-        ui.add(egui::DragValue::new(&mut app.png_size[0]).range(16..=16384))
+        ui.add(egui::DragValue::new(&mut app.files.png_size[0]).range(16..=16384))
             .labelled_by(w.id);
         let h = ui.label("height");
-        ui.add(egui::DragValue::new(&mut app.png_size[1]).range(16..=16384))
+        ui.add(egui::DragValue::new(&mut app.files.png_size[1]).range(16..=16384))
             .labelled_by(h.id);
     });
     if ui
         .button("Save window image")
         .on_hover_text("the whole window as it is drawn, panels included")
         .clicked()
-        && app.shot.is_none()
+        && app.frame.shot.is_none()
     {
-        let path = with_ext(&app.export_stem, "window.png");
-        app.status = format!("saving {}", path.display());
-        app.shot = Some(Shot::new(path, None, false));
+        let path = with_ext(&app.files.export_stem, "window.png");
+        app.notices.status = format!("saving {}", path.display());
+        app.frame.shot = Some(Shot::new(path, None, false));
     }
 }
 
@@ -180,7 +185,7 @@ pub fn confirm(app: &mut TsmApp, what: Result<PathBuf, String>) {
     match what {
         Ok(p) => {
             let full = std::fs::canonicalize(&p).unwrap_or(p);
-            app.status = format!("wrote {}", full.display());
+            app.notices.status = format!("wrote {}", full.display());
         }
         Err(e) => app.set_error(format!("export failed: {e}")),
     }
@@ -188,13 +193,15 @@ pub fn confirm(app: &mut TsmApp, what: Result<PathBuf, String>) {
 
 /// Export the history as JSON.
 pub fn export_json(app: &mut TsmApp) {
-    let Some(loaded) = &app.loaded else { return };
-    let path = with_ext(&app.export_stem, "json");
+    let Some(loaded) = &app.session.loaded else {
+        return;
+    };
+    let path = with_ext(&app.files.export_stem, "json");
     let h = export::history(
         loaded,
-        &app.history,
-        app.history.stride(),
-        &app.events,
+        &app.session.history,
+        app.session.history.stride(),
+        &app.session.events,
         app.error().as_deref(),
     );
     let done = h.write_json(&path).map(|_| path).map_err(|e| e.to_string());
@@ -203,13 +210,15 @@ pub fn export_json(app: &mut TsmApp) {
 
 /// Export the history as CSV (with the selected node's displacements).
 pub fn export_csv(app: &mut TsmApp) {
-    let Some(loaded) = &app.loaded else { return };
-    let picked: Vec<usize> = match app.pinned {
+    let Some(loaded) = &app.session.loaded else {
+        return;
+    };
+    let picked: Vec<usize> = match app.look.pinned {
         Some(Picked::Node(n)) => vec![n],
         _ => Vec::new(),
     };
-    let path = with_ext(&app.export_stem, "csv");
-    let done = export::write_csv(&path, loaded, &app.history, &picked)
+    let path = with_ext(&app.files.export_stem, "csv");
+    let done = export::write_csv(&path, loaded, &app.session.history, &picked)
         .map(|_| path)
         .map_err(|e| e.to_string());
     confirm(app, done);
@@ -217,11 +226,11 @@ pub fn export_csv(app: &mut TsmApp) {
 
 /// Export the viewed increment as SVG.
 pub fn export_svg(app: &mut TsmApp) {
-    let (Some(loaded), Some(r)) = (&app.loaded, app.record()) else {
+    let (Some(loaded), Some(r)) = (&app.session.loaded, app.record()) else {
         return;
     };
-    let path = with_ext(&app.export_stem, "svg");
-    let done = svg::write_svg(&path, loaded, r, app.diagram)
+    let path = with_ext(&app.files.export_stem, "svg");
+    let done = svg::write_svg(&path, loaded, r, app.look.diagram)
         .map(|_| path)
         .map_err(|e| e.to_string());
     confirm(app, done);
@@ -229,27 +238,28 @@ pub fn export_svg(app: &mut TsmApp) {
 
 /// Export the viewed increment as a PNG of the chosen size (Ctrl+S).
 pub fn export_png(app: &mut TsmApp) {
-    let (Some(loaded), Some(r)) = (&app.loaded, app.record()) else {
+    let (Some(loaded), Some(r)) = (&app.session.loaded, app.record()) else {
         return;
     };
-    let path = with_ext(&app.export_stem, "png");
-    let done = raster::write_png(&path, loaded, r, app.diagram, app.png_size).map(|_| path);
+    let path = with_ext(&app.files.export_stem, "png");
+    let done =
+        raster::write_png(&path, loaded, r, app.look.diagram, app.files.png_size).map(|_| path);
     confirm(app, done);
 }
 
 /// Act on a closed dialog's answer and on a file dropped on the window.
 pub fn answers(app: &mut TsmApp, ctx: &egui::Context) {
-    match app.dialogs.poll() {
+    match app.files.dialogs.poll() {
         Some((purpose, Answer::Chosen(path))) => match purpose {
             Purpose::OpenScene => app.open(&path.to_string_lossy()),
             Purpose::SaveScene => save_scene_as(app, &path),
             Purpose::ExportStem => {
-                app.export_stem = path.with_extension("").to_string_lossy().into_owned();
-                app.status = format!("exports go to {}.*", app.export_stem);
+                app.files.export_stem = path.with_extension("").to_string_lossy().into_owned();
+                app.notices.status = format!("exports go to {}.*", app.files.export_stem);
             }
         },
         Some((_, Answer::Unavailable)) => {
-            app.status = "no file dialog can be shown on this desktop (it needs a desktop \
+            app.notices.status = "no file dialog can be shown on this desktop (it needs a desktop \
                           portal or zenity): type the path under File > path, or in Export as"
                 .into();
         }
@@ -285,8 +295,10 @@ pub fn drop_hint(ctx: &egui::Context) {
 /// run headless. Refused, with the reason shown, where the history kept in memory is not every
 /// increment of the run or the scene cannot take the path.
 pub fn keep_drive(app: &mut TsmApp) {
-    let Some(loaded) = &app.loaded else { return };
-    if app.history.dropped() > 0 {
+    let Some(loaded) = &app.session.loaded else {
+        return;
+    };
+    if app.session.history.dropped() > 0 {
         app.set_error(
             "the run is longer than the history kept in memory: only whole runs can be kept as a \
              path (export the history instead)"
@@ -298,16 +310,16 @@ pub fn keep_drive(app: &mut TsmApp) {
     let mut file = scene.file.clone();
     file.formulation = scene.model.formulation;
     file.control.stretch_correction = scene.params.stretch_correction;
-    let records = app.history.get(1..).unwrap_or_default();
+    let records = app.session.history.get(1..).unwrap_or_default();
     let kept = crate::scene::kept::kept_path(&file, &scene.model, records)
         .and_then(|f| crate::scene::from_scene_file(f, &file.name).map_err(|e| e.to_string()));
     match kept {
         Ok(kept) => {
             let steps = kept.steps;
-            if let Some(l) = &mut app.loaded {
+            if let Some(l) = &mut app.session.loaded {
                 l.scene = kept;
             }
-            app.status = format!(
+            app.notices.status = format!(
                 "the run is kept as the scene's path ({steps} steps): Save scene as... writes it"
             );
         }
@@ -317,11 +329,13 @@ pub fn keep_drive(app: &mut TsmApp) {
 
 /// Save the scene as solved to `path` (the dialog's answer, or a test's path).
 pub fn save_scene_as(app: &mut TsmApp, path: &Path) {
-    let Some(loaded) = &app.loaded else { return };
+    let Some(loaded) = &app.session.loaded else {
+        return;
+    };
     let done = save_scene(path, &loaded.scene).map(|_| path.to_path_buf());
     let ok = done.is_ok();
     confirm(app, done);
     if ok {
-        app.recent.opened(path);
+        app.files.recent.opened(path);
     }
 }

@@ -23,7 +23,7 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui) {
     ui.columns(2, |cols| {
         convergence(app, &mut cols[0]);
         if let Some(dof) = reaction(app, &mut cols[1]) {
-            app.plot_dof = dof;
+            app.look.plot_dof = dof;
         }
     });
 }
@@ -242,11 +242,11 @@ fn convergence(app: &mut TsmApp, ui: &mut egui::Ui) {
     // (where they ran under the reaction plot's title, and the plot grew as wide as the row).
     ui.horizontal_wrapped(|ui| {
         ui.label("Convergence:");
-        ui.selectable_value(&mut app.plot_all, true, "all increments");
-        ui.selectable_value(&mut app.plot_all, false, "selected increment");
+        ui.selectable_value(&mut app.look.plot_all, true, "all increments");
+        ui.selectable_value(&mut app.look.plot_all, false, "selected increment");
         ui.separator();
         key(ui, RESIDUAL, Mark::Line, "residual");
-        if app.plot_all {
+        if app.look.plot_all {
             key(ui, SELECTED, Mark::Line, "selected");
             key(ui, CONTACT, Mark::Diamond, "contact event");
             key(ui, CUT, Mark::Down, "cut-back");
@@ -254,11 +254,16 @@ fn convergence(app: &mut TsmApp, ui: &mut egui::Ui) {
         key(ui, CUT, Mark::Dashed, "tolerance");
     });
     let tol = app
+        .session
         .loaded
         .as_ref()
         .map_or(1e-8, |l| l.scene.params.tolerance);
-    let s = if app.plot_all {
-        series(&app.history, &app.live, app.selected)
+    let s = if app.look.plot_all {
+        series(
+            &app.session.history,
+            &app.session.live,
+            app.playback.selected,
+        )
     } else {
         let r = app.record().filter(|r| r.increment > 0);
         let pts: Vec<[f64; 2]> = r
@@ -283,7 +288,7 @@ fn convergence(app: &mut TsmApp, ui: &mut egui::Ui) {
             roundoff,
         }
     };
-    let x_label = if app.plot_all {
+    let x_label = if app.look.plot_all {
         "cumulative iteration"
     } else {
         "iteration"
@@ -348,13 +353,15 @@ fn convergence(app: &mut TsmApp, ui: &mut egui::Ui) {
                 );
             }
         });
-    app.layout.plot = Some(*shown.transform.frame());
+    app.frame.layout.plot = Some(*shown.transform.frame());
 }
 
 /// The response plot; returns the dof of the selected node the user picked for its x axis.
 fn reaction(app: &TsmApp, ui: &mut egui::Ui) -> Option<Dof> {
     let mut plot_dof = None;
-    let Some(l) = &app.loaded else { return None };
+    let Some(l) = &app.session.loaded else {
+        return None;
+    };
     let model = &l.scene.model;
     let units = l.scene.file.units;
     let (title, x_label, y_label, pts): (&str, String, String, Vec<[f64; 2]>) =
@@ -362,6 +369,7 @@ fn reaction(app: &TsmApp, ui: &mut egui::Ui) -> Option<Dof> {
             let id = model.nodes[p.node].id;
             let dof = p.dof.name();
             let pts = app
+                .session
                 .history
                 .iter()
                 .map(|r| {
@@ -386,6 +394,7 @@ fn reaction(app: &TsmApp, ui: &mut egui::Ui) -> Option<Dof> {
         } else if let Some((n, o)) = crate::app::display::loaded_dof(model) {
             let x0 = [model.nodes[n].x, model.nodes[n].y, 0.0][o];
             let pts = app
+                .session
                 .history
                 .iter()
                 .map(|r| [r.nodes[n][o] - x0, r.load_factor])
@@ -405,16 +414,16 @@ fn reaction(app: &TsmApp, ui: &mut egui::Ui) -> Option<Dof> {
         } else {
             return None;
         };
-    let (title, x_label, pts) = match app.pinned {
+    let (title, x_label, pts) = match app.look.pinned {
         // A node picked in the view: the same response against its own displacement.
         Some(Picked::Node(n)) => {
             let o = if model.nodes[n].rotation {
-                app.plot_dof.offset()
+                app.look.plot_dof.offset()
             } else {
-                app.plot_dof.offset().min(1)
+                app.look.plot_dof.offset().min(1)
             };
             let x0 = [model.nodes[n].x, model.nodes[n].y, 0.0][o];
-            let xs = app.history.iter().map(|r| r.nodes[n][o] - x0);
+            let xs = app.session.history.iter().map(|r| r.nodes[n][o] - x0);
             let pts: Vec<[f64; 2]> = xs.zip(&pts).map(|(x, p)| [x, p[1]]).collect();
             let label = model.dof_label(n, o);
             let what = if model.prescribed.is_empty() {
@@ -430,11 +439,11 @@ fn reaction(app: &TsmApp, ui: &mut egui::Ui) -> Option<Dof> {
     };
     ui.horizontal(|ui| {
         ui.label(title);
-        if let Some(Picked::Node(n)) = app.pinned {
+        if let Some(Picked::Node(n)) = app.look.pinned {
             let dofs = model.node_dofs(n);
             for dof in Dof::ALL.into_iter().take(dofs) {
                 if ui
-                    .selectable_label(app.plot_dof == dof, dof.name())
+                    .selectable_label(app.look.plot_dof == dof, dof.name())
                     .clicked()
                 {
                     plot_dof = Some(dof);
@@ -442,7 +451,7 @@ fn reaction(app: &TsmApp, ui: &mut egui::Ui) -> Option<Dof> {
             }
         }
     });
-    let sel = pts.get(app.selected).copied();
+    let sel = pts.get(app.playback.selected).copied();
     let pts = thin(pts, MAX_POINTS);
     Plot::new("reaction")
         .x_axis_label(x_label)

@@ -54,54 +54,54 @@ pub fn handle(app: &mut TsmApp, ctx: &egui::Context) {
     }
     if command(Key::E) {
         menus::export_json(app);
-        if app.error.is_none() {
+        if app.notices.error.is_none() {
             menus::export_csv(app);
         }
     }
-    if app.loaded.is_none() {
+    if app.session.loaded.is_none() {
         return;
     }
     let pressed = |k: Key| ctx.input(|i| i.key_pressed(k));
     let last = app.last();
     if pressed(Key::Space) {
-        if app.busy {
+        if app.session.busy {
             app.send(Command::Cancel);
         } else {
-            app.selected = last;
+            app.playback.selected = last;
             app.send(Command::Run);
         }
     }
-    if pressed(Key::Escape) && app.busy {
+    if pressed(Key::Escape) && app.session.busy {
         app.send(Command::Cancel);
     }
     if pressed(Key::ArrowLeft) {
-        app.selected = app.selected.min(last).saturating_sub(1);
-        app.playing = false;
+        app.playback.selected = app.playback.selected.min(last).saturating_sub(1);
+        app.playback.playing = false;
     }
     if pressed(Key::ArrowRight) {
-        app.playing = false;
-        if app.selected < last {
-            app.selected += 1;
-        } else if !app.busy {
+        app.playback.playing = false;
+        if app.playback.selected < last {
+            app.playback.selected += 1;
+        } else if !app.session.busy {
             app.send(Command::Step);
         }
     }
     if pressed(Key::Home) {
-        app.selected = 0;
-        app.playing = false;
+        app.playback.selected = 0;
+        app.playback.playing = false;
     }
     if pressed(Key::End) {
-        app.selected = last;
-        app.playing = false;
+        app.playback.selected = last;
+        app.playback.playing = false;
     }
     if pressed(Key::Questionmark) || pressed(Key::Slash) && ctx.input(|i| i.modifiers.shift) {
-        app.show_shortcuts = !app.show_shortcuts;
+        app.look.show_shortcuts = !app.look.show_shortcuts;
     }
 }
 
 /// The window that lists the shortcuts, while it is open.
 pub fn window(app: &mut TsmApp, ctx: &egui::Context) {
-    let mut open = app.show_shortcuts;
+    let mut open = app.look.show_shortcuts;
     egui::Window::new("Shortcuts")
         .open(&mut open)
         .collapsible(false)
@@ -115,5 +115,5 @@ pub fn window(app: &mut TsmApp, ctx: &egui::Context) {
                 }
             });
         });
-    app.show_shortcuts = open;
+    app.look.show_shortcuts = open;
 }

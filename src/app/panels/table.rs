@@ -114,11 +114,11 @@ fn table(
 
 /// Show the table window while it is open.
 pub fn window(app: &mut TsmApp, ctx: &egui::Context) {
-    let mut view = app.table;
+    let mut view = app.look.table;
     if !view.open {
         return;
     }
-    let (Some(l), Some(r)) = (&app.loaded, app.record()) else {
+    let (Some(l), Some(r)) = (&app.session.loaded, app.record()) else {
         return;
     };
     let (model, units) = (&l.scene.model, l.scene.file.units);
@@ -198,5 +198,5 @@ pub fn window(app: &mut TsmApp, ctx: &egui::Context) {
                 });
         });
     view.open = open;
-    app.table = view;
+    app.look.table = view;
 }

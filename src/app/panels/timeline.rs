@@ -14,7 +14,7 @@ use crate::app::state::TsmApp;
 pub fn show(app: &mut TsmApp, ui: &mut egui::Ui) {
     ui.horizontal(|ui| {
         let last = app.last();
-        let mut sel = app.selected.min(last);
+        let mut sel = app.playback.selected.min(last);
         ui.spacing_mut().slider_width = (ui.available_width() - 580.0).max(120.0);
         let r = ui.add(
             egui::Slider::new(&mut sel, 0..=last)
@@ -22,20 +22,20 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui) {
                 .integer(),
         );
         if r.changed() {
-            app.selected = sel;
-            app.playing = false;
+            app.playback.selected = sel;
+            app.playback.playing = false;
         }
         roundoff_ticks(app, ui, r.rect, last);
         branch_marks(app, ui, r.rect, last);
         stage_marks(app, ui, r.rect, last);
-        let loaded = app.loaded.is_some();
+        let loaded = app.session.loaded.is_some();
         if ui
-            .add_enabled(app.selected > 0, egui::Button::new("Previous"))
+            .add_enabled(app.playback.selected > 0, egui::Button::new("Previous"))
             .on_hover_text("the previous increment (Left)")
             .clicked()
         {
-            app.selected -= 1;
-            app.playing = false;
+            app.playback.selected -= 1;
+            app.playback.playing = false;
         }
         if ui
             .add_enabled(loaded, egui::Button::new("Next"))
@@ -44,31 +44,35 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui) {
             )
             .clicked()
         {
-            app.playing = false;
-            if app.selected < last {
-                app.selected += 1;
+            app.playback.playing = false;
+            if app.playback.selected < last {
+                app.playback.selected += 1;
             } else {
                 app.send(Command::Step);
             }
         }
-        let play = if app.playing { "Pause" } else { "Play" };
+        let play = if app.playback.playing {
+            "Pause"
+        } else {
+            "Play"
+        };
         if ui.add_enabled(last > 0, egui::Button::new(play)).clicked() {
-            app.playing = !app.playing;
-            if app.playing && app.selected >= last {
-                app.selected = 0;
+            app.playback.playing = !app.playback.playing;
+            if app.playback.playing && app.playback.selected >= last {
+                app.playback.selected = 0;
             }
-            app.last_play = ui.input(|i| i.time);
+            app.playback.last_play = ui.input(|i| i.time);
         }
         if ui
-            .add_enabled(loaded && !app.busy, egui::Button::new("Run"))
+            .add_enabled(loaded && !app.session.busy, egui::Button::new("Run"))
             .clicked()
         {
-            app.selected = last;
+            app.playback.selected = last;
             app.send(Command::Run);
         }
         // One Stop for every kind of run: displacement, load and arc-length control.
         if ui
-            .add_enabled(app.busy, egui::Button::new("Stop"))
+            .add_enabled(app.session.busy, egui::Button::new("Stop"))
             .on_hover_text("stop the solver; the accepted increments stay (Esc)")
             .clicked()
         {
@@ -79,15 +83,15 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui) {
             .on_hover_text("back to increment 0; Undo brings the run back")
             .clicked()
         {
-            app.playing = false;
-            app.targeting = false;
+            app.playback.playing = false;
+            app.session.targeting = false;
             app.set_aside_run();
             app.worker.send(Command::Reset);
         }
-        if set_aside_button(ui, "Undo", app.undo.last(), "Ctrl+Z") {
+        if set_aside_button(ui, "Undo", app.session.undo.last(), "Ctrl+Z") {
             app.undo();
         }
-        if set_aside_button(ui, "Redo", app.redo.last(), "Ctrl+Y") {
+        if set_aside_button(ui, "Redo", app.session.redo.last(), "Ctrl+Y") {
             app.redo();
         }
     });
@@ -106,7 +110,7 @@ fn stage_marks(app: &TsmApp, ui: &egui::Ui, rect: egui::Rect, last: usize) {
     let span = (track - 12.0).max(1.0);
     let painter = ui.painter();
     let mut before = None;
-    for (k, r) in app.history.iter().enumerate().skip(1) {
+    for (k, r) in app.session.history.iter().enumerate().skip(1) {
         if r.stage.is_some() && r.stage != before {
             // The boundary lies between the last increment of one stage and the first of the
             // next.
@@ -146,8 +150,8 @@ fn branch_marks(app: &TsmApp, ui: &egui::Ui, rect: egui::Rect, last: usize) {
     let (x0, y) = (rect.left() + 6.0, rect.top() + 1.0);
     let span = (track - 12.0).max(1.0);
     let painter = ui.painter();
-    for &inc in &app.branch_points {
-        let k = app.history.at_or_before(inc);
+    for &inc in &app.session.branch_points {
+        let k = app.session.history.at_or_before(inc);
         let x = x0 + span * k as f32 / last as f32;
         painter.add(egui::Shape::convex_polygon(
             vec![
@@ -175,7 +179,7 @@ fn roundoff_ticks(app: &TsmApp, ui: &egui::Ui, rect: egui::Rect, last: usize) {
     let (x0, y) = (rect.left() + 6.0, rect.bottom() - 1.0);
     let span = (track - 12.0).max(1.0);
     let painter = ui.painter();
-    for (k, r) in app.history.iter().enumerate() {
+    for (k, r) in app.session.history.iter().enumerate() {
         if matches!(r.status, crate::solver::IncrementStatus::RoundOff { .. }) {
             let x = x0 + span * k as f32 / last as f32;
             painter.line_segment(
