@@ -1,8 +1,7 @@
 //! What the user has chosen to see in the results: the force diagram drawn along the beams,
 //! the unit rotations are shown in, the node or element picked in the viewport, and the rows
-//! and order of the table.
-
-use crate::app::units::num;
+//! and order of the table; and how numbers are written in labels (`num`: three significant
+//! digits, plain for everyday magnitudes, scientific like `1.2e-5` for very small or large ones).
 
 /// How angles are shown.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -85,4 +84,29 @@ pub(crate) fn loaded_dof(model: &crate::solver::Model) -> Option<(usize, usize)>
     (0..model.nodes.len())
         .max_by(|&a, &b| far(a).total_cmp(&far(b)))
         .map(|n| (n, o))
+}
+
+/// Format `v` with three significant digits.
+pub fn num(v: f64) -> String {
+    let a = v.abs();
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    if (1e-3..1e4).contains(&a) {
+        let decimals = (2 - a.log10().floor() as i32).max(0) as usize;
+        format!("{v:.decimals$}")
+    } else {
+        format!("{v:.2e}")
+    }
+}
+
+#[cfg(test)]
+mod number_tests {
+    #[test]
+    fn formats() {
+        assert_eq!(super::num(1.734), "1.73");
+        assert_eq!(super::num(-0.0123), "-0.0123");
+        assert_eq!(super::num(152.4), "152");
+        assert_eq!(super::num(2.5e-6), "2.50e-6");
+    }
 }

@@ -1,9 +1,9 @@
 //! The interactive visualiser (feature `gui`): `run` opens the eframe window on a scene, or
-//! renders a screenshot and exits. The app state lives in `state.rs` (the camera in `view.rs`),
+//! renders a screenshot and exits. The app state lives in `state.rs`, in the parts of `parts.rs` (the camera in `view.rs`),
 //! the window that lays out the panels in `window.rs`, the panels in `panels/`, the viewport
 //! and what it draws in `canvas/`, files and exports in `files/`; the history it holds in
-//! `retention.rs`, `branches.rs` (what is set aside) and `undo.rs` (branching and Undo); `units.rs` and `frame_log.rs`
-//! serve them.
+//! `retention.rs`, `branches.rs` (what is set aside) and `undo.rs` (branching and Undo); `frame_log.rs`
+//! serves them.
 
 pub mod branches;
 pub mod canvas;
@@ -11,17 +11,18 @@ pub mod display;
 pub mod files;
 pub mod frame_log;
 pub mod panels;
+pub mod parts;
 pub mod retention;
 pub mod state;
 pub mod undo;
-pub mod units;
 pub mod view;
 pub mod window;
 
 use std::sync::atomic::{AtomicI32, Ordering};
 use std::sync::Arc;
 
-pub use state::{Startup, TsmApp};
+pub use state::TsmApp;
+pub use window::Startup;
 
 /// Open the visualiser as `startup` asks: on its scene (a path or built-in name; default: the
 /// last one used, else the first built-in), solving its steps first, with its diagram, and with

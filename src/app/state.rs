@@ -1,53 +1,21 @@
-//! `TsmApp`: the visualiser's state (the worker handle, the converged history, the selection,
-//! the camera, the targets of the prescribed dofs) and draining the worker's messages each
-//! frame without blocking. The panels read and change it; `window.rs` lays them out.
+//! `TsmApp`: the worker and the app's state in parts (`parts.rs`); draining the worker's
+//! messages each frame without blocking, the playback's clock, and applying what the panels
+//! asked for (`apply`: runs, Undo, opening scenes, exports, the dialogs' answers). The panels
+//! read and change the parts they are given; `window.rs` lays them out.
 
-use std::path::PathBuf;
-use std::sync::atomic::AtomicI32;
-use std::sync::Arc;
+use std::path::{Path, PathBuf};
 
-use crate::solver::{Event, IncrementRecord, IterationRecord};
-use crate::worker::{Command, Failure, Loaded, Message, Worker};
+use crate::solver::{Event, IncrementRecord};
+use crate::worker::{Command, Failure, Message, Worker};
 
-use super::branches::SetAside;
-use super::display::{Angles, Picked, TableView};
-use super::frame_log::FrameLog;
-use crate::figure::Diagram;
-
-use super::files::dialog::Dialogs;
-use super::files::scenes::{is_file, Recent};
-use super::files::screenshot::{Layout, Shot};
-use super::retention::{KeptHistory, HISTORY_BUDGET};
-use super::view::{Drag, View};
-
-/// How the app starts.
-#[derive(Clone, Debug, Default)]
-pub struct Startup {
-    /// Scene file or built-in name (default: the persisted one, else the first built-in).
-    pub scene: Option<String>,
-    /// Steps to solve right after loading.
-    pub steps: Option<usize>,
-    /// Render this PNG after the steps and close.
-    pub screenshot: Option<PathBuf>,
-    /// Exit code written by the screenshot run (0 = saved).
-    pub exit: Option<Arc<AtomicI32>>,
-    /// Draw the beams with the egui painter even when wgpu is available (also `TSM_NO_GPU`).
-    pub no_gpu: bool,
-    /// The force diagram to draw along the beams.
-    pub diagram: Option<Diagram>,
-    /// The scene remembered from the last time the app ran (default: the one eframe stored).
-    pub remembered: Option<String>,
-}
-
-impl Startup {
-    /// Start on a scene.
-    pub fn scene(name: &str) -> Startup {
-        Startup {
-            scene: Some(name.into()),
-            ..Startup::default()
-        }
-    }
-}
+use super::display::Picked;
+use super::files::dialog::{Answer, Purpose};
+use super::files::export;
+use super::files::scenes::{dropped_scene, is_file, save_scene};
+use super::files::screenshot::Shot;
+use super::parts::{Action, Export, Files, Frame, Look, Notices, Playback, Session};
+use super::retention::HISTORY_BUDGET;
+use crate::figure::{raster, svg};
 
 /// The visualiser: the worker and the app's state in parts, each with one owner. The panels
 /// read the parts they show and change the parts they drive.
@@ -65,112 +33,8 @@ pub struct TsmApp {
     pub(crate) notices: Notices,
     /// The window's run-time state (drawing path, layout, screenshot run, frame log).
     pub(crate) frame: Frame,
-}
-
-/// What is being solved and what it produced: the scene, the converged states and events,
-/// the drive's targets, and the runs set aside for Undo and Redo.
-#[derive(Default)]
-pub(crate) struct Session {
-    /// Name the current scene was opened by (built-in name or path).
-    pub(crate) scene_name: String,
-    pub(crate) loaded: Option<Box<Loaded>>,
-    /// Converged states; `history[0]` is the undeformed state.
-    pub(crate) history: KeptHistory,
-    pub(crate) events: Vec<Event>,
-    /// Iterations of the increment being solved.
-    pub(crate) live: Vec<IterationRecord>,
-    /// Whether the worker is solving.
-    pub(crate) busy: bool,
-    /// Target value of every prescribed dof (what the sliders and the handle show).
-    pub(crate) targets: Vec<f64>,
-    /// Whether the targets are being driven (a slider or handle held).
-    pub(crate) targeting: bool,
-    /// Steps to run once the scene is loaded.
-    pub(crate) run_steps: Option<usize>,
-    /// Histories set aside (a branch's later increments, a run before a change), newest last.
-    pub(crate) undo: Vec<SetAside>,
-    /// Histories Undo replaced, newest last (cleared by a new branch or change).
-    pub(crate) redo: Vec<SetAside>,
-    /// The increments the shown history branched at (marked on the timeline).
-    pub(crate) branch_points: Vec<usize>,
-    /// Messages of work set aside are still coming: skip them until the worker says it is
-    /// loaded or restored (or fails).
-    pub(crate) stale: bool,
-    /// A run brought back by Undo, taken up when its scene is loaded again.
-    pub(crate) restoring: Option<SetAside>,
-    /// Counts the scenes loaded: what the viewport's cached geometry belongs to.
-    pub(crate) generation: u64,
-}
-
-/// The timeline's playback: the increment viewed and whether it advances by itself.
-#[derive(Default)]
-pub(crate) struct Playback {
-    pub(crate) selected: usize,
-    pub(crate) playing: bool,
-    /// When playback last advanced (s, egui's clock).
-    pub(crate) last_play: f64,
-}
-
-/// What the user looks at and how: the camera, the diagram, the picked node or element, the
-/// plots' and the table's choices.
-pub(crate) struct Look {
-    pub(crate) camera: View,
-    /// Fit the camera to the model at the next frame.
-    pub(crate) fit_pending: bool,
-    /// A prescribed dof's handle being dragged.
-    pub(crate) drag: Option<Drag>,
-    /// The handle under the pointer.
-    pub(crate) hover_handle: Option<usize>,
-    /// The force diagram drawn along the beams, if any.
-    pub(crate) diagram: Option<Diagram>,
-    /// How rotations are shown.
-    pub(crate) angles: Angles,
-    /// The node or element clicked in the viewport, shown in the details panel.
-    pub(crate) pinned: Option<Picked>,
-    /// The dof of the selected node the response plot is drawn against (a node without a
-    /// rotation: v in place of phi).
-    pub(crate) plot_dof: crate::solver::Dof,
-    /// Whether the convergence plot shows every increment (else the one viewed).
-    pub(crate) plot_all: bool,
-    /// The table window's choices.
-    pub(crate) table: TableView,
-    /// Whether the shortcuts window is open.
-    pub(crate) show_shortcuts: bool,
-}
-
-/// Files: the dialog in progress, the scene files opened last, where exports go.
-pub(crate) struct Files {
-    /// The path typed into File > Open.
-    pub(crate) open_path: String,
-    /// The stem of the exports' file names.
-    pub(crate) export_stem: String,
-    /// The file dialog in progress.
-    pub(crate) dialogs: Dialogs,
-    /// The scene files opened last.
-    pub(crate) recent: Recent,
-    /// The size of the view's PNG export (px).
-    pub(crate) png_size: [u32; 2],
-}
-
-/// What the app tells the user: the status line and the error panel.
-#[derive(Default)]
-pub(crate) struct Notices {
-    pub(crate) status: String,
-    pub(crate) error: Option<Failure>,
-    /// Whether the error panel is shown (it opens with each new error).
-    pub(crate) show_error: bool,
-}
-
-/// The window's run-time state, never saved: whether the beams go through wgpu, where the
-/// last frame drew its parts, the screenshot run, the frame log, and whether settings persist.
-pub(crate) struct Frame {
-    pub(crate) gpu: bool,
-    /// Where this frame drew the viewport and the convergence plot (for the screenshot sidecar).
-    pub(crate) layout: Layout,
-    pub(crate) shot: Option<Shot>,
-    pub(crate) frame_log: Option<FrameLog>,
-    /// Whether the settings are saved (not for a screenshot run).
-    pub(crate) persist: bool,
+    /// What the panels asked for this frame (`apply`).
+    pub(crate) actions: Vec<Action>,
 }
 
 impl TsmApp {
@@ -256,15 +120,200 @@ impl TsmApp {
     }
 
     /// Index of the last converged state.
-    pub(crate) fn last(&self) -> usize {
-        self.session.history.len().saturating_sub(1)
+    pub fn last(&self) -> usize {
+        self.session.last()
     }
 
     /// The selected state, if a scene is loaded.
-    pub(crate) fn record(&self) -> Option<&IncrementRecord> {
-        self.session
-            .history
-            .get(self.playback.selected.min(self.last()))
+    pub fn record(&self) -> Option<&IncrementRecord> {
+        self.session.record(self.playback.selected)
+    }
+
+    /// Apply what the panels asked for this frame, in order.
+    pub(crate) fn apply(&mut self, ctx: &egui::Context) {
+        for a in std::mem::take(&mut self.actions) {
+            match a {
+                Action::Send(c) => self.send(c),
+                Action::Change(c) => {
+                    self.set_aside_run();
+                    self.send(c);
+                }
+                Action::Reset => {
+                    self.playback.playing = false;
+                    self.session.targeting = false;
+                    self.set_aside_run();
+                    self.worker.send(Command::Reset);
+                }
+                Action::Undo => self.undo(),
+                Action::Redo => self.redo(),
+                Action::Drive { index, value } => self.drive(index, value),
+                Action::Branch => self.branch(),
+                Action::FollowRun => self.session.targeting = false,
+                Action::Open(name) => self.open(&name),
+                Action::Fail(e) => self.set_error(e),
+                Action::Export(Export::History) => {
+                    if self.export(Export::Json) {
+                        self.export(Export::Csv);
+                    }
+                }
+                Action::Export(what) => {
+                    self.export(what);
+                }
+                Action::KeepDrive => self.keep_drive(),
+                Action::Dialog(purpose) => {
+                    let folder = match purpose {
+                        Purpose::ExportStem => Path::new(&self.files.export_stem)
+                            .parent()
+                            .map(Path::to_path_buf),
+                        _ => folder_of(&self.session.scene_name),
+                    };
+                    self.files.dialogs.show(purpose, folder, ctx.clone());
+                }
+            }
+        }
+    }
+
+    /// Write export `what` under the name in "Export as" and say what it did: its full path,
+    /// or why it failed. Returns whether it wrote.
+    fn export(&mut self, what: Export) -> bool {
+        let stem = self.files.export_stem.trim().to_string();
+        let path = |ext: &str| PathBuf::from(format!("{stem}.{ext}"));
+        if what == Export::Window {
+            if self.frame.shot.is_none() {
+                let p = path("window.png");
+                self.notices.status = format!("saving {}", p.display());
+                self.frame.shot = Some(Shot::new(p, None, false));
+            }
+            return true;
+        }
+        let Some(loaded) = &self.session.loaded else {
+            return false;
+        };
+        let record = self.record();
+        let diagram = self.look.diagram;
+        let done = match (what, record) {
+            (Export::Json, _) => {
+                let h = export::history(
+                    loaded,
+                    &self.session.history,
+                    self.session.history.stride(),
+                    &self.session.events,
+                    self.error().as_deref(),
+                );
+                let p = path("json");
+                h.write_json(&p).map(|_| p).map_err(|e| e.to_string())
+            }
+            (Export::Csv, _) => {
+                let picked: Vec<usize> = match self.look.pinned {
+                    Some(Picked::Node(n)) => vec![n],
+                    _ => Vec::new(),
+                };
+                let p = path("csv");
+                export::write_csv(&p, loaded, &self.session.history, &picked)
+                    .map(|_| p)
+                    .map_err(|e| e.to_string())
+            }
+            (Export::Svg, Some(r)) => {
+                let p = path("svg");
+                (svg::write_svg(&p, loaded, r, diagram).map(|_| p)).map_err(|e| e.to_string())
+            }
+            (Export::Png, Some(r)) => {
+                let p = path("png");
+                raster::write_png(&p, loaded, r, diagram, self.files.png_size).map(|_| p)
+            }
+            _ => return false,
+        };
+        let wrote = done.is_ok();
+        self.confirm(done);
+        wrote
+    }
+
+    /// Say what a write did: its full path, or why it failed.
+    fn confirm(&mut self, what: Result<PathBuf, String>) {
+        match what {
+            Ok(p) => {
+                let full = std::fs::canonicalize(&p).unwrap_or(p);
+                self.notices.status = format!("wrote {}", full.display());
+            }
+            Err(e) => self.set_error(format!("export failed: {e}")),
+        }
+    }
+
+    /// Keep the run shown as the scene's load path (`scene::kept::kept_path`): the loaded
+    /// scene becomes the scene with those stages, which "Save scene as" then writes and which
+    /// replays the run headless. Refused, with the reason shown, where the history kept in
+    /// memory is not every increment of the run or the scene cannot take the path.
+    fn keep_drive(&mut self) {
+        let Some(loaded) = &self.session.loaded else {
+            return;
+        };
+        if self.session.history.dropped() > 0 {
+            self.set_error(
+                "the run is longer than the history kept in memory: only whole runs can be kept \
+                 as a path (export the history instead)"
+                    .to_string(),
+            );
+            return;
+        }
+        let scene = &loaded.scene;
+        let mut file = scene.file.clone();
+        file.formulation = scene.model.formulation;
+        file.control.stretch_correction = scene.params.stretch_correction;
+        let records = self.session.history.get(1..).unwrap_or_default();
+        let kept = crate::scene::kept::kept_path(&file, &scene.model, records)
+            .and_then(|f| crate::scene::from_scene_file(f, &file.name).map_err(|e| e.to_string()));
+        match kept {
+            Ok(kept) => {
+                let steps = kept.steps;
+                if let Some(l) = &mut self.session.loaded {
+                    l.scene = kept;
+                }
+                self.notices.status = format!(
+                    "the run is kept as the scene's path ({steps} steps): Save scene as... writes it"
+                );
+            }
+            Err(e) => self.set_error(format!("cannot keep the drive as a path: {e}")),
+        }
+    }
+
+    /// Act on a closed dialog's answer and on a file dropped on the window.
+    pub(crate) fn answers(&mut self, ctx: &egui::Context) {
+        match self.files.dialogs.poll() {
+            Some((purpose, Answer::Chosen(path))) => match purpose {
+                Purpose::OpenScene => self.open(&path.to_string_lossy()),
+                Purpose::SaveScene => self.save_scene_as(&path),
+                Purpose::ExportStem => {
+                    self.files.export_stem = path.with_extension("").to_string_lossy().into_owned();
+                    self.notices.status = format!("exports go to {}.*", self.files.export_stem);
+                }
+            },
+            Some((_, Answer::Unavailable)) => {
+                self.notices.status = "no file dialog can be shown on this desktop (it needs a \
+                                       desktop portal or zenity): type the path under File > \
+                                       path, or in Export as"
+                    .into();
+            }
+            Some((_, Answer::Cancelled)) | None => {}
+        }
+        match dropped_scene(ctx) {
+            Some(Ok(path)) => self.open(&path.to_string_lossy()),
+            Some(Err(why)) => self.set_error(why),
+            None => {}
+        }
+    }
+
+    /// Save the scene as solved to `path` (the dialog's answer, or a script's path), the drive
+    /// kept as its path if it was.
+    pub fn save_scene_as(&mut self, path: &Path) {
+        let Some(loaded) = &self.session.loaded else {
+            return;
+        };
+        let done = save_scene(path, &loaded.scene).map(|_| path.to_path_buf());
+        let ok = done.is_ok();
+        self.confirm(done);
+        if ok {
+            self.files.recent.opened(path);
+        }
     }
 
     /// Number of converged increments so far.
@@ -290,22 +339,6 @@ impl TsmApp {
     /// Whether the beams go through the wgpu callback (else the egui-painter fallback).
     pub fn uses_gpu(&self) -> bool {
         self.frame.gpu
-    }
-
-    /// "K increments accepted at the round-off floor (worst 4.1e-6)" when the history has any
-    /// (they are in equilibrium only to that residual, not to the tolerance).
-    pub(crate) fn roundoff_summary(&self) -> Option<String> {
-        let at_floor: Vec<f64> = (self.session.history.iter())
-            .filter(|r| matches!(r.status, crate::solver::IncrementStatus::RoundOff { .. }))
-            .map(|r| r.relative_residual)
-            .collect();
-        let worst = at_floor.iter().copied().fold(0.0f64, f64::max);
-        (!at_floor.is_empty()).then(|| {
-            format!(
-                "{} increments accepted at the round-off floor (worst residual {worst:.1e})",
-                at_floor.len()
-            )
-        })
     }
 
     /// Apply every waiting worker message. Never blocks.
@@ -418,18 +451,16 @@ impl TsmApp {
 
     /// Advance the playback of the timeline.
     pub(crate) fn play(&mut self, ctx: &egui::Context) {
-        if !self.playback.playing {
-            return;
+        let last = self.last();
+        if self.playback.advance(last, ctx.input(|i| i.time)) {
+            ctx.request_repaint_after(std::time::Duration::from_millis(16));
         }
-        let now = ctx.input(|i| i.time);
-        if now - self.playback.last_play >= 0.05 {
-            self.playback.last_play = now;
-            if self.playback.selected < self.last() {
-                self.playback.selected += 1;
-            } else {
-                self.playback.playing = false;
-            }
-        }
-        ctx.request_repaint_after(std::time::Duration::from_millis(16));
     }
+}
+
+/// The folder of a scene file's name (none for a built-in scene).
+fn folder_of(name: &str) -> Option<PathBuf> {
+    is_file(name)
+        .then(|| Path::new(name).parent().map(Path::to_path_buf))
+        .flatten()
 }

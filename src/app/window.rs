@@ -8,9 +8,44 @@ use super::files::scenes::{startup_scene, Recent};
 use super::files::screenshot::{Layout, Shot};
 use super::frame_log::FrameLog;
 use super::panels::{controls, details, errors, menus, plots, shortcuts, table, timeline};
-use super::state::{Files, Frame, Look, Notices, Playback, Session, Startup, TsmApp};
+use std::path::PathBuf;
+use std::sync::atomic::AtomicI32;
+use std::sync::Arc;
+
+use super::parts::{Files, Frame, Look, Notices, Playback, Session};
+use super::state::TsmApp;
 use super::view::View;
+use crate::figure::Diagram;
 use crate::worker::Worker;
+
+/// How the app starts.
+#[derive(Clone, Debug, Default)]
+pub struct Startup {
+    /// Scene file or built-in name (default: the persisted one, else the first built-in).
+    pub scene: Option<String>,
+    /// Steps to solve right after loading.
+    pub steps: Option<usize>,
+    /// Render this PNG after the steps and close.
+    pub screenshot: Option<PathBuf>,
+    /// Exit code written by the screenshot run (0 = saved).
+    pub exit: Option<Arc<AtomicI32>>,
+    /// Draw the beams with the egui painter even when wgpu is available (also `TSM_NO_GPU`).
+    pub no_gpu: bool,
+    /// The force diagram to draw along the beams.
+    pub diagram: Option<Diagram>,
+    /// The scene remembered from the last time the app ran (default: the one eframe stored).
+    pub remembered: Option<String>,
+}
+
+impl Startup {
+    /// Start on a scene.
+    pub fn scene(name: &str) -> Startup {
+        Startup {
+            scene: Some(name.into()),
+            ..Startup::default()
+        }
+    }
+}
 
 /// Storage keys.
 const KEY_SCENE: &str = "tsm_scene";
@@ -76,6 +111,7 @@ impl TsmApp {
                 frame_log: FrameLog::from_env(),
                 persist,
             },
+            actions: Vec::new(),
         };
         app.open(&name);
         if let Some(why) = why {
@@ -94,27 +130,48 @@ impl eframe::App for TsmApp {
         self.drain();
         let ctx = ui.ctx().clone();
         self.play(&ctx);
-        shortcuts::handle(self, &ctx);
-        menus::answers(self, &ctx);
-        egui::Panel::top("toolbar").show(ui, |ui| controls::toolbar(self, ui));
-        errors::panel(self, ui);
+        shortcuts::handle(
+            &self.session,
+            &mut self.playback,
+            &mut self.look,
+            &mut self.actions,
+            &ctx,
+        );
+        self.answers(&ctx);
+        egui::Panel::top("toolbar").show(ui, |ui| {
+            controls::toolbar(
+                &self.session,
+                &mut self.look,
+                &mut self.files,
+                &self.notices,
+                &mut self.actions,
+                ui,
+            )
+        });
+        errors::panel(&mut self.notices, ui);
         egui::Panel::bottom("timeline")
             .resizable(true)
             .default_size(300.0)
             .min_size(200.0)
             .show(ui, |ui| {
-                timeline::show(self, ui);
+                timeline::show(&self.session, &mut self.playback, &mut self.actions, ui);
                 ui.separator();
-                plots::show(self, ui);
+                plots::show(
+                    &self.session,
+                    self.playback.selected,
+                    &mut self.look,
+                    &mut self.frame.layout,
+                    ui,
+                );
             });
         egui::Panel::right("details")
             .resizable(true)
             .default_size(330.0)
             .show(ui, |ui| {
                 egui::ScrollArea::vertical().show(ui, |ui| {
-                    controls::sliders(self, ui);
+                    controls::sliders(&self.session, self.playback.selected, &mut self.actions, ui);
                     ui.separator();
-                    details::show(self, ui);
+                    details::show(&self.session, self.playback.selected, &self.look, ui);
                 });
             });
         let gpu = if self.frame.gpu {
@@ -122,10 +179,22 @@ impl eframe::App for TsmApp {
         } else {
             None
         };
-        egui::CentralPanel::no_frame().show(ui, |ui| viewport::show(self, ui, gpu.as_ref()));
-        shortcuts::window(self, &ctx);
+        egui::CentralPanel::no_frame().show(ui, |ui| {
+            viewport::show(
+                &self.session,
+                self.playback.selected,
+                &mut self.look,
+                &mut self.frame.layout,
+                &self.notices,
+                &mut self.actions,
+                ui,
+                gpu.as_ref(),
+            )
+        });
+        shortcuts::window(&mut self.look, &ctx);
         menus::drop_hint(&ctx);
-        table::window(self, &ctx);
+        table::window(&self.session, self.playback.selected, &mut self.look, &ctx);
+        self.apply(&ctx);
         if let Some(shot) = &mut self.frame.shot {
             shot.frame(&ctx, &self.frame.layout);
             if shot.finished() {

@@ -8,7 +8,7 @@ use std::time::Duration;
 
 use egui_kittest::kittest::{NodeT, Queryable};
 use egui_kittest::Harness;
-use tsm_contact::app::units::num;
+use tsm_contact::app::display::num;
 use tsm_contact::app::{Startup, TsmApp};
 use tsm_contact::figure::Diagram;
 use tsm_contact::solver::{Friction, Silent};

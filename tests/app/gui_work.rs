@@ -11,7 +11,6 @@ use std::time::Duration;
 use egui::{Key, Modifiers};
 use egui_kittest::kittest::Queryable;
 use egui_kittest::Harness;
-use tsm_contact::app::panels::menus;
 use tsm_contact::app::{Startup, TsmApp};
 use tsm_contact::scene::builtin::{builtin, open, BUILTIN};
 use tsm_contact::solver::{IncrementRecord, Silent};
@@ -330,7 +329,7 @@ fn a_saved_scene_opens_to_the_same_model() {
         h.state().status().contains("(BernoulliEuler)")
     });
     let path = dir.join("saved.ron");
-    menus::save_scene_as(h.state_mut(), &path);
+    h.state_mut().save_scene_as(&path);
     assert!(h.state().status().starts_with("wrote "));
     let saved = open(&path.to_string_lossy()).unwrap();
     assert_eq!(
@@ -375,7 +374,7 @@ fn a_drive_kept_in_the_app_replays_headless_from_the_saved_scene() {
         h.state().status()
     );
     let path = dir.join("kept.ron");
-    menus::save_scene_as(h.state_mut(), &path);
+    h.state_mut().save_scene_as(&path);
     assert!(h.state().status().starts_with("wrote "));
     let again = open(&path.to_string_lossy()).unwrap();
     let mut solver = again.solver().unwrap();

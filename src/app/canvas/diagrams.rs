@@ -92,7 +92,7 @@ pub fn paint(
             format!(
                 "{} = {} {unit}",
                 diagram.letter(),
-                crate::app::units::num(peak)
+                crate::app::display::num(peak)
             ),
             FontId::proportional(13.0),
             Color32::from_gray(20),

@@ -8,8 +8,8 @@ use crate::scene::units::Units;
 use crate::solver::{Dof, Friction, IncrementRecord, Model};
 
 use super::diagrams::moment_color;
-use crate::app::state::TsmApp;
-use crate::app::units::num;
+use crate::app::display::num;
+use crate::app::parts::{Look, Session};
 use crate::app::view::handle_world;
 
 /// Lines and text.
@@ -252,7 +252,8 @@ pub(crate) fn body_names(
 /// The handle of each prescribed dof (at its target) and the node's path from its start.
 pub(crate) fn prescribed(
     p: &egui::Painter,
-    app: &TsmApp,
+    session: &Session,
+    look: &Look,
     model: &Model,
     r: &IncrementRecord,
     s: &dyn Fn([f64; 2]) -> Pos2,
@@ -267,14 +268,14 @@ pub(crate) fn prescribed(
             4.0,
             3.0,
         ));
-        let Some(t) = app.session.targets.get(k) else {
+        let Some(t) = session.targets.get(k) else {
             continue;
         };
         let Some(w) = handle_world(model, r, k, *t) else {
             continue;
         };
         let at = s(w);
-        let active = app.look.drag.is_some_and(|d| d.index == k);
+        let active = look.drag.is_some_and(|d| d.index == k);
         if active {
             p.line_segment([now, at], Stroke::new(1.0, HANDLE));
         }
@@ -297,7 +298,7 @@ pub(crate) fn prescribed(
                 Stroke::NONE,
             ));
         }
-        if active || app.look.hover_handle == Some(k) {
+        if active || look.hover_handle == Some(k) {
             p.text(
                 at + Vec2::new(24.0, 0.0),
                 Align2::LEFT_CENTER,

@@ -4,8 +4,8 @@
 
 use egui::Pos2;
 
+use crate::app::display::num;
 use crate::app::display::{Angles, Picked};
-use crate::app::units::num;
 use crate::figure::{value_at, Diagram};
 use crate::scene::units::Units;
 use crate::solver::{Dof, IncrementRecord, Model};

@@ -15,7 +15,8 @@ use super::diagrams::{self, moment_color};
 use super::overlays::{self, INK};
 use super::query::{describe, pick};
 use super::strips::Polyline;
-use crate::app::state::TsmApp;
+use crate::app::files::screenshot::Layout;
+use crate::app::parts::{Action, Look, Notices, Session};
 use crate::app::view::{bounds, handle_world, Drag};
 use crate::figure::geometry::{
     deformed_bodies, faces, half_thickness, max_moment, obstacle_outlines, undeformed_bodies,
@@ -39,13 +40,23 @@ type CurveKey = (u64, usize, u64);
 type ScreenKey = (CurveKey, [u64; 2], u64, [u32; 5], bool);
 
 /// Show the viewport.
-pub fn show(app: &mut TsmApp, ui: &mut egui::Ui, gpu: Option<&egui_wgpu::RenderState>) {
+#[allow(clippy::too_many_arguments)]
+pub fn show(
+    session: &Session,
+    selected: usize,
+    look: &mut Look,
+    layout: &mut Layout,
+    notices: &Notices,
+    actions: &mut Vec<Action>,
+    ui: &mut egui::Ui,
+    gpu: Option<&egui_wgpu::RenderState>,
+) {
     let rect = ui.available_rect_before_wrap();
     let bg = ui.allocate_rect(rect, Sense::click_and_drag());
     let painter = ui.painter_at(rect);
     painter.rect_filled(rect, 0.0, Color32::from_rgb(251, 251, 253));
-    if app.session.loaded.is_none() {
-        let msg = app.error().unwrap_or_else(|| "loading...".into());
+    if session.loaded.is_none() {
+        let msg = (notices.error.as_ref()).map_or_else(|| "loading...".into(), |e| e.to_string());
         painter.text(
             rect.center(),
             Align2::CENTER_CENTER,
@@ -55,26 +66,26 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui, gpu: Option<&egui_wgpu::RenderS
         );
         return;
     }
-    handles(app, ui, rect);
-    navigate(app, ui, &bg, rect);
-    if app.look.fit_pending {
-        fit(app, rect);
-        app.look.fit_pending = false;
+    handles(session, selected, look, actions, ui, rect);
+    navigate(look, ui, &bg, rect, layout.viewport);
+    if look.fit_pending {
+        fit(session, look, rect);
+        look.fit_pending = false;
     }
-    app.frame.layout.viewport = Some(rect);
-    app.frame.layout.view = app.look.camera;
-    app.frame.layout.increment = app.record().map_or(0, |r| r.increment);
-    let (Some(l), Some(r)) = (app.session.loaded.as_ref(), app.record()) else {
+    layout.viewport = Some(rect);
+    layout.view = look.camera;
+    layout.increment = session.record(selected).map_or(0, |r| r.increment);
+    let (Some(l), Some(r)) = (session.loaded.as_ref(), session.record(selected)) else {
         return;
     };
     let model = &l.scene.model;
-    let view = app.look.camera;
+    let view = look.camera;
     let to_screen = |p: [f64; 2]| view.to_screen(rect, p);
     let ppp = ui.ctx().pixels_per_point();
 
     // Beams: ghost first, then the deformed strips. The curves of the viewed increment are
     // built once and kept while it stays in view.
-    let key = (app.session.generation, r.increment, r.seconds.to_bits());
+    let key = (session.generation, r.increment, r.seconds.to_bits());
     let id = ui.scope_id().with("deformed curves");
     let cached: Option<(CurveKey, Arc<Vec<BodyCurve>>)> = ui.data(|d| d.get_temp(id));
     let curves = match cached {
@@ -144,9 +155,9 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui, gpu: Option<&egui_wgpu::RenderS
     overlays::supports(&painter, model, r, &to_screen);
     overlays::contacts(&painter, model, r, &to_screen);
     overlays::body_names(&painter, model, &curves, &to_screen);
-    overlays::prescribed(&painter, app, model, r, &to_screen);
+    overlays::prescribed(&painter, session, look, model, r, &to_screen);
     let units = l.scene.file.units;
-    if let Some(d) = app.look.diagram {
+    if let Some(d) = look.diagram {
         let unit = match d {
             Diagram::Moment => units.moment(),
             _ => units.force().to_string(),
@@ -162,7 +173,7 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui, gpu: Option<&egui_wgpu::RenderS
     let hovered = at.and_then(|at| pick(model, r, at, &to_screen));
     if let (Some(h), Some(at)) = (hovered, at) {
         // Shown at once (not after a tooltip's delay), beside the pointer.
-        let lines = describe(model, r, h, units, app.look.angles);
+        let lines = describe(model, r, h, units, look.angles);
         egui::Area::new(ui.scope_id().with("query"))
             .order(egui::Order::Tooltip)
             .fixed_pos(at + Vec2::new(14.0, 14.0))
@@ -179,11 +190,7 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui, gpu: Option<&egui_wgpu::RenderS
     let text = format!(
         "increment {}{}",
         r.increment,
-        if app.session.busy {
-            "  (solving...)"
-        } else {
-            ""
-        }
+        if session.busy { "  (solving...)" } else { "" }
     );
     painter.text(
         rect.right_top() + Vec2::new(-10.0, 10.0),
@@ -193,31 +200,38 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui, gpu: Option<&egui_wgpu::RenderS
         INK,
     );
     if let Some(p) = clicked {
-        app.look.pinned = p;
+        look.pinned = p;
     }
 }
 
 /// Interact with the prescribed-dof handles: dragging one sets its target.
-fn handles(app: &mut TsmApp, ui: &mut egui::Ui, rect: Rect) {
-    let (Some(l), Some(r)) = (app.session.loaded.as_ref(), app.record()) else {
+fn handles(
+    session: &Session,
+    selected: usize,
+    look: &mut Look,
+    actions: &mut Vec<Action>,
+    ui: &mut egui::Ui,
+    rect: Rect,
+) {
+    let (Some(l), Some(r)) = (session.loaded.as_ref(), session.record(selected)) else {
         return;
     };
     let model = &l.scene.model;
     // (index, dof, current target, screen position) of every draggable handle.
     let spots: Vec<(usize, Dof, f64, Pos2)> = (0..model.prescribed.len())
         .filter_map(|k| {
-            let t = app.session.targets.get(k).copied()?;
+            let t = session.targets.get(k).copied()?;
             let w = handle_world(model, r, k, t)?;
             Some((
                 k,
                 model.prescribed[k].dof,
                 t,
-                app.look.camera.to_screen(rect, w),
+                look.camera.to_screen(rect, w),
             ))
         })
         .collect();
     let mut send = None;
-    app.look.hover_handle = None;
+    look.hover_handle = None;
     for (k, dof, t, pos) in spots {
         let id = ui.scope_id().with(("handle", k));
         let resp = ui.interact(
@@ -232,61 +246,57 @@ fn handles(app: &mut TsmApp, ui: &mut egui::Ui, rect: Rect) {
             })
             .on_hover_text("drag to set the target of this prescribed dof");
         if resp.hovered() {
-            app.look.hover_handle = Some(k);
+            look.hover_handle = Some(k);
         }
         if resp.drag_started() {
-            app.look.drag = Some(Drag {
+            look.drag = Some(Drag {
                 index: k,
                 start: t,
                 moved: Vec2::ZERO,
             });
         }
         if resp.dragged() {
-            if let Some(d) = &mut app.look.drag {
+            if let Some(d) = &mut look.drag {
                 d.moved += resp.drag_delta();
                 let along = if dof == Dof::U { d.moved.x } else { -d.moved.y };
-                let value = d.start + f64::from(along) / app.look.camera.scale;
+                let value = d.start + f64::from(along) / look.camera.scale;
                 if (value - t).abs() > 1e-12 {
                     send = Some((d.index, value));
                 }
             }
         }
         if resp.drag_stopped() {
-            app.look.drag = None;
+            look.drag = None;
             // The worker may have reached the last target while the handle was held (its
             // `Idle` then left `targeting` on): follow the converged states again.
-            if !app.session.busy && send.is_none() {
-                app.session.targeting = false;
+            if !session.busy && send.is_none() {
+                actions.push(Action::FollowRun);
             }
         }
     }
     if let Some((index, value)) = send {
-        app.drive(index, value);
+        actions.push(Action::Drive { index, value });
     }
 }
 
 /// Pan by dragging empty space, zoom at the cursor by scrolling, fit on double-click, on F and
 /// when the viewport changes size.
-fn navigate(app: &mut TsmApp, ui: &egui::Ui, bg: &egui::Response, rect: Rect) {
-    if bg.dragged() && app.look.drag.is_none() {
-        app.look.camera.pan(bg.drag_delta());
+fn navigate(look: &mut Look, ui: &egui::Ui, bg: &egui::Response, rect: Rect, before: Option<Rect>) {
+    if bg.dragged() && look.drag.is_none() {
+        look.camera.pan(bg.drag_delta());
     }
     let fit_key =
         ui.input(|i| i.key_pressed(egui::Key::F)) && !ui.ctx().egui_wants_keyboard_input();
     // A resized viewport (window or panels) is fitted again.
-    let resized = app
-        .frame
-        .layout
-        .viewport
-        .is_some_and(|r| r.size() != rect.size());
+    let resized = before.is_some_and(|r| r.size() != rect.size());
     if bg.double_clicked() || fit_key || resized {
-        app.look.fit_pending = true;
+        look.fit_pending = true;
     }
     if let Some(at) = bg.hover_pos() {
         let (scroll, zoom) = ui.input(|i| (i.smooth_scroll_delta.y, i.zoom_delta()));
         let factor = f64::from(zoom) * (f64::from(scroll) * 0.002).exp();
         if (factor - 1.0).abs() > 1e-6 {
-            app.look.camera.zoom_at(rect, at, factor);
+            look.camera.zoom_at(rect, at, factor);
         }
     }
 }
@@ -295,17 +305,17 @@ fn navigate(app: &mut TsmApp, ui: &egui::Ui, bg: &egui::Response, rect: Rect) {
 const LEGEND_ROOM: f32 = 70.0;
 
 /// Fit the undeformed shape and every converged state into the viewport below the legend.
-fn fit(app: &mut TsmApp, rect: Rect) {
-    let b = bounds(app.session.history.iter().flat_map(|r| r.nodes.iter()));
+fn fit(session: &Session, look: &mut Look, rect: Rect) {
+    let b = bounds(session.history.iter().flat_map(|r| r.nodes.iter()));
     let room = if rect.height() > 3.0 * LEGEND_ROOM {
         LEGEND_ROOM
     } else {
         0.0
     };
     let below = Rect::from_min_max(rect.min + Vec2::new(0.0, room), rect.max);
-    app.look.camera.fit(below, b);
+    look.camera.fit(below, b);
     // `fit` centred the bounds in `below`; the view is anchored at the centre of `rect`.
-    app.look.camera.center[1] += f64::from(room / 2.0) / app.look.camera.scale;
+    look.camera.center[1] += f64::from(room / 2.0) / look.camera.scale;
 }
 
 /// The nodes resting on obstacles: a disc at the node and an arrow of the obstacle's push

@@ -1,17 +1,18 @@
 //! The toolbar (the menus of `menus.rs`, the element formulation, the stretch correction, Fit,
 //! the force diagram, the angle unit, the table, the status line) and the sliders that drive
-//! each prescribed dof (`TsmApp::drive`: from the viewed increment).
+//! each prescribed dof (an `Action::Drive`: from the viewed increment).
 
 use crate::solver::{Formulation, StretchCorrection};
 use crate::worker::Command;
 
+use super::menus;
 use crate::app::display::Angles;
-use crate::app::state::TsmApp;
+use crate::app::parts::{Action, Files, Look, Notices, Session};
 use crate::figure::Diagram;
 
 /// The stretch-correction mode of Newton's updates (`StretchCorrection`): a change reloads
 /// the scene, as the formulation toggle does.
-fn stretch_correction(app: &mut TsmApp, mode: StretchCorrection, ui: &mut egui::Ui) {
+fn stretch_correction(mode: StretchCorrection, actions: &mut Vec<Action>, ui: &mut egui::Ui) {
     let label = |m| match m {
         StretchCorrection::Never => "never",
         StretchCorrection::AfterCutBack => "after a cut-back",
@@ -26,8 +27,7 @@ fn stretch_correction(app: &mut TsmApp, mode: StretchCorrection, ui: &mut egui::
                 StretchCorrection::Always,
             ] {
                 if ui.selectable_label(mode == m, label(m)).clicked() && mode != m {
-                    app.set_aside_run();
-                    app.send(Command::SetStretchCorrection(m));
+                    actions.push(Action::Change(Command::SetStretchCorrection(m)));
                 }
             }
         })
@@ -41,24 +41,24 @@ fn stretch_correction(app: &mut TsmApp, mode: StretchCorrection, ui: &mut egui::
 
 /// The force diagram drawn along the beams (none, N, V or M), and the unit rotations are shown
 /// in.
-fn diagram_and_angles(app: &mut TsmApp, ui: &mut egui::Ui) {
+fn diagram_and_angles(look: &mut Look, ui: &mut egui::Ui) {
     let name = |d: Option<Diagram>| d.map_or("none", |d| d.letter());
     egui::ComboBox::from_label("Diagram")
-        .selected_text(name(app.look.diagram))
+        .selected_text(name(look.diagram))
         .show_ui(ui, |ui| {
             for d in std::iter::once(None).chain(Diagram::ALL.map(Some)) {
-                ui.selectable_value(&mut app.look.diagram, d, name(d));
+                ui.selectable_value(&mut look.diagram, d, name(d));
             }
         })
         .response
         .on_hover_text("axial force N, shear V or bending moment M along the deformed beams");
-    let deg = app.look.angles == Angles::Degrees;
+    let deg = look.angles == Angles::Degrees;
     if ui
         .selectable_label(deg, "deg")
         .on_hover_text("show rotations in degrees")
         .clicked()
     {
-        app.look.angles = if deg {
+        look.angles = if deg {
             Angles::Radians
         } else {
             Angles::Degrees
@@ -68,13 +68,20 @@ fn diagram_and_angles(app: &mut TsmApp, ui: &mut egui::Ui) {
 
 /// The top bar: the menus, then widgets of fixed width (they keep their place whatever the
 /// scene and the state), then the status line.
-pub fn toolbar(app: &mut TsmApp, ui: &mut egui::Ui) {
+pub fn toolbar(
+    session: &Session,
+    look: &mut Look,
+    files: &mut Files,
+    notices: &Notices,
+    actions: &mut Vec<Action>,
+    ui: &mut egui::Ui,
+) {
     ui.horizontal_wrapped(|ui| {
-        super::menus::menus(app, ui);
+        menus::menus(session, look, files, actions, ui);
         ui.separator();
-        ui.add_enabled_ui(app.session.loaded.is_some(), |ui| {
+        ui.add_enabled_ui(session.loaded.is_some(), |ui| {
             ui.label("Element:");
-            let (f, mode) = app.session.loaded.as_ref().map_or(
+            let (f, mode) = session.loaded.as_ref().map_or(
                 (Formulation::Timoshenko, StretchCorrection::default()),
                 |l| (l.scene.model.formulation, l.scene.params.stretch_correction),
             );
@@ -88,11 +95,10 @@ pub fn toolbar(app: &mut TsmApp, ui: &mut egui::Ui) {
                     .clicked()
                     && f != value
                 {
-                    app.set_aside_run();
-                    app.send(Command::SetFormulation(value));
+                    actions.push(Action::Change(Command::SetFormulation(value)));
                 }
             }
-            stretch_correction(app, mode, ui);
+            stretch_correction(mode, actions, ui);
         });
         ui.separator();
         if ui
@@ -100,18 +106,18 @@ pub fn toolbar(app: &mut TsmApp, ui: &mut egui::Ui) {
             .on_hover_text("fit the structure to the view (F)")
             .clicked()
         {
-            app.look.fit_pending = true;
+            look.fit_pending = true;
         }
-        diagram_and_angles(app, ui);
+        diagram_and_angles(look, ui);
         if ui
-            .selectable_label(app.look.table.open, "Table")
+            .selectable_label(look.table.open, "Table")
             .on_hover_text("nodes, elements, contacts and reactions of the viewed increment")
             .clicked()
         {
-            app.look.table.open = !app.look.table.open;
+            look.table.open = !look.table.open;
         }
         ui.separator();
-        status(app, ui);
+        status(session, notices, ui);
     });
 }
 
@@ -119,22 +125,22 @@ pub fn toolbar(app: &mut TsmApp, ui: &mut egui::Ui) {
 /// full in the error panel): the bar, and the viewport under it, keep their layout when the
 /// solver starts and stops or a long message comes (else the beams and the handle under the
 /// pointer would jump).
-fn status(app: &TsmApp, ui: &mut egui::Ui) {
+fn status(session: &Session, notices: &Notices, ui: &mut egui::Ui) {
     let side = ui.spacing().interact_size.y;
     let (slot, _) = ui.allocate_exact_size(egui::vec2(side, side), egui::Sense::hover());
-    let line = if app.session.busy {
+    let line = if session.busy {
         egui::Spinner::new().paint_at(ui, slot);
         egui::RichText::new("solving...")
     } else {
-        match (&app.notices.error, app.roundoff_summary()) {
-            (Some(_), _) if app.notices.show_error => {
+        match (&notices.error, session.roundoff_summary()) {
+            (Some(_), _) if notices.show_error => {
                 egui::RichText::new("error: see the panel below").color(ui.visuals().error_fg_color)
             }
             // The panel closed: the message in the line (whole on hover).
             (Some(e), _) => egui::RichText::new(e.to_string()).color(ui.visuals().error_fg_color),
-            (None, Some(s)) => egui::RichText::new(format!("{}; {s}", app.notices.status))
+            (None, Some(s)) => egui::RichText::new(format!("{}; {s}", notices.status))
                 .color(super::plots::ROUNDOFF),
-            (None, None) => egui::RichText::new(&app.notices.status),
+            (None, None) => egui::RichText::new(&notices.status),
         }
     };
     // The rest of the row (a row of its own when little is left), whatever the text.
@@ -149,12 +155,12 @@ fn status(app: &TsmApp, ui: &mut egui::Ui) {
 }
 
 /// One slider per prescribed dof ("node 34 v"), driving its target.
-pub fn sliders(app: &mut TsmApp, ui: &mut egui::Ui) {
-    let Some(l) = &app.session.loaded else { return };
+pub fn sliders(session: &Session, selected: usize, actions: &mut Vec<Action>, ui: &mut egui::Ui) {
+    let Some(l) = &session.loaded else { return };
     ui.heading("Drive");
     let model = &l.scene.model;
     if model.prescribed.is_empty() {
-        let lambda = app.record().map_or(0.0, |r| r.load_factor);
+        let lambda = session.record(selected).map_or(0.0, |r| r.load_factor);
         let control = if l.scene.params.arc_length.is_some() {
             "arc-length control: each step solved is one arc"
         } else if model.path.is_some() {
@@ -172,7 +178,6 @@ pub fn sliders(app: &mut TsmApp, ui: &mut egui::Ui) {
         }
         return;
     }
-    let mut sends = Vec::new();
     let first_step = model.prescribed[0].per_step;
     let step_unit = l.scene.file.units.of_dof(model.prescribed[0].dof);
     for (k, p) in model.prescribed.iter().enumerate() {
@@ -183,28 +188,24 @@ pub fn sliders(app: &mut TsmApp, ui: &mut egui::Ui) {
             span.max(0.0).max(span.abs() * 0.1),
         );
         let label = l.prescribed_labels.get(k).cloned().unwrap_or_default();
-        let Some(t) = app.session.targets.get_mut(k) else {
+        let Some(&t) = session.targets.get(k) else {
             continue;
         };
-        let mut v = *t;
+        let mut v = t;
         let r = ui.add(
             egui::Slider::new(&mut v, lo..=hi)
                 .text(label)
                 .custom_formatter(|x, _| format!("{x:.4}")),
         );
         // Only a real move counts (the slider may round or clamp a value it is merely shown).
-        if r.changed() && (v - *t).abs() > 1e-9 * (hi - lo) {
-            *t = v;
-            sends.push((k, v));
+        if r.changed() && (v - t).abs() > 1e-9 * (hi - lo) {
+            actions.push(Action::Drive { index: k, value: v });
         }
-    }
-    for (index, value) in sends {
-        app.drive(index, value);
     }
     // One row of button height either way, so the details below do not jump.
     ui.horizontal(|ui| {
         ui.set_min_height(ui.spacing().interact_size.y);
-        if app.session.busy {
+        if session.busy {
             ui.label("solving: Stop under the view, or Esc, ends it");
         } else {
             ui.label(format!(

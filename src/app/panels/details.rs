@@ -10,17 +10,19 @@ use super::plots::ROUNDOFF;
 use crate::app::canvas::diagrams::extreme;
 use crate::app::canvas::overlays::{SLIP, STICK};
 use crate::app::canvas::query::describe;
-use crate::app::state::TsmApp;
-use crate::app::units::num;
+use crate::app::display::num;
+use crate::app::parts::{Look, Session};
 use crate::solver::{Dof, Friction, IncrementStatus};
 
 /// Show the details of the selected increment.
-pub fn show(app: &TsmApp, ui: &mut egui::Ui) {
-    let Some(l) = &app.session.loaded else {
+pub fn show(session: &Session, selected: usize, look: &Look, ui: &mut egui::Ui) {
+    let Some(l) = &session.loaded else {
         ui.label("no scene loaded");
         return;
     };
-    let Some(r) = app.record() else { return };
+    let Some(r) = session.record(selected) else {
+        return;
+    };
     let model = &l.scene.model;
     let units = l.scene.file.units;
     ui.heading(RichText::new(&l.scene.file.name).strong());
@@ -28,9 +30,9 @@ pub fn show(app: &TsmApp, ui: &mut egui::Ui) {
         ui.label(RichText::new(&l.scene.file.description).small());
     }
     ui.label(RichText::new(format!("units: {}, {}", units.force(), units.length())).small());
-    selected(app, ui);
+    picked(session, selected, look, ui);
     ui.separator();
-    ui.label(RichText::new(format!("Increment {} / {}", r.increment, app.last())).strong());
+    ui.label(RichText::new(format!("Increment {} / {}", r.increment, session.last())).strong());
     for ((label, v), p) in (l.prescribed_labels.iter().zip(&r.prescribed)).zip(&model.prescribed) {
         ui.label(format!("{label} = {v:+.5} {}", units.of_dof(p.dof)));
     }
@@ -158,8 +160,7 @@ pub fn show(app: &TsmApp, ui: &mut egui::Ui) {
         ui.label(RichText::new("Reactions").strong());
         // Round-off far below every reaction of the run (like 1e-178 N once stress-free) is 0.
         let floor = 1e-12
-            * app
-                .session
+            * session
                 .history
                 .iter()
                 .flat_map(|r| r.reactions.iter())
@@ -181,12 +182,12 @@ pub fn show(app: &TsmApp, ui: &mut egui::Ui) {
 }
 
 /// The node or element picked in the viewport, and the extreme of the diagram drawn.
-fn selected(app: &TsmApp, ui: &mut egui::Ui) {
-    let (Some(l), Some(r)) = (&app.session.loaded, app.record()) else {
+fn picked(session: &Session, selected: usize, look: &Look, ui: &mut egui::Ui) {
+    let (Some(l), Some(r)) = (&session.loaded, session.record(selected)) else {
         return;
     };
     let (model, units) = (&l.scene.model, l.scene.file.units);
-    if let Some(d) = app.look.diagram {
+    if let Some(d) = look.diagram {
         if let Some((v, e, x)) = extreme(model, r, d) {
             let unit = match d.letter() {
                 "M" => units.moment(),
@@ -200,10 +201,10 @@ fn selected(app: &TsmApp, ui: &mut egui::Ui) {
             ));
         }
     }
-    if let Some(p) = app.look.pinned {
+    if let Some(p) = look.pinned {
         ui.separator();
         ui.label(RichText::new("Selected").strong());
-        for line in describe(model, r, p, units, app.look.angles) {
+        for line in describe(model, r, p, units, look.angles) {
             ui.label(line);
         }
     }

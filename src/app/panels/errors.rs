@@ -4,14 +4,14 @@
 //! in (from the solver's typed error); the states before it stay on the timeline. A new error
 //! opens the panel again.
 
-use crate::app::state::TsmApp;
+use crate::app::parts::Notices;
 
 /// The tallest the panel grows before its text scrolls (points).
 const MAX_HEIGHT: f32 = 160.0;
 
 /// Show the panel while there is an error to show.
-pub fn panel(app: &mut TsmApp, ui: &mut egui::Ui) {
-    let Some(failure) = app.notices.error.clone().filter(|_| app.notices.show_error) else {
+pub fn panel(notices: &mut Notices, ui: &mut egui::Ui) {
+    let Some(failure) = notices.error.clone().filter(|_| notices.show_error) else {
         return;
     };
     let e = failure.to_string();
@@ -32,10 +32,10 @@ pub fn panel(app: &mut TsmApp, ui: &mut egui::Ui) {
                 .clicked()
             {
                 ui.ctx().copy_text(e.clone());
-                app.notices.status = "error message copied".into();
+                notices.status = "error message copied".into();
             }
             if ui.button("Close").clicked() {
-                app.notices.show_error = false;
+                notices.show_error = false;
             }
         });
         egui::ScrollArea::vertical()

@@ -9,7 +9,8 @@ use egui_plot::{GridInput, GridMark, HLine, HoverPosition, Line, MarkerShape, Pl
 use crate::solver::{Dof, Event, IncrementRecord, IncrementStatus, IterationRecord};
 
 use crate::app::display::Picked;
-use crate::app::state::TsmApp;
+use crate::app::files::screenshot::Layout;
+use crate::app::parts::{Look, Session};
 
 const RESIDUAL: Color32 = Color32::from_rgb(40, 90, 170);
 const SELECTED: Color32 = Color32::from_rgb(230, 120, 0);
@@ -19,11 +20,17 @@ const CONTACT: Color32 = Color32::from_rgb(20, 150, 70);
 pub(crate) const ROUNDOFF: Color32 = Color32::from_rgb(200, 120, 0);
 
 /// Show both plots side by side.
-pub fn show(app: &mut TsmApp, ui: &mut egui::Ui) {
+pub fn show(
+    session: &Session,
+    selected: usize,
+    look: &mut Look,
+    layout: &mut Layout,
+    ui: &mut egui::Ui,
+) {
     ui.columns(2, |cols| {
-        convergence(app, &mut cols[0]);
-        if let Some(dof) = reaction(app, &mut cols[1]) {
-            app.look.plot_dof = dof;
+        convergence(session, selected, look, layout, &mut cols[0]);
+        if let Some(dof) = reaction(session, selected, look, &mut cols[1]) {
+            look.plot_dof = dof;
         }
     });
 }
@@ -237,35 +244,36 @@ fn key(ui: &mut egui::Ui, color: Color32, mark: Mark, text: &str) {
     p.galley(text_at, galley, ui.visuals().text_color());
 }
 
-fn convergence(app: &mut TsmApp, ui: &mut egui::Ui) {
+fn convergence(
+    session: &Session,
+    selected: usize,
+    look: &mut Look,
+    layout: &mut Layout,
+    ui: &mut egui::Ui,
+) {
     // Wrapped: in a narrow window the keys go onto a second row rather than past the column
     // (where they ran under the reaction plot's title, and the plot grew as wide as the row).
     ui.horizontal_wrapped(|ui| {
         ui.label("Convergence:");
-        ui.selectable_value(&mut app.look.plot_all, true, "all increments");
-        ui.selectable_value(&mut app.look.plot_all, false, "selected increment");
+        ui.selectable_value(&mut look.plot_all, true, "all increments");
+        ui.selectable_value(&mut look.plot_all, false, "selected increment");
         ui.separator();
         key(ui, RESIDUAL, Mark::Line, "residual");
-        if app.look.plot_all {
+        if look.plot_all {
             key(ui, SELECTED, Mark::Line, "selected");
             key(ui, CONTACT, Mark::Diamond, "contact event");
             key(ui, CUT, Mark::Down, "cut-back");
         }
         key(ui, CUT, Mark::Dashed, "tolerance");
     });
-    let tol = app
-        .session
+    let tol = session
         .loaded
         .as_ref()
         .map_or(1e-8, |l| l.scene.params.tolerance);
-    let s = if app.look.plot_all {
-        series(
-            &app.session.history,
-            &app.session.live,
-            app.playback.selected,
-        )
+    let s = if look.plot_all {
+        series(&session.history, &session.live, selected)
     } else {
-        let r = app.record().filter(|r| r.increment > 0);
+        let r = session.record(selected).filter(|r| r.increment > 0);
         let pts: Vec<[f64; 2]> = r
             .map(|r| {
                 r.residuals
@@ -276,7 +284,7 @@ fn convergence(app: &mut TsmApp, ui: &mut egui::Ui) {
                     .collect()
             })
             .unwrap_or_default();
-        let roundoff = (app.record())
+        let roundoff = (session.record(selected))
             .filter(|r| matches!(r.status, IncrementStatus::RoundOff { .. }))
             .map(|r| vec![[r.residuals.len() as f64, lg(r.relative_residual)]])
             .unwrap_or_default();
@@ -288,7 +296,7 @@ fn convergence(app: &mut TsmApp, ui: &mut egui::Ui) {
             roundoff,
         }
     };
-    let x_label = if app.look.plot_all {
+    let x_label = if look.plot_all {
         "cumulative iteration"
     } else {
         "iteration"
@@ -353,13 +361,13 @@ fn convergence(app: &mut TsmApp, ui: &mut egui::Ui) {
                 );
             }
         });
-    app.frame.layout.plot = Some(*shown.transform.frame());
+    layout.plot = Some(*shown.transform.frame());
 }
 
 /// The response plot; returns the dof of the selected node the user picked for its x axis.
-fn reaction(app: &TsmApp, ui: &mut egui::Ui) -> Option<Dof> {
+fn reaction(session: &Session, selected: usize, look: &Look, ui: &mut egui::Ui) -> Option<Dof> {
     let mut plot_dof = None;
-    let Some(l) = &app.session.loaded else {
+    let Some(l) = &session.loaded else {
         return None;
     };
     let model = &l.scene.model;
@@ -368,8 +376,7 @@ fn reaction(app: &TsmApp, ui: &mut egui::Ui) -> Option<Dof> {
         if let Some(p) = model.prescribed.first() {
             let id = model.nodes[p.node].id;
             let dof = p.dof.name();
-            let pts = app
-                .session
+            let pts = session
                 .history
                 .iter()
                 .map(|r| {
@@ -393,8 +400,7 @@ fn reaction(app: &TsmApp, ui: &mut egui::Ui) -> Option<Dof> {
             )
         } else if let Some((n, o)) = crate::app::display::loaded_dof(model) {
             let x0 = [model.nodes[n].x, model.nodes[n].y, 0.0][o];
-            let pts = app
-                .session
+            let pts = session
                 .history
                 .iter()
                 .map(|r| [r.nodes[n][o] - x0, r.load_factor])
@@ -414,16 +420,16 @@ fn reaction(app: &TsmApp, ui: &mut egui::Ui) -> Option<Dof> {
         } else {
             return None;
         };
-    let (title, x_label, pts) = match app.look.pinned {
+    let (title, x_label, pts) = match look.pinned {
         // A node picked in the view: the same response against its own displacement.
         Some(Picked::Node(n)) => {
             let o = if model.nodes[n].rotation {
-                app.look.plot_dof.offset()
+                look.plot_dof.offset()
             } else {
-                app.look.plot_dof.offset().min(1)
+                look.plot_dof.offset().min(1)
             };
             let x0 = [model.nodes[n].x, model.nodes[n].y, 0.0][o];
-            let xs = app.session.history.iter().map(|r| r.nodes[n][o] - x0);
+            let xs = session.history.iter().map(|r| r.nodes[n][o] - x0);
             let pts: Vec<[f64; 2]> = xs.zip(&pts).map(|(x, p)| [x, p[1]]).collect();
             let label = model.dof_label(n, o);
             let what = if model.prescribed.is_empty() {
@@ -439,11 +445,11 @@ fn reaction(app: &TsmApp, ui: &mut egui::Ui) -> Option<Dof> {
     };
     ui.horizontal(|ui| {
         ui.label(title);
-        if let Some(Picked::Node(n)) = app.look.pinned {
+        if let Some(Picked::Node(n)) = look.pinned {
             let dofs = model.node_dofs(n);
             for dof in Dof::ALL.into_iter().take(dofs) {
                 if ui
-                    .selectable_label(app.look.plot_dof == dof, dof.name())
+                    .selectable_label(look.plot_dof == dof, dof.name())
                     .clicked()
                 {
                     plot_dof = Some(dof);
@@ -451,7 +457,7 @@ fn reaction(app: &TsmApp, ui: &mut egui::Ui) -> Option<Dof> {
             }
         }
     });
-    let sel = pts.get(app.playback.selected).copied();
+    let sel = pts.get(selected).copied();
     let pts = thin(pts, MAX_POINTS);
     Plot::new("reaction")
         .x_axis_label(x_label)

@@ -7,8 +7,8 @@
 
 use egui::Key;
 
-use super::menus;
-use crate::app::state::TsmApp;
+use crate::app::files::dialog::Purpose;
+use crate::app::parts::{Action, Export, Look, Playback, Session};
 use crate::worker::Command;
 
 /// Every shortcut and what it does, as the help window lists them.
@@ -34,74 +34,69 @@ pub const SHORTCUTS: [(&str, &str); 12] = [
 ];
 
 /// Act on the keys pressed this frame.
-pub fn handle(app: &mut TsmApp, ctx: &egui::Context) {
+pub fn handle(
+    session: &Session,
+    playback: &mut Playback,
+    look: &mut Look,
+    actions: &mut Vec<Action>,
+    ctx: &egui::Context,
+) {
     if ctx.egui_wants_keyboard_input() {
         return;
     }
     let command = |k: Key| ctx.input_mut(|i| i.consume_key(egui::Modifiers::COMMAND, k));
     let shifted = egui::Modifiers::COMMAND | egui::Modifiers::SHIFT;
     if ctx.input_mut(|i| i.consume_key(shifted, Key::Z)) || command(Key::Y) {
-        app.redo();
+        actions.push(Action::Redo);
     }
     if command(Key::Z) {
-        app.undo();
+        actions.push(Action::Undo);
     }
     if command(Key::O) {
-        menus::open_dialog(app, ctx);
+        actions.push(Action::Dialog(Purpose::OpenScene));
     }
     if command(Key::S) {
-        menus::export_png(app);
+        actions.push(Action::Export(Export::Png));
     }
     if command(Key::E) {
-        menus::export_json(app);
-        if app.notices.error.is_none() {
-            menus::export_csv(app);
-        }
+        actions.push(Action::Export(Export::History));
     }
-    if app.session.loaded.is_none() {
+    if session.loaded.is_none() {
         return;
     }
     let pressed = |k: Key| ctx.input(|i| i.key_pressed(k));
-    let last = app.last();
+    let last = session.last();
     if pressed(Key::Space) {
-        if app.session.busy {
-            app.send(Command::Cancel);
+        if session.busy {
+            actions.push(Action::Send(Command::Cancel));
         } else {
-            app.playback.selected = last;
-            app.send(Command::Run);
+            playback.view(last);
+            actions.push(Action::Send(Command::Run));
         }
     }
-    if pressed(Key::Escape) && app.session.busy {
-        app.send(Command::Cancel);
+    if pressed(Key::Escape) && session.busy {
+        actions.push(Action::Send(Command::Cancel));
     }
     if pressed(Key::ArrowLeft) {
-        app.playback.selected = app.playback.selected.min(last).saturating_sub(1);
-        app.playback.playing = false;
+        playback.previous(last);
     }
-    if pressed(Key::ArrowRight) {
-        app.playback.playing = false;
-        if app.playback.selected < last {
-            app.playback.selected += 1;
-        } else if !app.session.busy {
-            app.send(Command::Step);
-        }
+    if pressed(Key::ArrowRight) && !playback.next(last) && !session.busy {
+        actions.push(Action::Send(Command::Step));
     }
     if pressed(Key::Home) {
-        app.playback.selected = 0;
-        app.playback.playing = false;
+        playback.view(0);
     }
     if pressed(Key::End) {
-        app.playback.selected = last;
-        app.playback.playing = false;
+        playback.view(last);
     }
     if pressed(Key::Questionmark) || pressed(Key::Slash) && ctx.input(|i| i.modifiers.shift) {
-        app.look.show_shortcuts = !app.look.show_shortcuts;
+        look.show_shortcuts = !look.show_shortcuts;
     }
 }
 
 /// The window that lists the shortcuts, while it is open.
-pub fn window(app: &mut TsmApp, ctx: &egui::Context) {
-    let mut open = app.look.show_shortcuts;
+pub fn window(look: &mut Look, ctx: &egui::Context) {
+    let mut open = look.show_shortcuts;
     egui::Window::new("Shortcuts")
         .open(&mut open)
         .collapsible(false)
@@ -115,5 +110,5 @@ pub fn window(app: &mut TsmApp, ctx: &egui::Context) {
                 }
             });
         });
-    app.look.show_shortcuts = open;
+    look.show_shortcuts = open;
 }

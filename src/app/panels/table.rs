@@ -4,9 +4,9 @@
 
 use egui::RichText;
 
+use crate::app::display::num;
 use crate::app::display::{Rows, TableView};
-use crate::app::state::TsmApp;
-use crate::app::units::num;
+use crate::app::parts::{Look, Session};
 use crate::figure::{value_at, Diagram};
 use crate::solver::{IncrementRecord, Model};
 
@@ -113,12 +113,12 @@ fn table(
 }
 
 /// Show the table window while it is open.
-pub fn window(app: &mut TsmApp, ctx: &egui::Context) {
-    let mut view = app.look.table;
+pub fn window(session: &Session, selected: usize, look: &mut Look, ctx: &egui::Context) {
+    let mut view = look.table;
     if !view.open {
         return;
     }
-    let (Some(l), Some(r)) = (&app.session.loaded, app.record()) else {
+    let (Some(l), Some(r)) = (&session.loaded, session.record(selected)) else {
         return;
     };
     let (model, units) = (&l.scene.model, l.scene.file.units);
@@ -198,5 +198,5 @@ pub fn window(app: &mut TsmApp, ctx: &egui::Context) {
                 });
         });
     view.open = open;
-    app.look.table = view;
+    look.table = view;
 }

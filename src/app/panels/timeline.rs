@@ -6,15 +6,20 @@
 //! over it; along a load path, a line across the slider where each stage begins (the details
 //! panel names the selected increment's stage).
 
+use crate::app::parts::{Action, Playback, Session};
 use crate::worker::Command;
 
-use crate::app::state::TsmApp;
-
-/// Show the timeline row.
-pub fn show(app: &mut TsmApp, ui: &mut egui::Ui) {
+/// Show the timeline row: the playback is its own; runs, steps, Reset, Undo and Redo are
+/// asked for as actions.
+pub fn show(
+    session: &Session,
+    playback: &mut Playback,
+    actions: &mut Vec<Action>,
+    ui: &mut egui::Ui,
+) {
     ui.horizontal(|ui| {
-        let last = app.last();
-        let mut sel = app.playback.selected.min(last);
+        let last = session.last();
+        let mut sel = playback.selected.min(last);
         ui.spacing_mut().slider_width = (ui.available_width() - 580.0).max(120.0);
         let r = ui.add(
             egui::Slider::new(&mut sel, 0..=last)
@@ -22,20 +27,18 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui) {
                 .integer(),
         );
         if r.changed() {
-            app.playback.selected = sel;
-            app.playback.playing = false;
+            playback.view(sel);
         }
-        roundoff_ticks(app, ui, r.rect, last);
-        branch_marks(app, ui, r.rect, last);
-        stage_marks(app, ui, r.rect, last);
-        let loaded = app.session.loaded.is_some();
+        roundoff_ticks(session, ui, r.rect, last);
+        branch_marks(session, ui, r.rect, last);
+        stage_marks(session, ui, r.rect, last);
+        let loaded = session.loaded.is_some();
         if ui
-            .add_enabled(app.playback.selected > 0, egui::Button::new("Previous"))
+            .add_enabled(playback.selected > 0, egui::Button::new("Previous"))
             .on_hover_text("the previous increment (Left)")
             .clicked()
         {
-            app.playback.selected -= 1;
-            app.playback.playing = false;
+            playback.previous(last);
         }
         if ui
             .add_enabled(loaded, egui::Button::new("Next"))
@@ -43,56 +46,41 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui) {
                 "the next increment; at the last one, solve one more step of the scene (Right)",
             )
             .clicked()
+            && !playback.next(last)
         {
-            app.playback.playing = false;
-            if app.playback.selected < last {
-                app.playback.selected += 1;
-            } else {
-                app.send(Command::Step);
-            }
+            actions.push(Action::Send(Command::Step));
         }
-        let play = if app.playback.playing {
-            "Pause"
-        } else {
-            "Play"
-        };
+        let play = if playback.playing { "Pause" } else { "Play" };
         if ui.add_enabled(last > 0, egui::Button::new(play)).clicked() {
-            app.playback.playing = !app.playback.playing;
-            if app.playback.playing && app.playback.selected >= last {
-                app.playback.selected = 0;
-            }
-            app.playback.last_play = ui.input(|i| i.time);
+            playback.toggle(last, ui.input(|i| i.time));
         }
         if ui
-            .add_enabled(loaded && !app.session.busy, egui::Button::new("Run"))
+            .add_enabled(loaded && !session.busy, egui::Button::new("Run"))
             .clicked()
         {
-            app.playback.selected = last;
-            app.send(Command::Run);
+            playback.view(last);
+            actions.push(Action::Send(Command::Run));
         }
         // One Stop for every kind of run: displacement, load and arc-length control.
         if ui
-            .add_enabled(app.session.busy, egui::Button::new("Stop"))
+            .add_enabled(session.busy, egui::Button::new("Stop"))
             .on_hover_text("stop the solver; the accepted increments stay (Esc)")
             .clicked()
         {
-            app.send(Command::Cancel);
+            actions.push(Action::Send(Command::Cancel));
         }
         if ui
             .add_enabled(loaded, egui::Button::new("Reset"))
             .on_hover_text("back to increment 0; Undo brings the run back")
             .clicked()
         {
-            app.playback.playing = false;
-            app.session.targeting = false;
-            app.set_aside_run();
-            app.worker.send(Command::Reset);
+            actions.push(Action::Reset);
         }
-        if set_aside_button(ui, "Undo", app.session.undo.last(), "Ctrl+Z") {
-            app.undo();
+        if set_aside_button(ui, "Undo", session.undo.last(), "Ctrl+Z") {
+            actions.push(Action::Undo);
         }
-        if set_aside_button(ui, "Redo", app.session.redo.last(), "Ctrl+Y") {
-            app.redo();
+        if set_aside_button(ui, "Redo", session.redo.last(), "Ctrl+Y") {
+            actions.push(Action::Redo);
         }
     });
 }
@@ -101,7 +89,7 @@ pub fn show(app: &mut TsmApp, ui: &mut egui::Ui) {
 pub const STAGE: egui::Color32 = egui::Color32::from_rgb(150, 90, 20);
 
 /// A line across the slider at every increment that begins a stage of the load path.
-fn stage_marks(app: &TsmApp, ui: &egui::Ui, rect: egui::Rect, last: usize) {
+fn stage_marks(session: &Session, ui: &egui::Ui, rect: egui::Rect, last: usize) {
     if last == 0 {
         return;
     }
@@ -110,7 +98,7 @@ fn stage_marks(app: &TsmApp, ui: &egui::Ui, rect: egui::Rect, last: usize) {
     let span = (track - 12.0).max(1.0);
     let painter = ui.painter();
     let mut before = None;
-    for (k, r) in app.session.history.iter().enumerate().skip(1) {
+    for (k, r) in session.history.iter().enumerate().skip(1) {
         if r.stage.is_some() && r.stage != before {
             // The boundary lies between the last increment of one stage and the first of the
             // next.
@@ -142,7 +130,7 @@ fn set_aside_button(
 }
 
 /// A triangle over the slider at every increment the shown history branched at.
-fn branch_marks(app: &TsmApp, ui: &egui::Ui, rect: egui::Rect, last: usize) {
+fn branch_marks(session: &Session, ui: &egui::Ui, rect: egui::Rect, last: usize) {
     if last == 0 {
         return;
     }
@@ -150,8 +138,8 @@ fn branch_marks(app: &TsmApp, ui: &egui::Ui, rect: egui::Rect, last: usize) {
     let (x0, y) = (rect.left() + 6.0, rect.top() + 1.0);
     let span = (track - 12.0).max(1.0);
     let painter = ui.painter();
-    for &inc in &app.session.branch_points {
-        let k = app.session.history.at_or_before(inc);
+    for &inc in &session.branch_points {
+        let k = session.history.at_or_before(inc);
         let x = x0 + span * k as f32 / last as f32;
         painter.add(egui::Shape::convex_polygon(
             vec![
@@ -170,7 +158,7 @@ pub const BRANCH: egui::Color32 = egui::Color32::from_rgb(40, 120, 200);
 
 /// A tick under the slider at every increment accepted at the round-off floor (the colour of
 /// their markers in the convergence plot), so that they are seen before they are selected.
-fn roundoff_ticks(app: &TsmApp, ui: &egui::Ui, rect: egui::Rect, last: usize) {
+fn roundoff_ticks(session: &Session, ui: &egui::Ui, rect: egui::Rect, last: usize) {
     if last == 0 {
         return;
     }
@@ -179,7 +167,7 @@ fn roundoff_ticks(app: &TsmApp, ui: &egui::Ui, rect: egui::Rect, last: usize) {
     let (x0, y) = (rect.left() + 6.0, rect.bottom() - 1.0);
     let span = (track - 12.0).max(1.0);
     let painter = ui.painter();
-    for (k, r) in app.session.history.iter().enumerate() {
+    for (k, r) in session.history.iter().enumerate() {
         if matches!(r.status, crate::solver::IncrementStatus::RoundOff { .. }) {
             let x = x0 + span * k as f32 / last as f32;
             painter.line_segment(
