@@ -201,19 +201,12 @@ pub fn figure(loaded: &Loaded, r: &IncrementRecord, diagram: Option<Diagram>) ->
             contact: false,
         });
     }
-    for c in &r.contacts {
-        if let Some(n) = model.nodes.iter().position(|x| x.id == c.node) {
+    let touching =
+        (r.contacts.iter().map(|c| c.node)).chain(r.obstacle_contacts.iter().map(|c| c.node));
+    for id in touching {
+        if let Some(n) = model.nodes.iter().position(|x| x.id == id) {
             f.dots.push(Dot {
-                node: c.node,
-                at: [r.nodes[n][0], r.nodes[n][1]],
-                contact: true,
-            });
-        }
-    }
-    for c in &r.obstacle_contacts {
-        if let Some(n) = model.nodes.iter().position(|x| x.id == c.node) {
-            f.dots.push(Dot {
-                node: c.node,
+                node: id,
                 at: [r.nodes[n][0], r.nodes[n][1]],
                 contact: true,
             });

@@ -229,36 +229,27 @@ impl ContactSet {
                             && Self::may_touch(cv, a.node, b.body, b.beam)
                     })
                     .copied();
-                if let Some(u) = under {
-                    if !self.is_active(a.node, u.body) {
-                        let xi_there = Self::chord_fraction(cv, d, a.node, u.beam);
-                        let h = ActiveContact {
+                let onto_under =
+                    under
+                        .filter(|u| !self.is_active(a.node, u.body))
+                        .map(|u| ActiveContact {
                             node: a.node,
                             beam: u.beam,
                             body: u.body,
                             side: u.side,
-                            stick: Self::stick_at(cv, a.node, u.body, u.beam, xi_there),
-                        };
-                        events.push(Self::event(
-                            cv,
-                            &h,
-                            ContactChange::Activated,
-                            increment,
-                            iteration,
-                            xi_there,
-                            0.0,
-                        ));
-                        self.beams.sides.insert((a.node, u.body), (u.side, u.beam));
-                        self.beams.active[k] = h;
-                        changes += 1;
-                        k += 1;
-                        continue;
-                    }
-                }
-                // A node of another body sliding off a tip that rests on nothing of that body
-                // leaves the tip resting on the body at the node: the same touch, seen from
-                // the tip.
-                if let Some(h) = self.tip_onto_node_body(cv, d, &a, tip) {
+                            stick: Self::stick_at(
+                                cv,
+                                a.node,
+                                u.body,
+                                u.beam,
+                                Self::chord_fraction(cv, d, a.node, u.beam),
+                            ),
+                        });
+                // Else a node of another body sliding off a tip that rests on nothing of that
+                // body leaves the tip resting on the body at the node: the same touch, seen
+                // from the tip.
+                let handed = onto_under.or_else(|| self.tip_onto_node_body(cv, d, &a, tip));
+                if let Some(h) = handed {
                     let xi_there = Self::chord_fraction(cv, d, h.node, h.beam);
                     events.push(Self::event(
                         cv,
