@@ -67,14 +67,24 @@ impl PyScene {
     #[staticmethod]
     #[pyo3(signature = (text, origin = "<dict>"))]
     fn from_json(py: Python<'_>, text: &str, origin: &str) -> PyResult<PyScene> {
-        let file: SceneFile = serde_json::from_str(text).map_err(|e| {
+        let mut de = serde_json::Deserializer::from_str(text);
+        let file: SceneFile = serde_path_to_error::deserialize(&mut de).map_err(|e| {
+            let path = e.path().to_string();
+            let field = if path.is_empty() || path == "." {
+                "(structure)".to_string()
+            } else {
+                path
+            };
             scene_error(
                 py,
                 scene::SceneError {
                     file: origin.into(),
                     line: None,
-                    field: "(structure)".into(),
-                    message: e.to_string(),
+                    field,
+                    // Where in the JSON text is no help to a dict's author: the path is.
+                    message: (e.into_inner().to_string().split(" at line ").next())
+                        .unwrap_or_default()
+                        .to_string(),
                 },
             )
         })?;

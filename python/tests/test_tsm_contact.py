@@ -86,6 +86,12 @@ def test_a_dict_with_a_bad_value_raises_with_the_field():
         tc.Scene.from_dict(d)
     assert e.value.field.startswith("bodies[1].elements"), e.value.field
     d = tc.Scene.builtin("example_3_2").to_dict()
+    d["bodies"][1]["elements"] = "ten"
+    with pytest.raises(tc.SceneError) as e:
+        tc.Scene.from_dict(d)
+    assert e.value.field == "bodies[1].elements", e.value.field
+    assert "line" not in e.value.message
+    d = tc.Scene.builtin("example_3_2").to_dict()
     d["sectons"] = d.pop("sections")
     with pytest.raises(tc.SceneError) as e:
         tc.Scene.from_dict(d)
