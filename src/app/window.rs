@@ -1,13 +1,13 @@
-//! The window: creating the app (worker, start-up scene, stored view) and the `eframe::App`
-//! implementation that drains the worker each frame and lays out the panels (toolbar,
-//! timeline and plots, sliders and details, viewport), and saves what persists.
+//! The window: how the app starts (`Startup`), creating it (worker, start-up scene, the saved
+//! settings) and the `eframe::App` implementation that, each frame, drains the worker, lays
+//! out the panels (`panels::lay_out`), applies what they asked for, and saves what persists.
 
-use super::canvas::{beams_gpu, viewport};
+use super::canvas::beams_gpu;
 use super::display::Angles;
 use super::files::scenes::{startup_scene, Recent};
 use super::files::screenshot::{Layout, Shot};
 use super::frame_log::FrameLog;
-use super::panels::{controls, details, errors, menus, plots, shortcuts, table, timeline};
+use super::panels;
 use std::path::PathBuf;
 use std::sync::atomic::AtomicI32;
 use std::sync::Arc;
@@ -130,70 +130,13 @@ impl eframe::App for TsmApp {
         self.drain();
         let ctx = ui.ctx().clone();
         self.play(&ctx);
-        shortcuts::handle(
-            &self.session,
-            &mut self.playback,
-            &mut self.look,
-            &mut self.actions,
-            &ctx,
-        );
-        self.answers(&ctx);
-        egui::Panel::top("toolbar").show(ui, |ui| {
-            controls::toolbar(
-                &self.session,
-                &mut self.look,
-                &mut self.files,
-                &self.notices,
-                &mut self.actions,
-                ui,
-            )
-        });
-        errors::panel(&mut self.notices, ui);
-        egui::Panel::bottom("timeline")
-            .resizable(true)
-            .default_size(300.0)
-            .min_size(200.0)
-            .show(ui, |ui| {
-                timeline::show(&self.session, &mut self.playback, &mut self.actions, ui);
-                ui.separator();
-                plots::show(
-                    &self.session,
-                    self.playback.selected,
-                    &mut self.look,
-                    &mut self.frame.layout,
-                    ui,
-                );
-            });
-        egui::Panel::right("details")
-            .resizable(true)
-            .default_size(330.0)
-            .show(ui, |ui| {
-                egui::ScrollArea::vertical().show(ui, |ui| {
-                    controls::sliders(&self.session, self.playback.selected, &mut self.actions, ui);
-                    ui.separator();
-                    details::show(&self.session, self.playback.selected, &self.look, ui);
-                });
-            });
         let gpu = if self.frame.gpu {
             frame.wgpu_render_state().cloned()
         } else {
             None
         };
-        egui::CentralPanel::no_frame().show(ui, |ui| {
-            viewport::show(
-                &self.session,
-                self.playback.selected,
-                &mut self.look,
-                &mut self.frame.layout,
-                &self.notices,
-                &mut self.actions,
-                ui,
-                gpu.as_ref(),
-            )
-        });
-        shortcuts::window(&mut self.look, &ctx);
-        menus::drop_hint(&ctx);
-        table::window(&self.session, self.playback.selected, &mut self.look, &ctx);
+        self.answers(&ctx);
+        panels::lay_out(self, ui, gpu.as_ref());
         self.apply(&ctx);
         if let Some(shot) = &mut self.frame.shot {
             shot.frame(&ctx, &self.frame.layout);

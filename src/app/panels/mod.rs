@@ -5,8 +5,8 @@
 //! (`menus.rs`), the error panel (`errors.rs`), the details of the selected state
 //! (`details.rs`), the convergence and response plots (`plots.rs`), the timeline
 //! (`timeline.rs`), the keyboard shortcuts with their window (`shortcuts.rs`) and the sortable
-//! table (`table.rs`). A new panel is a file here, its `mod` line, and its place in
-//! `window.rs`.
+//! table (`table.rs`); and their layout round the viewport (`lay_out`). A new panel is a file
+//! here, its `mod` line and its place in `lay_out`.
 
 pub mod controls;
 pub mod details;
@@ -16,3 +16,70 @@ pub mod plots;
 pub mod shortcuts;
 pub mod table;
 pub mod timeline;
+
+use crate::app::canvas::viewport;
+use crate::app::state::TsmApp;
+
+/// Lay the panels out round the viewport, each with the parts of the app it shows (the app
+/// itself goes to none of them), after the keys; `gpu` draws the beams through wgpu.
+pub(crate) fn lay_out(app: &mut TsmApp, ui: &mut egui::Ui, gpu: Option<&egui_wgpu::RenderState>) {
+    let ctx = &ui.ctx().clone();
+    shortcuts::handle(
+        &app.session,
+        &mut app.playback,
+        &mut app.look,
+        &mut app.actions,
+        ctx,
+    );
+    egui::Panel::top("toolbar").show(ui, |ui| {
+        controls::toolbar(
+            &app.session,
+            &mut app.look,
+            &mut app.files,
+            &app.notices,
+            &mut app.actions,
+            ui,
+        )
+    });
+    errors::panel(&mut app.notices, ui);
+    egui::Panel::bottom("timeline")
+        .resizable(true)
+        .default_size(300.0)
+        .min_size(200.0)
+        .show(ui, |ui| {
+            timeline::show(&app.session, &mut app.playback, &mut app.actions, ui);
+            ui.separator();
+            plots::show(
+                &app.session,
+                app.playback.selected,
+                &mut app.look,
+                &mut app.frame.layout,
+                ui,
+            );
+        });
+    egui::Panel::right("details")
+        .resizable(true)
+        .default_size(330.0)
+        .show(ui, |ui| {
+            egui::ScrollArea::vertical().show(ui, |ui| {
+                controls::sliders(&app.session, app.playback.selected, &mut app.actions, ui);
+                ui.separator();
+                details::show(&app.session, app.playback.selected, &app.look, ui);
+            });
+        });
+    egui::CentralPanel::no_frame().show(ui, |ui| {
+        viewport::show(
+            &app.session,
+            app.playback.selected,
+            &mut app.look,
+            &mut app.frame.layout,
+            &app.notices,
+            &mut app.actions,
+            ui,
+            gpu,
+        )
+    });
+    shortcuts::window(&mut app.look, ctx);
+    menus::drop_hint(ctx);
+    table::window(&app.session, app.playback.selected, &mut app.look, ctx);
+}
