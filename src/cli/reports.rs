@@ -143,6 +143,11 @@ pub(super) fn robust_drive(per_scene: usize, seed: u64, drive: u64) -> i32 {
     match &outcome.stop {
         Some((kind, text)) => {
             out!("stopped ({kind}): {text}");
+            if let Some((first, last)) = outcome.stiffness {
+                out!(
+                    "least eigenvalue of the tangent (the drive held): {first:.3e} after the first increment, {last:.3e} at the last accepted state"
+                );
+            }
             1
         }
         None => {

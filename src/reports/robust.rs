@@ -107,6 +107,29 @@ pub struct Outcome {
     pub iterations: Vec<usize>,
     /// What the audit found in the accepted states.
     pub findings: Vec<String>,
+    /// For a drive that stops without converging: the least real part of the eigenvalues of
+    /// the tangent over the free dofs (the drive held, the contacts of the state), after the
+    /// first increment and at the last accepted state. One falling towards zero marks a limit
+    /// point of the drive (the structure snaps) rather than a failure of the solve.
+    pub stiffness: Option<(f64, f64)>,
+}
+
+/// Models of more free dofs than this get no eigenvalues in the report (a dense solve).
+const EIGEN_MAX_DOFS: usize = 1500;
+
+/// The least real part of the eigenvalues of `solver`'s tangent over the free dofs at its
+/// state, if the model is small enough.
+fn least_eigenvalue(solver: &crate::solver::Solver) -> Option<f64> {
+    let (_, k, free) = solver.unbalanced_force_and_tangent(solver.displacements());
+    if free.is_empty() || free.len() > EIGEN_MAX_DOFS {
+        return None;
+    }
+    let re = k
+        .complex_eigenvalues()
+        .iter()
+        .map(|z| z.re)
+        .fold(f64::INFINITY, f64::min);
+    re.is_finite().then_some(re)
 }
 
 /// A small reproducible random sequence (xorshift) in [0, 1).
@@ -249,6 +272,7 @@ pub fn run(case: &Case) -> Outcome {
         stop: None,
         iterations: Vec::new(),
         findings: Vec::new(),
+        stiffness: None,
     };
     let scene = match scene_of(case) {
         Ok(scene) => scene,
@@ -271,6 +295,7 @@ pub fn run(case: &Case) -> Outcome {
     let mut count = Count::default();
     let mut records: Vec<IncrementRecord> = Vec::new();
     let legs = if case.reverse { 2 } else { 1 };
+    let mut first = None;
     'drive: for leg in 0..legs {
         let sign = if leg == 0 { 1.0 } else { -1.0 };
         for _ in 0..case.steps {
@@ -281,8 +306,20 @@ pub fn run(case: &Case) -> Outcome {
             let lambda = solver.load_factor() + sign * load_step;
             let factors = solver.model.uniform_factors(lambda);
             match solver.advance_to(&targets, &factors, &mut count) {
-                Ok(r) => records.extend(r),
+                Ok(r) => {
+                    records.extend(r);
+                    if first.is_none() && !records.is_empty() {
+                        first = Some(solver.checkpoint());
+                    }
+                }
                 Err(e) => {
+                    if matches!(e, crate::solver::SolveError::NoConvergence { .. }) {
+                        let last = least_eigenvalue(&solver);
+                        if let Some(c) = &first {
+                            solver.restore(c);
+                        }
+                        outcome.stiffness = least_eigenvalue(&solver).zip(last);
+                    }
                     outcome.stop = Some((kind(&e), e.to_string()));
                     break 'drive;
                 }
@@ -379,7 +416,7 @@ pub fn report(outcomes: &[Outcome], per_scene: usize, seed: u64) -> String {
             of.iter().map(|o| o.findings.len()).sum::<usize>()
         );
     }
-    text += "\nEvery stop, with its drive (seed, formulation, elements per segment, step factor, steps, down and up, mu; `tsm-contact robust --drive SEED` runs one again):\n\n";
+    text += "\nEvery stop, with its drive (seed, formulation, elements per segment, step factor, steps, down and up, mu; `tsm-contact robust --drive SEED` runs one again). A stop without convergence also gives the least real part of the eigenvalues of the tangent over the free dofs (the drive held, models of up to 1500 free dofs): one that falls towards zero, or below, from the first increment to the last accepted state marks a limit point of the drive, a snap that no quasi-static step follows; one that does not, a failure of the solve:\n\n";
     for o in outcomes
         .iter()
         .filter(|o| o.stop.is_some() || !o.findings.is_empty())
@@ -390,7 +427,7 @@ pub fn report(outcomes: &[Outcome], per_scene: usize, seed: u64) -> String {
             .as_ref()
             .map_or("completes".to_string(), |s| s.1.clone());
         text += &format!(
-            "- {} seed {:#x} {:?} {} x{:.3e} {} steps{} mu {:.2}: {why}{}\n",
+            "- {} seed {:#x} {:?} {} x{:.3e} {} steps{} mu {:.2}: {why}{}{}\n",
             c.scene,
             c.seed,
             c.formulation,
@@ -399,6 +436,9 @@ pub fn report(outcomes: &[Outcome], per_scene: usize, seed: u64) -> String {
             c.steps,
             if c.reverse { " and back" } else { "" },
             c.mu,
+            o.stiffness.map_or(String::new(), |(a, b)| format!(
+                "; least eigenvalue of the tangent {a:.2e} after the first increment, {b:.2e} at the last accepted"
+            )),
             o.findings
                 .first()
                 .map_or(String::new(), |f| format!("; audit: {f}"))

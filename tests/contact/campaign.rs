@@ -36,3 +36,30 @@ fn a_tip_resting_on_the_mesh_node_of_a_frictional_beam_under_it_completes() {
     completes_audited(0x8ff3_4784_799e_5cbc); // Bernoulli-Euler, mu 0.18, 0.53 of the step
     completes_audited(0xfa8c_fc36_711c_2db8); // Timoshenko, mu 0.16, down and back up
 }
+
+/// The campaign's two kinds of stop of a pin pressing one cantilever onto another, told apart
+/// by the tangent's least eigenvalue (the drive held) that the report gives. With 8 and 8
+/// elements and 0.1 m a step, the upper tip races along the lower beam and the pin's force
+/// falls: a limit point of the drive, where the tangent tends to singular. The eigenvalue at the
+/// last accepted state is below a twentieth of the one after the first increment. With 128 and
+/// 128 elements, flat contact node over node stops without a limit point: the eigenvalue does
+/// not fall.
+#[test]
+fn a_snap_under_the_drive_shows_in_the_tangent_and_flat_contact_does_not() {
+    let stop = |seed: u64| {
+        let case = (cases(24, 1).into_iter())
+            .find(|c| c.seed == seed)
+            .expect("the campaign draws this drive");
+        let outcome = run(&case);
+        assert_eq!(
+            outcome.stop.as_ref().map(|s| s.0.as_str()),
+            Some("NoConvergence"),
+            "{case:?}"
+        );
+        outcome.stiffness.expect("eigenvalues of a small model")
+    };
+    let (first, last) = stop(0x08d1_2e02_76c8_4d10);
+    assert!(first > 0.0 && last < first / 20.0, "{first} {last}");
+    let (first, last) = stop(0x4540_21b7_755d_453a);
+    assert!(first > 0.0 && last > first / 2.0, "{first} {last}");
+}
