@@ -145,7 +145,7 @@ pub(super) fn robust_drive(per_scene: usize, seed: u64, drive: u64) -> i32 {
             out!("stopped ({kind}): {text}");
             if let Some((first, last)) = outcome.stiffness {
                 out!(
-                    "least eigenvalue of the tangent (the drive held): {first:.3e} after the first increment, {last:.3e} at the last accepted state"
+                    "least eigenvalue of the tangent (the drive held): {first:.3e} after the drive's first step, {last:.3e} at the last accepted state"
                 );
             }
             1

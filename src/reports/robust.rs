@@ -109,7 +109,7 @@ pub struct Outcome {
     pub findings: Vec<String>,
     /// For a drive that stops without converging: the least real part of the eigenvalues of
     /// the tangent over the free dofs (the drive held, the contacts of the state), after the
-    /// first increment and at the last accepted state. One falling towards zero marks a limit
+    /// drive's first step and at the last accepted state. One falling towards zero marks a limit
     /// point of the drive (the structure snaps) rather than a failure of the solve.
     pub stiffness: Option<(f64, f64)>,
 }
@@ -416,7 +416,7 @@ pub fn report(outcomes: &[Outcome], per_scene: usize, seed: u64) -> String {
             of.iter().map(|o| o.findings.len()).sum::<usize>()
         );
     }
-    text += "\nEvery stop, with its drive (seed, formulation, elements per segment, step factor, steps, down and up, mu; `tsm-contact robust --drive SEED` runs one again). A stop without convergence also gives the least real part of the eigenvalues of the tangent over the free dofs (the drive held, models of up to 1500 free dofs): one that falls towards zero, or below, from the first increment to the last accepted state marks a limit point of the drive, a snap that no quasi-static step follows; one that does not, a failure of the solve:\n\n";
+    text += "\nEvery stop, with its drive (seed, formulation, elements per segment, step factor, steps, down and up, mu; `tsm-contact robust --drive SEED` runs one again). A stop without convergence also gives the least real part of the eigenvalues of the tangent over the free dofs (the drive held, models of up to 1500 free dofs): one that falls towards zero, or below, from the drive's first step to the last accepted state marks a limit point of the drive, a snap that no quasi-static step follows; one that does not, a failure of the solve:\n\n";
     for o in outcomes
         .iter()
         .filter(|o| o.stop.is_some() || !o.findings.is_empty())
@@ -437,7 +437,7 @@ pub fn report(outcomes: &[Outcome], per_scene: usize, seed: u64) -> String {
             if c.reverse { " and back" } else { "" },
             c.mu,
             o.stiffness.map_or(String::new(), |(a, b)| format!(
-                "; least eigenvalue of the tangent {a:.2e} after the first increment, {b:.2e} at the last accepted"
+                "; least eigenvalue of the tangent {a:.2e} after the first step, {b:.2e} at the last accepted state"
             )),
             o.findings
                 .first()

@@ -41,7 +41,7 @@ fn a_tip_resting_on_the_mesh_node_of_a_frictional_beam_under_it_completes() {
 /// by the tangent's least eigenvalue (the drive held) that the report gives. With 8 and 8
 /// elements and 0.1 m a step, the upper tip races along the lower beam and the pin's force
 /// falls: a limit point of the drive, where the tangent tends to singular. The eigenvalue at the
-/// last accepted state is below a twentieth of the one after the first increment. With 128 and
+/// last accepted state is below a twentieth of the one after the first step. With 128 and
 /// 128 elements, flat contact node over node stops without a limit point: the eigenvalue does
 /// not fall.
 #[test]
