@@ -3,13 +3,14 @@
 //! a history, or the state after solving a number of steps.
 
 use std::path::PathBuf;
-use std::sync::Arc;
 
 use pyo3::exceptions::{PyKeyError, PyOSError, PyValueError};
 use pyo3::prelude::*;
+use tsm_contact::figure::state::solved;
 use tsm_contact::figure::{raster, svg, Diagram};
-use tsm_contact::solver::Silent;
-use tsm_contact::worker::{initial_record, Loaded};
+use tsm_contact::scene::Scene;
+use tsm_contact::solver::SolveError;
+use tsm_contact::worker::Loaded;
 
 use crate::history::PyHistory;
 use crate::PyScene;
@@ -54,12 +55,8 @@ pub fn figure(
         }
     };
     let sc = &scene.scene;
-    let mut solver = sc
-        .solver()
-        .map_err(|e| crate::SolveError::new_err(format!("{}: {e}", sc.file.name)))?;
-    let initial = initial_record(&solver);
-    let record = match (history, increment) {
-        (Some(h), k) => {
+    let (loaded, record) = match history {
+        Some(h) => {
             let h = &h.history;
             if h.node_ids.len() != sc.model.nodes.len() {
                 return Err(PyValueError::new_err(format!(
@@ -69,44 +66,24 @@ pub fn figure(
                     sc.model.nodes.len()
                 )));
             }
-            match k {
-                Some(0) => initial.clone(),
+            let solver = sc.solver().map_err(|e| solve_error(sc, e))?;
+            let loaded = Loaded::new(sc.clone(), &solver);
+            let record = match increment {
+                Some(0) => loaded.initial.clone(),
                 Some(k) => {
                     (h.increments.iter().find(|r| r.increment == k).cloned()).ok_or_else(|| {
                         PyKeyError::new_err(format!("the history has no increment {k}"))
                     })?
                 }
-                None => h
-                    .increments
-                    .last()
-                    .cloned()
-                    .unwrap_or_else(|| initial.clone()),
-            }
+                None => (h.increments.last().cloned()).unwrap_or_else(|| loaded.initial.clone()),
+            };
+            (loaded, record)
         }
-        (None, _) => {
+        None => {
             let steps = steps.unwrap_or(sc.steps);
-            let name = sc.file.name.clone();
-            py.detach(|| {
-                let mut last = initial.clone();
-                for _ in 0..steps {
-                    let recs = solver
-                        .step(&mut Silent)
-                        .map_err(|e| format!("{name}: {e}"))?;
-                    if let Some(r) = recs.into_iter().last() {
-                        last = r;
-                    }
-                }
-                Ok::<_, String>(last)
-            })
-            .map_err(PyValueError::new_err)?
+            py.detach(|| solved(sc.clone(), steps))
+                .map_err(|e| solve_error(sc, e))?
         }
-    };
-    let loaded = Loaded {
-        checkpoint: Arc::new(solver.checkpoint()),
-        initial,
-        elements: solver.elements().to_vec(),
-        prescribed_labels: Vec::new(),
-        scene: sc.clone(),
     };
     let written = if ext == "png" {
         raster::write_png(&path, &loaded, &record, diagram, [size.0, size.1])
@@ -115,4 +92,9 @@ pub fn figure(
             .map_err(|e| format!("cannot write {}: {e}", path.display()))
     };
     written.map_err(PyOSError::new_err)
+}
+
+/// A solver that cannot start on `scene`, or a step that fails, as a Python `SolveError`.
+fn solve_error(scene: &Scene, e: SolveError) -> PyErr {
+    crate::SolveError::new_err(format!("{}: {e}", scene.file.name))
 }

@@ -1,4 +1,4 @@
-//! The parts of the app's state, each with one owner: the session (scene, history, drive, runs
+//! The parts of the app's state, each with one owner: the study (scene, history, drive, runs
 //! set aside), the playback, what the user looks at, the files, the notices and the window's
 //! run-time state; and the actions a panel asks of the app beyond the parts it is given
 //! (`TsmApp::apply` applies them once the panels have drawn).
@@ -19,7 +19,7 @@ use super::view::{Drag, View};
 /// What is being solved and what it produced: the scene, the converged states and events,
 /// the drive's targets, and the runs set aside for Undo and Redo.
 #[derive(Default)]
-pub struct Session {
+pub struct Study {
     /// Name the current scene was opened by (built-in name or path).
     pub(crate) scene_name: String,
     pub(crate) loaded: Option<Box<Loaded>>,
@@ -51,7 +51,7 @@ pub struct Session {
     pub(crate) generation: u64,
 }
 
-impl Session {
+impl Study {
     /// Index of the last converged state.
     pub fn last(&self) -> usize {
         self.history.len().saturating_sub(1)

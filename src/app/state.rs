@@ -13,7 +13,7 @@ use super::files::dialog::{Answer, Purpose};
 use super::files::export;
 use super::files::scenes::{dropped_scene, is_file, save_scene};
 use super::files::screenshot::Shot;
-use super::parts::{Action, Export, Files, Frame, Look, Notices, Playback, Session};
+use super::parts::{Action, Export, Files, Frame, Look, Notices, Playback, Study};
 use super::retention::HISTORY_BUDGET;
 use crate::figure::{raster, svg};
 
@@ -22,7 +22,7 @@ use crate::figure::{raster, svg};
 pub struct TsmApp {
     pub(crate) worker: Worker,
     /// The scene, the history held, the drive's targets and the runs set aside.
-    pub(crate) session: Session,
+    pub(crate) study: Study,
     /// The timeline's playback and the increment viewed.
     pub(crate) playback: Playback,
     /// What the user looks at and how.
@@ -45,7 +45,7 @@ impl TsmApp {
         match crate::scene::builtin::open(name).map_err(|e| e.to_string()) {
             Ok(scene) => {
                 self.set_aside_run();
-                self.session.scene_name = name.to_string();
+                self.study.scene_name = name.to_string();
                 if is_file(name) {
                     self.files.recent.opened(std::path::Path::new(name));
                 }
@@ -80,17 +80,17 @@ impl TsmApp {
 
     /// The converged states held: the undeformed state, then the increments.
     pub fn history(&self) -> &[IncrementRecord] {
-        &self.session.history
+        &self.study.history
     }
 
     /// The events of the history held.
     pub fn events(&self) -> &[Event] {
-        &self.session.events
+        &self.study.events
     }
 
     /// The name the current scene was opened by (a path or a built-in name).
     pub fn scene_name(&self) -> &str {
-        &self.session.scene_name
+        &self.study.scene_name
     }
 
     /// The scene files opened last, newest first (File > Open recent).
@@ -114,19 +114,19 @@ impl TsmApp {
             c,
             Command::Run | Command::RunSteps(_) | Command::Step | Command::SetTarget { .. }
         ) {
-            self.session.busy = true;
+            self.study.busy = true;
         }
         self.worker.send(c);
     }
 
     /// Index of the last converged state.
-    pub fn last(&self) -> usize {
-        self.session.last()
+    pub(crate) fn last(&self) -> usize {
+        self.study.last()
     }
 
     /// The selected state, if a scene is loaded.
-    pub fn record(&self) -> Option<&IncrementRecord> {
-        self.session.record(self.playback.selected)
+    pub(crate) fn record(&self) -> Option<&IncrementRecord> {
+        self.study.record(self.playback.selected)
     }
 
     /// Apply what the panels asked for this frame, in order.
@@ -140,7 +140,7 @@ impl TsmApp {
                 }
                 Action::Reset => {
                     self.playback.playing = false;
-                    self.session.targeting = false;
+                    self.study.targeting = false;
                     self.set_aside_run();
                     self.worker.send(Command::Reset);
                 }
@@ -148,7 +148,7 @@ impl TsmApp {
                 Action::Redo => self.redo(),
                 Action::Drive { index, value } => self.drive(index, value),
                 Action::Branch => self.branch(),
-                Action::FollowRun => self.session.targeting = false,
+                Action::FollowRun => self.study.targeting = false,
                 Action::Open(name) => self.open(&name),
                 Action::Fail(e) => self.set_error(e),
                 Action::Export(Export::History) => {
@@ -165,7 +165,7 @@ impl TsmApp {
                         Purpose::ExportStem => Path::new(&self.files.export_stem)
                             .parent()
                             .map(Path::to_path_buf),
-                        _ => folder_of(&self.session.scene_name),
+                        _ => folder_of(&self.study.scene_name),
                     };
                     self.files.dialogs.show(purpose, folder, ctx.clone());
                 }
@@ -186,7 +186,7 @@ impl TsmApp {
             }
             return true;
         }
-        let Some(loaded) = &self.session.loaded else {
+        let Some(loaded) = &self.study.loaded else {
             return false;
         };
         let record = self.record();
@@ -195,9 +195,9 @@ impl TsmApp {
             (Export::Json, _) => {
                 let h = export::history(
                     loaded,
-                    &self.session.history,
-                    self.session.history.stride(),
-                    &self.session.events,
+                    &self.study.history,
+                    self.study.history.stride(),
+                    &self.study.events,
                     self.error().as_deref(),
                 );
                 let p = path("json");
@@ -209,7 +209,7 @@ impl TsmApp {
                     _ => Vec::new(),
                 };
                 let p = path("csv");
-                export::write_csv(&p, loaded, &self.session.history, &picked)
+                export::write_csv(&p, loaded, &self.study.history, &picked)
                     .map(|_| p)
                     .map_err(|e| e.to_string())
             }
@@ -244,10 +244,10 @@ impl TsmApp {
     /// replays the run headless. Refused, with the reason shown, where the history kept in
     /// memory is not every increment of the run or the scene cannot take the path.
     fn keep_drive(&mut self) {
-        let Some(loaded) = &self.session.loaded else {
+        let Some(loaded) = &self.study.loaded else {
             return;
         };
-        if self.session.history.dropped() > 0 {
+        if self.study.history.dropped() > 0 {
             self.set_error(
                 "the run is longer than the history kept in memory: only whole runs can be kept \
                  as a path (export the history instead)"
@@ -259,13 +259,13 @@ impl TsmApp {
         let mut file = scene.file.clone();
         file.formulation = scene.model.formulation;
         file.control.stretch_correction = scene.params.stretch_correction;
-        let records = self.session.history.get(1..).unwrap_or_default();
+        let records = self.study.history.get(1..).unwrap_or_default();
         let kept = crate::scene::kept::kept_path(&file, &scene.model, records)
             .and_then(|f| crate::scene::from_scene_file(f, &file.name).map_err(|e| e.to_string()));
         match kept {
             Ok(kept) => {
                 let steps = kept.steps;
-                if let Some(l) = &mut self.session.loaded {
+                if let Some(l) = &mut self.study.loaded {
                     l.scene = kept;
                 }
                 self.notices.status = format!(
@@ -305,7 +305,7 @@ impl TsmApp {
     /// Save the scene as solved to `path` (the dialog's answer, or a script's path), the drive
     /// kept as its path if it was.
     pub fn save_scene_as(&mut self, path: &Path) {
-        let Some(loaded) = &self.session.loaded else {
+        let Some(loaded) = &self.study.loaded else {
             return;
         };
         let done = save_scene(path, &loaded.scene).map(|_| path.to_path_buf());
@@ -330,7 +330,7 @@ impl TsmApp {
     /// in it (screen points), if a scene is loaded and has that node.
     pub fn node_on_screen(&self, id: u32) -> Option<(egui::Rect, egui::Pos2)> {
         let rect = self.frame.layout.viewport?;
-        let model = &self.session.loaded.as_ref()?.scene.model;
+        let model = &self.study.loaded.as_ref()?.scene.model;
         let n = model.nodes.iter().position(|x| x.id == id)?;
         let p = self.record()?.nodes.get(n)?;
         Some((rect, self.look.camera.to_screen(rect, [p[0], p[1]])))
@@ -344,7 +344,7 @@ impl TsmApp {
     /// Apply every waiting worker message. Never blocks.
     pub(crate) fn drain(&mut self) {
         while let Some(m) = self.worker.try_recv() {
-            if self.session.stale
+            if self.study.stale
                 && matches!(
                     m,
                     Message::Increment(_)
@@ -356,86 +356,86 @@ impl TsmApp {
                 continue;
             }
             match m {
-                Message::Checkpoint(c) => self.session.history.attach(c),
-                Message::Restored(_) => self.session.stale = false,
+                Message::Checkpoint(c) => self.study.history.attach(c),
+                Message::Restored(_) => self.study.stale = false,
                 Message::Loaded(l) => {
-                    self.session.stale = false;
-                    self.session.history.reset(l.initial.clone());
-                    self.session.history.attach(l.checkpoint.clone());
-                    self.session.branch_points.clear();
-                    self.session.targets = l.initial.prescribed.clone();
+                    self.study.stale = false;
+                    self.study.history.reset(l.initial.clone());
+                    self.study.history.attach(l.checkpoint.clone());
+                    self.study.branch_points.clear();
+                    self.study.targets = l.initial.prescribed.clone();
                     self.notices.status = format!(
                         "{} elements ({:?})",
                         l.scene.model.beams.len(),
                         l.scene.model.formulation
                     );
-                    self.session.loaded = Some(l);
+                    self.study.loaded = Some(l);
                     // A scene opened in the app is fitted to the viewport.
                     self.look.fit_pending = true;
                     self.look.pinned = None;
-                    self.session.generation += 1;
-                    self.session.events.clear();
-                    self.session.live.clear();
+                    self.study.generation += 1;
+                    self.study.events.clear();
+                    self.study.live.clear();
                     self.playback.selected = 0;
-                    if let Some(k) = self.session.run_steps.take() {
+                    if let Some(k) = self.study.run_steps.take() {
                         self.send(Command::RunSteps(k));
                     }
-                    if let Some(run) = self.session.restoring.take() {
+                    if let Some(run) = self.study.restoring.take() {
                         let _ = self.take_back(run);
                     }
                     if let Some(shot) = &mut self.frame.shot {
-                        shot.loaded(self.session.busy);
+                        shot.loaded(self.study.busy);
                     }
                 }
                 Message::Increment(r) => {
                     let follow = self.playback.selected >= self.last();
-                    if !self.session.targeting {
-                        self.session.targets = r.prescribed.clone();
+                    if !self.study.targeting {
+                        self.study.targets = r.prescribed.clone();
                     }
                     let shown = self
-                        .session
+                        .study
                         .history
                         .get(self.playback.selected)
                         .map(|h| h.increment);
-                    if self.session.history.push(*r) {
+                    if self.study.history.push(*r) {
                         self.notices.status = format!(
                             "{} earlier increments dropped from memory to stay within {} MiB",
-                            self.session.history.dropped(),
+                            self.study.history.dropped(),
                             HISTORY_BUDGET >> 20
                         );
                         if let Some(inc) = shown {
-                            self.playback.selected = self.session.history.at_or_before(inc);
+                            self.playback.selected = self.study.history.at_or_before(inc);
                         }
                     }
-                    self.session.live.clear();
+                    self.study.live.clear();
                     if follow {
                         self.playback.selected = self.last();
                     }
                 }
-                Message::Iteration(r) => self.session.live.push(r),
-                Message::Event(e) => self.session.events.push(e),
+                Message::Iteration(r) => self.study.live.push(r),
+                Message::Event(e) => self.study.events.push(e),
                 Message::Error(e) => {
-                    self.session.stale = false;
+                    self.study.stale = false;
                     if let Some(shot) = &mut self.frame.shot {
                         shot.record_failure(&e.to_string());
                     }
                     self.set_error(e);
-                    self.session.live.clear();
+                    self.study.live.clear();
                 }
                 Message::Busy => {
-                    self.session.busy = true;
+                    self.study.busy = true;
                     if let Some(shot) = &mut self.frame.shot {
                         shot.started();
                     }
                 }
                 Message::Idle => {
-                    self.session.busy = false;
+                    self.study.busy = false;
                     // Iterations of an abandoned attempt.
-                    self.session.live.clear();
-                    if self.session.targeting && self.look.drag.is_none() {
-                        self.session.targeting = false;
-                        if let Some(r) = self.session.history.last() {
-                            self.session.targets = r.prescribed.clone();
+                    self.study.live.clear();
+                    if self.study.targeting && self.look.drag.is_none() {
+                        self.study.targeting = false;
+                        if let Some(r) = self.study.history.last() {
+                            self.study.targets = r.prescribed.clone();
                         }
                     }
                     if let Some(shot) = &mut self.frame.shot {

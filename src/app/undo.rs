@@ -16,36 +16,36 @@ impl TsmApp {
         if self.playback.selected < self.last() {
             self.branch();
         }
-        if let Some(t) = self.session.targets.get_mut(index) {
+        if let Some(t) = self.study.targets.get_mut(index) {
             *t = value;
         }
-        self.session.targeting = true;
+        self.study.targeting = true;
         self.send(Command::SetTarget { index, value });
     }
 
     /// Go on from the viewed increment: the later ones are set aside for Undo.
     pub(crate) fn branch(&mut self) {
         let k = self.playback.selected.min(self.last());
-        let Some(c) = self.session.history.checkpoint(k) else {
+        let Some(c) = self.study.history.checkpoint(k) else {
             self.notices.status = format!(
                 "increment {} has no state to go on from yet",
-                self.session.history[k].increment
+                self.study.history[k].increment
             );
             return;
         };
-        if self.session.busy {
+        if self.study.busy {
             self.worker.send(Command::Cancel);
         }
-        let at = self.session.history[k].increment;
-        let mut tail = self.session.history.split_off(k + 1);
+        let at = self.study.history[k].increment;
+        let mut tail = self.study.history.split_off(k + 1);
         tail.trim_to_checkpoint();
-        let events = events_after(&mut self.session.events, at);
+        let events = events_after(&mut self.study.events, at);
         self.set_aside(SetAside::Branch {
             tail,
             events,
             branched: false,
         });
-        self.session.branch_points.push(at);
+        self.study.branch_points.push(at);
         self.restore(c);
         self.notices.status =
             format!("going on from increment {at}; Ctrl+Z brings back the old path");
@@ -53,10 +53,10 @@ impl TsmApp {
 
     /// Let the worker go on from `c`, skipping what it still sends of earlier work.
     pub(crate) fn restore(&mut self, c: std::sync::Arc<crate::solver::Checkpoint>) {
-        self.session.targets = c.prescribed().to_vec();
+        self.study.targets = c.prescribed().to_vec();
         self.worker.send(Command::Restore(c));
-        self.session.stale = true;
-        self.session.live.clear();
+        self.study.stale = true;
+        self.study.live.clear();
         self.look.pinned = None;
     }
 
@@ -75,25 +75,25 @@ impl TsmApp {
     /// The current run, taken out of the app to be set aside (the worker's messages of it
     /// skipped from now on).
     fn take_run(&mut self) -> Option<SetAside> {
-        let l = self.session.loaded.as_ref()?;
-        if self.session.busy {
+        let l = self.study.loaded.as_ref()?;
+        if self.study.busy {
             self.worker.send(Command::Cancel);
         }
-        self.session.stale = true;
+        self.study.stale = true;
         Some(SetAside::Run {
             scene: Box::new(l.scene.clone()),
-            history: std::mem::take(&mut self.session.history),
-            events: std::mem::take(&mut self.session.events),
+            history: std::mem::take(&mut self.study.history),
+            events: std::mem::take(&mut self.study.events),
             selected: self.playback.selected,
-            name: self.session.scene_name.clone(),
-            branches: std::mem::take(&mut self.session.branch_points),
+            name: self.study.scene_name.clone(),
+            branches: std::mem::take(&mut self.study.branch_points),
         })
     }
 
     /// Keep `s` for Undo (a new branch or change: nothing is left to redo).
     fn set_aside(&mut self, s: SetAside) {
-        self.session.redo.clear();
-        keep(&mut self.session.undo, s);
+        self.study.redo.clear();
+        keep(&mut self.study.undo, s);
     }
 
     /// Bring back what was set aside last (Ctrl+Z): the history as it was, and the worker
@@ -111,15 +111,15 @@ impl TsmApp {
     /// replaces on the other.
     fn swap(&mut self, undo: bool) {
         let from = if undo {
-            &mut self.session.undo
+            &mut self.study.undo
         } else {
-            &mut self.session.redo
+            &mut self.study.redo
         };
         let Some(s) = from.pop() else {
             self.notices.status = format!("nothing to {}", if undo { "undo" } else { "redo" });
             return;
         };
-        if self.session.busy {
+        if self.study.busy {
             self.worker.send(Command::Cancel);
         }
         self.playback.playing = false;
@@ -132,19 +132,19 @@ impl TsmApp {
                 ..
             } => {
                 let current = self.take_run();
-                self.session.scene_name = name.clone();
+                self.study.scene_name = name.clone();
                 self.worker.send(Command::LoadScene(scene.clone()));
-                self.session.stale = true;
-                self.session.restoring = Some(s);
+                self.study.stale = true;
+                self.study.restoring = Some(s);
                 current
             }
         };
         if let Some(r) = replaced {
             keep(
                 if undo {
-                    &mut self.session.redo
+                    &mut self.study.redo
                 } else {
-                    &mut self.session.undo
+                    &mut self.study.undo
                 },
                 r,
             );
@@ -161,15 +161,15 @@ impl TsmApp {
                 branched,
             } => {
                 let at = tail.at;
-                let from = self.session.history.get(at - 1).map_or(0, |r| r.increment);
-                let old_events = events_after(&mut self.session.events, from);
-                self.session.events.extend(events);
-                let mut old = self.session.history.rejoin(tail);
+                let from = self.study.history.get(at - 1).map_or(0, |r| r.increment);
+                let old_events = events_after(&mut self.study.events, from);
+                self.study.events.extend(events);
+                let mut old = self.study.history.rejoin(tail);
                 old.trim_to_checkpoint();
                 if branched {
-                    self.session.branch_points.push(from);
+                    self.study.branch_points.push(from);
                 } else {
-                    self.session.branch_points.pop();
+                    self.study.branch_points.pop();
                 }
                 self.playback.selected = self.last();
                 Some(SetAside::Branch {
@@ -185,15 +185,15 @@ impl TsmApp {
                 branches,
                 ..
             } => {
-                self.session.history = history;
-                self.session.events = events;
+                self.study.history = history;
+                self.study.events = events;
                 self.playback.selected = selected.min(self.last());
-                self.session.branch_points = branches;
+                self.study.branch_points = branches;
                 None
             }
         };
-        if let Some(l) = &self.session.loaded {
-            let c = end_checkpoint(&self.session.history, &l.checkpoint);
+        if let Some(l) = &self.study.loaded {
+            let c = end_checkpoint(&self.study.history, &l.checkpoint);
             self.restore(c);
         }
         replaced

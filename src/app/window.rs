@@ -12,7 +12,7 @@ use std::path::PathBuf;
 use std::sync::atomic::AtomicI32;
 use std::sync::Arc;
 
-use super::parts::{Files, Frame, Look, Notices, Playback, Session};
+use super::parts::{Files, Frame, Look, Notices, Playback, Study};
 use super::state::TsmApp;
 use super::view::View;
 use crate::figure::Diagram;
@@ -75,10 +75,10 @@ impl TsmApp {
         let keep_view = saved.camera.is_some() && saved.scene.as_deref() == Some(name.as_str());
         let mut app = TsmApp {
             worker,
-            session: Session {
+            study: Study {
                 scene_name: name.clone(),
                 run_steps: startup.steps.filter(|&k| k > 0),
-                ..Session::default()
+                ..Study::default()
             },
             playback: Playback::default(),
             look: Look {
@@ -146,7 +146,7 @@ impl eframe::App for TsmApp {
         }
         let increments = self.last();
         if let Some(log) = &mut self.frame.frame_log {
-            log.frame(t0.elapsed(), self.session.busy, increments);
+            log.frame(t0.elapsed(), self.study.busy, increments);
             // Keep drawing so that idle frames are measured too.
             ctx.request_repaint();
         }
@@ -159,7 +159,7 @@ impl eframe::App for TsmApp {
     fn save(&mut self, storage: &mut dyn eframe::Storage) {
         if self.frame.persist {
             Saved {
-                scene: Some(self.session.scene_name.clone()),
+                scene: Some(self.study.scene_name.clone()),
                 camera: Some(self.look.camera),
                 recent: self.files.recent.clone(),
             }

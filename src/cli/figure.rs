@@ -2,13 +2,11 @@
 //! (`tsm_contact::figure`): a PNG of the chosen size or an SVG, by the extension of the file.
 
 use std::path::Path;
-use std::sync::Arc;
 
 use super::args::DiagramArg;
+use tsm_contact::figure::state::solved;
 use tsm_contact::figure::{raster, svg};
 use tsm_contact::scene::builtin::open;
-use tsm_contact::solver::Silent;
-use tsm_contact::worker::{initial_record, Loaded};
 
 /// Solve `steps` steps of `scene` (default: the scene's) and write the last state to `out`;
 /// returns the exit code (1 with the reason on stderr when the scene, the size, the solve or
@@ -48,22 +46,8 @@ fn draw(
         ));
     }
     let scene = open(name).map_err(|e| e.to_string())?;
-    let mut solver = scene.solver().map_err(|e| format!("{name}: {e}"))?;
-    let initial = initial_record(&solver);
-    let mut last = initial.clone();
-    for _ in 0..steps.unwrap_or(scene.steps) {
-        let recs = (solver.step(&mut Silent)).map_err(|e| format!("{name}: {e}"))?;
-        if let Some(r) = recs.into_iter().last() {
-            last = r;
-        }
-    }
-    let loaded = Loaded {
-        checkpoint: Arc::new(solver.checkpoint()),
-        initial,
-        elements: solver.elements().to_vec(),
-        prescribed_labels: Vec::new(),
-        scene,
-    };
+    let steps = steps.unwrap_or(scene.steps);
+    let (loaded, last) = solved(scene, steps).map_err(|e| format!("{name}: {e}"))?;
     let diagram = diagram.map(DiagramArg::diagram);
     if ext == "png" {
         raster::write_png(out, &loaded, &last, diagram, size)

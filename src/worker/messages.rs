@@ -3,6 +3,7 @@
 
 use crate::scene::Scene;
 use crate::solver::element::beam::BeamElement;
+use crate::solver::Solver;
 use std::sync::Arc;
 
 use crate::solver::{
@@ -98,6 +99,22 @@ pub struct Loaded {
     pub prescribed_labels: Vec<String>,
     /// The undeformed state to go on from ([`Command::Restore`]).
     pub checkpoint: Arc<Checkpoint>,
+}
+
+impl Loaded {
+    /// `scene` with `solver`, a fresh solver of it (at the undeformed state, which becomes
+    /// increment 0 and the checkpoint to go back to).
+    pub fn new(scene: Scene, solver: &Solver) -> Loaded {
+        Loaded {
+            checkpoint: Arc::new(solver.checkpoint()),
+            initial: super::targets::initial_record(solver),
+            elements: solver.elements().to_vec(),
+            prescribed_labels: (scene.model.prescribed.iter())
+                .map(|p| scene.model.dof_label(p.node, p.dof.offset()))
+                .collect(),
+            scene,
+        }
+    }
 }
 
 /// What the worker reports.

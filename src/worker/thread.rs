@@ -9,7 +9,7 @@ use std::sync::Arc;
 
 use super::messages::{Command, Failure, Loaded, Message, Repaint};
 use super::relay::Relay;
-use super::targets::{initial_record, next_target, panic_text, reached, steps_along};
+use super::targets::{next_target, panic_text, reached, steps_along};
 use crate::scene::Scene;
 use crate::solver::{SolveError, Solver};
 
@@ -183,18 +183,7 @@ impl Thread {
         match catch_unwind(AssertUnwindSafe(|| scene.solver())) {
             Ok(Ok(mut solver)) => {
                 solver.keep_checkpoints(true);
-                let loaded = Loaded {
-                    checkpoint: Arc::new(solver.checkpoint()),
-                    initial: initial_record(&solver),
-                    elements: solver.elements().to_vec(),
-                    prescribed_labels: scene
-                        .model
-                        .prescribed
-                        .iter()
-                        .map(|p| scene.model.dof_label(p.node, p.dof.offset()))
-                        .collect(),
-                    scene,
-                };
+                let loaded = Loaded::new(scene, &solver);
                 self.solver = Some(solver);
                 self.send(Message::Loaded(Box::new(loaded)));
             }

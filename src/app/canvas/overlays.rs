@@ -9,7 +9,7 @@ use crate::solver::{Dof, Friction, IncrementRecord, Model};
 
 use super::diagrams::moment_color;
 use crate::app::display::num;
-use crate::app::parts::{Look, Session};
+use crate::app::parts::{Look, Study};
 use crate::app::view::handle_world;
 
 /// Lines and text.
@@ -252,7 +252,7 @@ pub(crate) fn body_names(
 /// The handle of each prescribed dof (at its target) and the node's path from its start.
 pub(crate) fn prescribed(
     p: &egui::Painter,
-    session: &Session,
+    study: &Study,
     look: &Look,
     model: &Model,
     r: &IncrementRecord,
@@ -268,7 +268,7 @@ pub(crate) fn prescribed(
             4.0,
             3.0,
         ));
-        let Some(t) = session.targets.get(k) else {
+        let Some(t) = study.targets.get(k) else {
             continue;
         };
         let Some(w) = handle_world(model, r, k, *t) else {

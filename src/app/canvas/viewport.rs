@@ -16,7 +16,7 @@ use super::overlays::{self, INK};
 use super::query::{describe, pick};
 use super::strips::Polyline;
 use crate::app::files::screenshot::Layout;
-use crate::app::parts::{Action, Look, Notices, Session};
+use crate::app::parts::{Action, Look, Notices, Study};
 use crate::app::view::{bounds, handle_world, Drag};
 use crate::figure::geometry::{
     deformed_bodies, faces, half_thickness, max_moment, obstacle_outlines, undeformed_bodies,
@@ -42,7 +42,7 @@ type ScreenKey = (CurveKey, [u64; 2], u64, [u32; 5], bool);
 /// Show the viewport.
 #[allow(clippy::too_many_arguments)]
 pub fn show(
-    session: &Session,
+    study: &Study,
     selected: usize,
     look: &mut Look,
     layout: &mut Layout,
@@ -55,7 +55,7 @@ pub fn show(
     let bg = ui.allocate_rect(rect, Sense::click_and_drag());
     let painter = ui.painter_at(rect);
     painter.rect_filled(rect, 0.0, Color32::from_rgb(251, 251, 253));
-    if session.loaded.is_none() {
+    if study.loaded.is_none() {
         let msg = (notices.error.as_ref()).map_or_else(|| "loading...".into(), |e| e.to_string());
         painter.text(
             rect.center(),
@@ -66,16 +66,16 @@ pub fn show(
         );
         return;
     }
-    handles(session, selected, look, actions, ui, rect);
+    handles(study, selected, look, actions, ui, rect);
     navigate(look, ui, &bg, rect, layout.viewport);
     if look.fit_pending {
-        fit(session, look, rect);
+        fit(study, look, rect);
         look.fit_pending = false;
     }
     layout.viewport = Some(rect);
     layout.view = look.camera;
-    layout.increment = session.record(selected).map_or(0, |r| r.increment);
-    let (Some(l), Some(r)) = (session.loaded.as_ref(), session.record(selected)) else {
+    layout.increment = study.record(selected).map_or(0, |r| r.increment);
+    let (Some(l), Some(r)) = (study.loaded.as_ref(), study.record(selected)) else {
         return;
     };
     let model = &l.scene.model;
@@ -85,7 +85,7 @@ pub fn show(
 
     // Beams: ghost first, then the deformed strips. The curves of the viewed increment are
     // built once and kept while it stays in view.
-    let key = (session.generation, r.increment, r.seconds.to_bits());
+    let key = (study.generation, r.increment, r.seconds.to_bits());
     let id = ui.scope_id().with("deformed curves");
     let cached: Option<(CurveKey, Arc<Vec<BodyCurve>>)> = ui.data(|d| d.get_temp(id));
     let curves = match cached {
@@ -155,7 +155,7 @@ pub fn show(
     overlays::supports(&painter, model, r, &to_screen);
     overlays::contacts(&painter, model, r, &to_screen);
     overlays::body_names(&painter, model, &curves, &to_screen);
-    overlays::prescribed(&painter, session, look, model, r, &to_screen);
+    overlays::prescribed(&painter, study, look, model, r, &to_screen);
     let units = l.scene.file.units;
     if let Some(d) = look.diagram {
         let unit = match d {
@@ -190,7 +190,7 @@ pub fn show(
     let text = format!(
         "increment {}{}",
         r.increment,
-        if session.busy { "  (solving...)" } else { "" }
+        if study.busy { "  (solving...)" } else { "" }
     );
     painter.text(
         rect.right_top() + Vec2::new(-10.0, 10.0),
@@ -206,21 +206,21 @@ pub fn show(
 
 /// Interact with the prescribed-dof handles: dragging one sets its target.
 fn handles(
-    session: &Session,
+    study: &Study,
     selected: usize,
     look: &mut Look,
     actions: &mut Vec<Action>,
     ui: &mut egui::Ui,
     rect: Rect,
 ) {
-    let (Some(l), Some(r)) = (session.loaded.as_ref(), session.record(selected)) else {
+    let (Some(l), Some(r)) = (study.loaded.as_ref(), study.record(selected)) else {
         return;
     };
     let model = &l.scene.model;
     // (index, dof, current target, screen position) of every draggable handle.
     let spots: Vec<(usize, Dof, f64, Pos2)> = (0..model.prescribed.len())
         .filter_map(|k| {
-            let t = session.targets.get(k).copied()?;
+            let t = study.targets.get(k).copied()?;
             let w = handle_world(model, r, k, t)?;
             Some((
                 k,
@@ -269,7 +269,7 @@ fn handles(
             look.drag = None;
             // The worker may have reached the last target while the handle was held (its
             // `Idle` then left `targeting` on): follow the converged states again.
-            if !session.busy && send.is_none() {
+            if !study.busy && send.is_none() {
                 actions.push(Action::FollowRun);
             }
         }
@@ -305,8 +305,8 @@ fn navigate(look: &mut Look, ui: &egui::Ui, bg: &egui::Response, rect: Rect, bef
 const LEGEND_ROOM: f32 = 70.0;
 
 /// Fit the undeformed shape and every converged state into the viewport below the legend.
-fn fit(session: &Session, look: &mut Look, rect: Rect) {
-    let b = bounds(session.history.iter().flat_map(|r| r.nodes.iter()));
+fn fit(study: &Study, look: &mut Look, rect: Rect) {
+    let b = bounds(study.history.iter().flat_map(|r| r.nodes.iter()));
     let room = if rect.height() > 3.0 * LEGEND_ROOM {
         LEGEND_ROOM
     } else {

@@ -7,7 +7,7 @@ use crate::worker::Command;
 
 use super::menus;
 use crate::app::display::Angles;
-use crate::app::parts::{Action, Files, Look, Notices, Session};
+use crate::app::parts::{Action, Files, Look, Notices, Study};
 use crate::figure::Diagram;
 
 /// The stretch-correction mode of Newton's updates (`StretchCorrection`): a change reloads
@@ -69,7 +69,7 @@ fn diagram_and_angles(look: &mut Look, ui: &mut egui::Ui) {
 /// The top bar: the menus, then widgets of fixed width (they keep their place whatever the
 /// scene and the state), then the status line.
 pub fn toolbar(
-    session: &Session,
+    study: &Study,
     look: &mut Look,
     files: &mut Files,
     notices: &Notices,
@@ -77,11 +77,11 @@ pub fn toolbar(
     ui: &mut egui::Ui,
 ) {
     ui.horizontal_wrapped(|ui| {
-        menus::menus(session, look, files, actions, ui);
+        menus::menus(study, look, files, actions, ui);
         ui.separator();
-        ui.add_enabled_ui(session.loaded.is_some(), |ui| {
+        ui.add_enabled_ui(study.loaded.is_some(), |ui| {
             ui.label("Element:");
-            let (f, mode) = session.loaded.as_ref().map_or(
+            let (f, mode) = study.loaded.as_ref().map_or(
                 (Formulation::Timoshenko, StretchCorrection::default()),
                 |l| (l.scene.model.formulation, l.scene.params.stretch_correction),
             );
@@ -117,7 +117,7 @@ pub fn toolbar(
             look.table.open = !look.table.open;
         }
         ui.separator();
-        status(session, notices, ui);
+        status(study, notices, ui);
     });
 }
 
@@ -125,14 +125,14 @@ pub fn toolbar(
 /// full in the error panel): the bar, and the viewport under it, keep their layout when the
 /// solver starts and stops or a long message comes (else the beams and the handle under the
 /// pointer would jump).
-fn status(session: &Session, notices: &Notices, ui: &mut egui::Ui) {
+fn status(study: &Study, notices: &Notices, ui: &mut egui::Ui) {
     let side = ui.spacing().interact_size.y;
     let (slot, _) = ui.allocate_exact_size(egui::vec2(side, side), egui::Sense::hover());
-    let line = if session.busy {
+    let line = if study.busy {
         egui::Spinner::new().paint_at(ui, slot);
         egui::RichText::new("solving...")
     } else {
-        match (&notices.error, session.roundoff_summary()) {
+        match (&notices.error, study.roundoff_summary()) {
             (Some(_), _) if notices.show_error => {
                 egui::RichText::new("error: see the panel below").color(ui.visuals().error_fg_color)
             }
@@ -155,12 +155,12 @@ fn status(session: &Session, notices: &Notices, ui: &mut egui::Ui) {
 }
 
 /// One slider per prescribed dof ("node 34 v"), driving its target.
-pub fn sliders(session: &Session, selected: usize, actions: &mut Vec<Action>, ui: &mut egui::Ui) {
-    let Some(l) = &session.loaded else { return };
+pub fn sliders(study: &Study, selected: usize, actions: &mut Vec<Action>, ui: &mut egui::Ui) {
+    let Some(l) = &study.loaded else { return };
     ui.heading("Drive");
     let model = &l.scene.model;
     if model.prescribed.is_empty() {
-        let lambda = session.record(selected).map_or(0.0, |r| r.load_factor);
+        let lambda = study.record(selected).map_or(0.0, |r| r.load_factor);
         let control = if l.scene.params.arc_length.is_some() {
             "arc-length control: each step solved is one arc"
         } else if model.path.is_some() {
@@ -188,7 +188,7 @@ pub fn sliders(session: &Session, selected: usize, actions: &mut Vec<Action>, ui
             span.max(0.0).max(span.abs() * 0.1),
         );
         let label = l.prescribed_labels.get(k).cloned().unwrap_or_default();
-        let Some(&t) = session.targets.get(k) else {
+        let Some(&t) = study.targets.get(k) else {
             continue;
         };
         let mut v = t;
@@ -205,7 +205,7 @@ pub fn sliders(session: &Session, selected: usize, actions: &mut Vec<Action>, ui
     // One row of button height either way, so the details below do not jump.
     ui.horizontal(|ui| {
         ui.set_min_height(ui.spacing().interact_size.y);
-        if session.busy {
+        if study.busy {
             ui.label("solving: Stop under the view, or Esc, ends it");
         } else {
             ui.label(format!(

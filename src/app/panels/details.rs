@@ -11,16 +11,16 @@ use crate::app::canvas::diagrams::extreme;
 use crate::app::canvas::overlays::{SLIP, STICK};
 use crate::app::canvas::query::describe;
 use crate::app::display::num;
-use crate::app::parts::{Look, Session};
+use crate::app::parts::{Look, Study};
 use crate::solver::{Dof, Friction, IncrementStatus};
 
 /// Show the details of the selected increment.
-pub fn show(session: &Session, selected: usize, look: &Look, ui: &mut egui::Ui) {
-    let Some(l) = &session.loaded else {
+pub fn show(study: &Study, selected: usize, look: &Look, ui: &mut egui::Ui) {
+    let Some(l) = &study.loaded else {
         ui.label("no scene loaded");
         return;
     };
-    let Some(r) = session.record(selected) else {
+    let Some(r) = study.record(selected) else {
         return;
     };
     let model = &l.scene.model;
@@ -30,9 +30,9 @@ pub fn show(session: &Session, selected: usize, look: &Look, ui: &mut egui::Ui) 
         ui.label(RichText::new(&l.scene.file.description).small());
     }
     ui.label(RichText::new(format!("units: {}, {}", units.force(), units.length())).small());
-    picked(session, selected, look, ui);
+    picked(study, selected, look, ui);
     ui.separator();
-    ui.label(RichText::new(format!("Increment {} / {}", r.increment, session.last())).strong());
+    ui.label(RichText::new(format!("Increment {} / {}", r.increment, study.last())).strong());
     for ((label, v), p) in (l.prescribed_labels.iter().zip(&r.prescribed)).zip(&model.prescribed) {
         ui.label(format!("{label} = {v:+.5} {}", units.of_dof(p.dof)));
     }
@@ -160,7 +160,7 @@ pub fn show(session: &Session, selected: usize, look: &Look, ui: &mut egui::Ui) 
         ui.label(RichText::new("Reactions").strong());
         // Round-off far below every reaction of the run (like 1e-178 N once stress-free) is 0.
         let floor = 1e-12
-            * session
+            * study
                 .history
                 .iter()
                 .flat_map(|r| r.reactions.iter())
@@ -182,8 +182,8 @@ pub fn show(session: &Session, selected: usize, look: &Look, ui: &mut egui::Ui) 
 }
 
 /// The node or element picked in the viewport, and the extreme of the diagram drawn.
-fn picked(session: &Session, selected: usize, look: &Look, ui: &mut egui::Ui) {
-    let (Some(l), Some(r)) = (&session.loaded, session.record(selected)) else {
+fn picked(study: &Study, selected: usize, look: &Look, ui: &mut egui::Ui) {
+    let (Some(l), Some(r)) = (&study.loaded, study.record(selected)) else {
         return;
     };
     let (model, units) = (&l.scene.model, l.scene.file.units);

@@ -9,18 +9,18 @@
 use egui::containers::menu::{MenuButton, MenuConfig};
 
 use crate::app::files::dialog::Purpose;
-use crate::app::parts::{Action, Export, Files, Look, Session};
+use crate::app::parts::{Action, Export, Files, Look, Study};
 
 /// The three menus: what they choose is asked for as actions (`TsmApp::apply` opens, writes
 /// and shows the dialogs).
 pub fn menus(
-    session: &Session,
+    study: &Study,
     look: &mut Look,
     files: &mut Files,
     actions: &mut Vec<Action>,
     ui: &mut egui::Ui,
 ) {
-    file_menu(session, files, actions, ui);
+    file_menu(study, files, actions, ui);
     let stay = MenuConfig::new().close_behavior(egui::PopupCloseBehavior::CloseOnClickOutside);
     MenuButton::new("Export")
         .config(stay)
@@ -33,7 +33,7 @@ pub fn menus(
 }
 
 /// The File menu.
-fn file_menu(session: &Session, files: &mut Files, actions: &mut Vec<Action>, ui: &mut egui::Ui) {
+fn file_menu(study: &Study, files: &mut Files, actions: &mut Vec<Action>, ui: &mut egui::Ui) {
     ui.menu_button("File", |ui| {
         if ui.button("Open... (Ctrl+O)").clicked() {
             actions.push(Action::Dialog(Purpose::OpenScene));
@@ -52,7 +52,7 @@ fn file_menu(session: &Session, files: &mut Files, actions: &mut Vec<Action>, ui
         ui.menu_button("Built-in scenes", |ui| {
             for (file, _) in crate::scene::builtin::BUILTIN {
                 let name = file.trim_end_matches(".ron");
-                if ui.selectable_label(session.scene_name == name, name).clicked() {
+                if ui.selectable_label(study.scene_name == name, name).clicked() {
                     actions.push(Action::Open(name.to_string()));
                 }
             }
@@ -71,7 +71,7 @@ fn file_menu(session: &Session, files: &mut Files, actions: &mut Vec<Action>, ui
         });
         ui.separator();
         if ui
-            .add_enabled(session.last() > 0, egui::Button::new("Keep the drive as a path"))
+            .add_enabled(study.last() > 0, egui::Button::new("Keep the drive as a path"))
             .on_hover_text(
                 "make the run shown (steps, drags, reversals) the scene's stages, so that the saved \
                  scene replays it",

@@ -25,7 +25,7 @@ use crate::app::state::TsmApp;
 pub(crate) fn lay_out(app: &mut TsmApp, ui: &mut egui::Ui, gpu: Option<&egui_wgpu::RenderState>) {
     let ctx = &ui.ctx().clone();
     shortcuts::handle(
-        &app.session,
+        &app.study,
         &mut app.playback,
         &mut app.look,
         &mut app.actions,
@@ -33,7 +33,7 @@ pub(crate) fn lay_out(app: &mut TsmApp, ui: &mut egui::Ui, gpu: Option<&egui_wgp
     );
     egui::Panel::top("toolbar").show(ui, |ui| {
         controls::toolbar(
-            &app.session,
+            &app.study,
             &mut app.look,
             &mut app.files,
             &app.notices,
@@ -47,10 +47,10 @@ pub(crate) fn lay_out(app: &mut TsmApp, ui: &mut egui::Ui, gpu: Option<&egui_wgp
         .default_size(300.0)
         .min_size(200.0)
         .show(ui, |ui| {
-            timeline::show(&app.session, &mut app.playback, &mut app.actions, ui);
+            timeline::show(&app.study, &mut app.playback, &mut app.actions, ui);
             ui.separator();
             plots::show(
-                &app.session,
+                &app.study,
                 app.playback.selected,
                 &mut app.look,
                 &mut app.frame.layout,
@@ -62,14 +62,14 @@ pub(crate) fn lay_out(app: &mut TsmApp, ui: &mut egui::Ui, gpu: Option<&egui_wgp
         .default_size(330.0)
         .show(ui, |ui| {
             egui::ScrollArea::vertical().show(ui, |ui| {
-                controls::sliders(&app.session, app.playback.selected, &mut app.actions, ui);
+                controls::sliders(&app.study, app.playback.selected, &mut app.actions, ui);
                 ui.separator();
-                details::show(&app.session, app.playback.selected, &app.look, ui);
+                details::show(&app.study, app.playback.selected, &app.look, ui);
             });
         });
     egui::CentralPanel::no_frame().show(ui, |ui| {
         viewport::show(
-            &app.session,
+            &app.study,
             app.playback.selected,
             &mut app.look,
             &mut app.frame.layout,
@@ -81,5 +81,5 @@ pub(crate) fn lay_out(app: &mut TsmApp, ui: &mut egui::Ui, gpu: Option<&egui_wgp
     });
     shortcuts::window(&mut app.look, ctx);
     menus::drop_hint(ctx);
-    table::window(&app.session, app.playback.selected, &mut app.look, ctx);
+    table::window(&app.study, app.playback.selected, &mut app.look, ctx);
 }

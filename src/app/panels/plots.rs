@@ -10,7 +10,7 @@ use crate::solver::{Dof, Event, IncrementRecord, IncrementStatus, IterationRecor
 
 use crate::app::display::Picked;
 use crate::app::files::screenshot::Layout;
-use crate::app::parts::{Look, Session};
+use crate::app::parts::{Look, Study};
 
 const RESIDUAL: Color32 = Color32::from_rgb(40, 90, 170);
 const SELECTED: Color32 = Color32::from_rgb(230, 120, 0);
@@ -21,15 +21,15 @@ pub(crate) const ROUNDOFF: Color32 = Color32::from_rgb(200, 120, 0);
 
 /// Show both plots side by side.
 pub fn show(
-    session: &Session,
+    study: &Study,
     selected: usize,
     look: &mut Look,
     layout: &mut Layout,
     ui: &mut egui::Ui,
 ) {
     ui.columns(2, |cols| {
-        convergence(session, selected, look, layout, &mut cols[0]);
-        if let Some(dof) = reaction(session, selected, look, &mut cols[1]) {
+        convergence(study, selected, look, layout, &mut cols[0]);
+        if let Some(dof) = reaction(study, selected, look, &mut cols[1]) {
             look.plot_dof = dof;
         }
     });
@@ -245,7 +245,7 @@ fn key(ui: &mut egui::Ui, color: Color32, mark: Mark, text: &str) {
 }
 
 fn convergence(
-    session: &Session,
+    study: &Study,
     selected: usize,
     look: &mut Look,
     layout: &mut Layout,
@@ -266,14 +266,14 @@ fn convergence(
         }
         key(ui, CUT, Mark::Dashed, "tolerance");
     });
-    let tol = session
+    let tol = study
         .loaded
         .as_ref()
         .map_or(1e-8, |l| l.scene.params.tolerance);
     let s = if look.plot_all {
-        series(&session.history, &session.live, selected)
+        series(&study.history, &study.live, selected)
     } else {
-        let r = session.record(selected).filter(|r| r.increment > 0);
+        let r = study.record(selected).filter(|r| r.increment > 0);
         let pts: Vec<[f64; 2]> = r
             .map(|r| {
                 r.residuals
@@ -284,7 +284,7 @@ fn convergence(
                     .collect()
             })
             .unwrap_or_default();
-        let roundoff = (session.record(selected))
+        let roundoff = (study.record(selected))
             .filter(|r| matches!(r.status, IncrementStatus::RoundOff { .. }))
             .map(|r| vec![[r.residuals.len() as f64, lg(r.relative_residual)]])
             .unwrap_or_default();
@@ -365,9 +365,9 @@ fn convergence(
 }
 
 /// The response plot; returns the dof of the selected node the user picked for its x axis.
-fn reaction(session: &Session, selected: usize, look: &Look, ui: &mut egui::Ui) -> Option<Dof> {
+fn reaction(study: &Study, selected: usize, look: &Look, ui: &mut egui::Ui) -> Option<Dof> {
     let mut plot_dof = None;
-    let Some(l) = &session.loaded else {
+    let Some(l) = &study.loaded else {
         return None;
     };
     let model = &l.scene.model;
@@ -376,7 +376,7 @@ fn reaction(session: &Session, selected: usize, look: &Look, ui: &mut egui::Ui) 
         if let Some(p) = model.prescribed.first() {
             let id = model.nodes[p.node].id;
             let dof = p.dof.name();
-            let pts = session
+            let pts = study
                 .history
                 .iter()
                 .map(|r| {
@@ -400,7 +400,7 @@ fn reaction(session: &Session, selected: usize, look: &Look, ui: &mut egui::Ui) 
             )
         } else if let Some((n, o)) = crate::app::display::loaded_dof(model) {
             let x0 = [model.nodes[n].x, model.nodes[n].y, 0.0][o];
-            let pts = session
+            let pts = study
                 .history
                 .iter()
                 .map(|r| [r.nodes[n][o] - x0, r.load_factor])
@@ -429,7 +429,7 @@ fn reaction(session: &Session, selected: usize, look: &Look, ui: &mut egui::Ui) 
                 look.plot_dof.offset().min(1)
             };
             let x0 = [model.nodes[n].x, model.nodes[n].y, 0.0][o];
-            let xs = session.history.iter().map(|r| r.nodes[n][o] - x0);
+            let xs = study.history.iter().map(|r| r.nodes[n][o] - x0);
             let pts: Vec<[f64; 2]> = xs.zip(&pts).map(|(x, p)| [x, p[1]]).collect();
             let label = model.dof_label(n, o);
             let what = if model.prescribed.is_empty() {

@@ -8,7 +8,7 @@
 use egui::Key;
 
 use crate::app::files::dialog::Purpose;
-use crate::app::parts::{Action, Export, Look, Playback, Session};
+use crate::app::parts::{Action, Export, Look, Playback, Study};
 use crate::worker::Command;
 
 /// Every shortcut and what it does, as the help window lists them.
@@ -35,7 +35,7 @@ pub const SHORTCUTS: [(&str, &str); 12] = [
 
 /// Act on the keys pressed this frame.
 pub fn handle(
-    session: &Session,
+    study: &Study,
     playback: &mut Playback,
     look: &mut Look,
     actions: &mut Vec<Action>,
@@ -61,26 +61,26 @@ pub fn handle(
     if command(Key::E) {
         actions.push(Action::Export(Export::History));
     }
-    if session.loaded.is_none() {
+    if study.loaded.is_none() {
         return;
     }
     let pressed = |k: Key| ctx.input(|i| i.key_pressed(k));
-    let last = session.last();
+    let last = study.last();
     if pressed(Key::Space) {
-        if session.busy {
+        if study.busy {
             actions.push(Action::Send(Command::Cancel));
         } else {
             playback.view(last);
             actions.push(Action::Send(Command::Run));
         }
     }
-    if pressed(Key::Escape) && session.busy {
+    if pressed(Key::Escape) && study.busy {
         actions.push(Action::Send(Command::Cancel));
     }
     if pressed(Key::ArrowLeft) {
         playback.previous(last);
     }
-    if pressed(Key::ArrowRight) && !playback.next(last) && !session.busy {
+    if pressed(Key::ArrowRight) && !playback.next(last) && !study.busy {
         actions.push(Action::Send(Command::Step));
     }
     if pressed(Key::Home) {

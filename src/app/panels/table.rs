@@ -6,7 +6,7 @@ use egui::RichText;
 
 use crate::app::display::num;
 use crate::app::display::{Rows, TableView};
-use crate::app::parts::{Look, Session};
+use crate::app::parts::{Look, Study};
 use crate::figure::{value_at, Diagram};
 use crate::solver::{IncrementRecord, Model};
 
@@ -113,12 +113,12 @@ fn table(
 }
 
 /// Show the table window while it is open.
-pub fn window(session: &Session, selected: usize, look: &mut Look, ctx: &egui::Context) {
+pub fn window(study: &Study, selected: usize, look: &mut Look, ctx: &egui::Context) {
     let mut view = look.table;
     if !view.open {
         return;
     }
-    let (Some(l), Some(r)) = (&session.loaded, session.record(selected)) else {
+    let (Some(l), Some(r)) = (&study.loaded, study.record(selected)) else {
         return;
     };
     let (model, units) = (&l.scene.model, l.scene.file.units);

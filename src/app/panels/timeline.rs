@@ -6,19 +6,14 @@
 //! over it; along a load path, a line across the slider where each stage begins (the details
 //! panel names the selected increment's stage).
 
-use crate::app::parts::{Action, Playback, Session};
+use crate::app::parts::{Action, Playback, Study};
 use crate::worker::Command;
 
 /// Show the timeline row: the playback is its own; runs, steps, Reset, Undo and Redo are
 /// asked for as actions.
-pub fn show(
-    session: &Session,
-    playback: &mut Playback,
-    actions: &mut Vec<Action>,
-    ui: &mut egui::Ui,
-) {
+pub fn show(study: &Study, playback: &mut Playback, actions: &mut Vec<Action>, ui: &mut egui::Ui) {
     ui.horizontal(|ui| {
-        let last = session.last();
+        let last = study.last();
         let mut sel = playback.selected.min(last);
         ui.spacing_mut().slider_width = (ui.available_width() - 580.0).max(120.0);
         let r = ui.add(
@@ -29,10 +24,10 @@ pub fn show(
         if r.changed() {
             playback.view(sel);
         }
-        roundoff_ticks(session, ui, r.rect, last);
-        branch_marks(session, ui, r.rect, last);
-        stage_marks(session, ui, r.rect, last);
-        let loaded = session.loaded.is_some();
+        roundoff_ticks(study, ui, r.rect, last);
+        branch_marks(study, ui, r.rect, last);
+        stage_marks(study, ui, r.rect, last);
+        let loaded = study.loaded.is_some();
         if ui
             .add_enabled(playback.selected > 0, egui::Button::new("Previous"))
             .on_hover_text("the previous increment (Left)")
@@ -55,7 +50,7 @@ pub fn show(
             playback.toggle(last, ui.input(|i| i.time));
         }
         if ui
-            .add_enabled(loaded && !session.busy, egui::Button::new("Run"))
+            .add_enabled(loaded && !study.busy, egui::Button::new("Run"))
             .clicked()
         {
             playback.view(last);
@@ -63,7 +58,7 @@ pub fn show(
         }
         // One Stop for every kind of run: displacement, load and arc-length control.
         if ui
-            .add_enabled(session.busy, egui::Button::new("Stop"))
+            .add_enabled(study.busy, egui::Button::new("Stop"))
             .on_hover_text("stop the solver; the accepted increments stay (Esc)")
             .clicked()
         {
@@ -76,10 +71,10 @@ pub fn show(
         {
             actions.push(Action::Reset);
         }
-        if set_aside_button(ui, "Undo", session.undo.last(), "Ctrl+Z") {
+        if set_aside_button(ui, "Undo", study.undo.last(), "Ctrl+Z") {
             actions.push(Action::Undo);
         }
-        if set_aside_button(ui, "Redo", session.redo.last(), "Ctrl+Y") {
+        if set_aside_button(ui, "Redo", study.redo.last(), "Ctrl+Y") {
             actions.push(Action::Redo);
         }
     });
@@ -89,7 +84,7 @@ pub fn show(
 pub const STAGE: egui::Color32 = egui::Color32::from_rgb(150, 90, 20);
 
 /// A line across the slider at every increment that begins a stage of the load path.
-fn stage_marks(session: &Session, ui: &egui::Ui, rect: egui::Rect, last: usize) {
+fn stage_marks(study: &Study, ui: &egui::Ui, rect: egui::Rect, last: usize) {
     if last == 0 {
         return;
     }
@@ -98,7 +93,7 @@ fn stage_marks(session: &Session, ui: &egui::Ui, rect: egui::Rect, last: usize) 
     let span = (track - 12.0).max(1.0);
     let painter = ui.painter();
     let mut before = None;
-    for (k, r) in session.history.iter().enumerate().skip(1) {
+    for (k, r) in study.history.iter().enumerate().skip(1) {
         if r.stage.is_some() && r.stage != before {
             // The boundary lies between the last increment of one stage and the first of the
             // next.
@@ -130,7 +125,7 @@ fn set_aside_button(
 }
 
 /// A triangle over the slider at every increment the shown history branched at.
-fn branch_marks(session: &Session, ui: &egui::Ui, rect: egui::Rect, last: usize) {
+fn branch_marks(study: &Study, ui: &egui::Ui, rect: egui::Rect, last: usize) {
     if last == 0 {
         return;
     }
@@ -138,8 +133,8 @@ fn branch_marks(session: &Session, ui: &egui::Ui, rect: egui::Rect, last: usize)
     let (x0, y) = (rect.left() + 6.0, rect.top() + 1.0);
     let span = (track - 12.0).max(1.0);
     let painter = ui.painter();
-    for &inc in &session.branch_points {
-        let k = session.history.at_or_before(inc);
+    for &inc in &study.branch_points {
+        let k = study.history.at_or_before(inc);
         let x = x0 + span * k as f32 / last as f32;
         painter.add(egui::Shape::convex_polygon(
             vec![
@@ -158,7 +153,7 @@ pub const BRANCH: egui::Color32 = egui::Color32::from_rgb(40, 120, 200);
 
 /// A tick under the slider at every increment accepted at the round-off floor (the colour of
 /// their markers in the convergence plot), so that they are seen before they are selected.
-fn roundoff_ticks(session: &Session, ui: &egui::Ui, rect: egui::Rect, last: usize) {
+fn roundoff_ticks(study: &Study, ui: &egui::Ui, rect: egui::Rect, last: usize) {
     if last == 0 {
         return;
     }
@@ -167,7 +162,7 @@ fn roundoff_ticks(session: &Session, ui: &egui::Ui, rect: egui::Rect, last: usiz
     let (x0, y) = (rect.left() + 6.0, rect.bottom() - 1.0);
     let span = (track - 12.0).max(1.0);
     let painter = ui.painter();
-    for (k, r) in session.history.iter().enumerate() {
+    for (k, r) in study.history.iter().enumerate() {
         if matches!(r.status, crate::solver::IncrementStatus::RoundOff { .. }) {
             let x = x0 + span * k as f32 / last as f32;
             painter.line_segment(
