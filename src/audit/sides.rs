@@ -146,13 +146,42 @@ impl<'a> SideAudit<'a> {
                 .find(|c| c.node == pair.node && body_of(&c.body) == Some(pair.body));
             if let Some(c) = contact {
                 // In contact: it keeps the side it came from; a side not yet known is the one
-                // the contact presses from.
-                if track.side.is_none() && c.force != 0.0 {
-                    let at = (self.chains.elements[pair.body].iter())
-                        .position(|&e| e == c.element)
-                        .unwrap_or(0);
-                    track.side = Some((contact_side(c.force), at));
-                    track.since = increment;
+                // the contact presses from. A contact that presses from the other side of the
+                // same part of the body holds the node against the side it never came from:
+                // the node is through the body, held at its surface.
+                let at = (self.chains.elements[pair.body].iter())
+                    .position(|&e| e == c.element)
+                    .unwrap_or(0);
+                match track.side {
+                    None if c.force != 0.0 => {
+                        track.side = Some((contact_side(c.force), at));
+                        track.since = increment;
+                    }
+                    Some((side, was))
+                        if c.force != 0.0
+                            && contact_side(c.force) != side
+                            && was.abs_diff(at) <= NEIGHBOURS =>
+                    {
+                        let name = &self.topology.bodies[pair.body].name;
+                        found.push(Finding {
+                            increment,
+                            node: Some(pair.node),
+                            body: Some(name.clone()),
+                            what: format!(
+                                "node {} rests on {name} element {} from its {} side, but it came from its {} side (since increment {}): the contact holds it on the far side of the body",
+                                pair.node,
+                                at + 1,
+                                side_name(-side),
+                                side_name(side),
+                                track.since,
+                            ),
+                            element: Some(c.element),
+                        });
+                        // Told once: the side is the contact's from here.
+                        track.side = Some((-side, at));
+                        track.since = increment;
+                    }
+                    _ => {}
                 }
                 continue;
             }
@@ -227,7 +256,7 @@ impl<'a> SideAudit<'a> {
                         what: format!(
                             "{what} went through {name} element {} with no contact on it: on its {} side since increment {}, {:.3e} m on the other side at increment {}",
                             at.at + 1,
-                            if side > 0.0 { "left" } else { "right" },
+                            side_name(side),
                             track.since,
                             now.gap.abs(),
                             increment,
@@ -312,6 +341,15 @@ fn features(topology: &Topology, chains: &Chains) -> Vec<Pair> {
         }
     }
     out
+}
+
+/// The name of a side: left (+1) or right (-1) of the body's direction.
+fn side_name(side: f64) -> &'static str {
+    if side > 0.0 {
+        "left"
+    } else {
+        "right"
+    }
 }
 
 /// The side a contact presses from: its force Yc acts on the beam along the element's chord

@@ -62,7 +62,7 @@ fn pushed_pin(
 /// The records of `steps` steps of `scene` (every increment committed, those of a step that
 /// failed after cut-backs included), each audited by the oracle (`audited`). Returns the
 /// records and the error the run stopped with, if any.
-fn run(scene: &Scene, steps: usize) -> (Vec<IncrementRecord>, Option<SolveError>) {
+pub(crate) fn run(scene: &Scene, steps: usize) -> (Vec<IncrementRecord>, Option<SolveError>) {
     let mut solver = scene.solver().expect("stable");
     let mut history = History::default();
     let mut error = None;
@@ -595,7 +595,7 @@ fn a_beam_laid_exactly_on_another_is_refused_unless_its_side_is_clear() {
 /// The pin of `pushed_pin` over two cantilevers: the upper one of `n` elements clamped at
 /// x = 0, and a lower one of `m` elements, `below` under it, clamped at x = 1.2 and reaching
 /// back to x = 0.2. The pin is a candidate on both, and every node of each beam on the other.
-fn two_cantilevers(f: &str, n: usize, m: usize, x: f64, gap: f64, below: f64) -> String {
+pub(crate) fn two_cantilevers(f: &str, n: usize, m: usize, x: f64, gap: f64, below: f64) -> String {
     format!(
         r#"(
         name: "two", formulation: {f},

@@ -42,8 +42,8 @@ fn a_tip_resting_on_the_mesh_node_of_a_frictional_beam_under_it_completes() {
 /// elements and 0.1 m a step, the upper tip races along the lower beam and the pin's force
 /// falls: a limit point of the drive, where the tangent tends to singular. The eigenvalue at the
 /// last accepted state is below a twentieth of the one after the first step. With 128 and
-/// 128 elements, flat contact node over node stops without a limit point: the eigenvalue does
-/// not fall.
+/// 128 elements and friction (mu 0.2), flat contact node over node stops without a limit
+/// point: the eigenvalue does not fall.
 #[test]
 fn a_snap_under_the_drive_shows_in_the_tangent_and_flat_contact_does_not() {
     let stop = |seed: u64| {
@@ -60,6 +60,6 @@ fn a_snap_under_the_drive_shows_in_the_tangent_and_flat_contact_does_not() {
     };
     let (first, last) = stop(0x08d1_2e02_76c8_4d10);
     assert!(first > 0.0 && last < first / 20.0, "{first} {last}");
-    let (first, last) = stop(0x4540_21b7_755d_453a);
+    let (first, last) = stop(0x98c4_7599_f066_a9cf);
     assert!(first > 0.0 && last > first / 2.0, "{first} {last}");
 }

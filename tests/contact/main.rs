@@ -19,3 +19,4 @@ mod obstacles;
 mod oracle;
 mod self_contact;
 mod thickness;
+mod tip_on_node;

@@ -1,7 +1,8 @@
 //! The oracle (`tsm_contact::audit`) on the histories users make: every built-in contact scene
 //! at step sizes from half to three times its own, Example 3.2 at 200 step sizes, steps that
-//! land exactly on a beam's line or an obstacle's, and the oracle's teeth: pass-throughs
-//! planted in real histories, and a stored history with the pin through beam A.
+//! land exactly on a beam's line or an obstacle's, and the oracle's teeth: pass-throughs and
+//! a contact from the far side planted in real histories, and a stored history with the pin
+//! through beam A.
 
 use crate::common;
 
@@ -134,6 +135,33 @@ fn the_oracle_finds_planted_pass_throughs() {
             .iter()
             .any(|f| f.node == Some(34) && f.what.contains("went through")),
         "pin at y = {y_a}: {found:?}"
+    );
+}
+
+/// A planted contact from the far side: in a clean run of Example 3.2, the pin's contact on A
+/// in one record with its force turned round (the contact pulling the pin onto A's underside,
+/// the side the pin never came from). The oracle finds the pin held on the far side of A there,
+/// and nothing in the record as solved.
+#[test]
+fn the_oracle_finds_a_contact_pressing_from_the_far_side() {
+    let scene = builtin("example_3_2").unwrap().unwrap();
+    let (records, error) = solve(&scene, 20);
+    assert!(error.is_none(), "{error:?}");
+    let k = (records.iter())
+        .position(|r| r.contacts.iter().any(|c| c.node == 34 && c.force != 0.0))
+        .expect("a record with the pin pressing on A");
+    assert!(findings(&scene, &records[..=k]).is_empty());
+    let mut planted = records[..=k].to_vec();
+    for c in planted[k].contacts.iter_mut().filter(|c| c.node == 34) {
+        c.force = -c.force;
+        c.pressure = -c.pressure;
+    }
+    let found = findings(&scene, &planted);
+    assert!(
+        found.iter().any(|f| f.node == Some(34)
+            && f.increment == planted[k].increment
+            && f.what.contains("far side")),
+        "{found:?}"
     );
 }
 

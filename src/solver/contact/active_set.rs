@@ -17,6 +17,7 @@ impl ContactSet {
     /// Forget the passes of a previous attempt (call at the start of each attempt).
     pub(crate) fn begin_attempt(&mut self) {
         self.beams.guard.clear();
+        self.beams.slid_off.clear();
         self.obstacles.multiplier_updates = 0;
         self.obstacles.guard.clear();
         self.friction.guard.clear();

@@ -76,6 +76,9 @@ pub struct BeamContacts {
     /// all clear on one side of it, found by `remember_sides` (the first one): its side is
     /// ambiguous, and a scene that starts so is refused ([`SolveError::AmbiguousSide`]).
     pub(crate) ambiguous: Option<(usize, usize)>,
+    /// The (node, body) pairs whose contact slid off a free end of the body in the current
+    /// attempt: only such a node can have gone round that end (`ContactSet::crossing`).
+    pub(super) slid_off: Vec<(usize, usize)>,
 }
 
 /// The contact stage of rigid obstacles: every candidate pair and what its passes keep

@@ -292,11 +292,12 @@ impl ContactSet {
             // only with a swept path: a beam that curls brings far elements round a node
             // without passing through it. A node that lay over the outer half of an end element
             // may have gone round that end within the increment, which a straight sweep of the
-            // chords cannot tell: there, only shallow or with a swept path; and if it rested on
-            // the body there, it may have slid off the end, and its side is open again.
+            // chords cannot tell: there, only shallow or with a swept path; and if its contact
+            // slid off that end in this attempt, its side is open again. A contact let go there
+            // as tensile did not go round the end: it keeps its side.
             let wrong_side = p.gap * side < -cv.touching(THROUGH, p.length);
             let round_an_end = Self::over_an_end_half(cv, n, b, was);
-            if round_an_end && cv.contacts.is_active(n, b) {
+            if round_an_end && self.beams.slid_off.contains(&(n, b)) {
                 return None;
             }
             if !wrong_side {

@@ -204,6 +204,7 @@ impl ContactSet {
                 }
             }
             if off_end {
+                self.beams.slid_off.push((a.node, a.body));
                 events.push(Self::event(
                     cv,
                     &a,
