@@ -5,10 +5,9 @@
 //! on the other's body when each is found through it: one of them alone would leave the other
 //! through the first body wherever their chords meet at an angle.
 
-use super::probe::{PassViews, Probe};
+use super::probe::{PassViews, Probe, SIDE};
 use super::set::ContactView;
 use super::set::{ActiveContact, ContactSet};
-use super::sides::SIDE;
 use crate::solver::assembly::{current, Assembled};
 use crate::solver::index_map::IndexMap;
 use crate::solver::report::{ContactChange, Event};

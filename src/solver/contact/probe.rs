@@ -15,6 +15,10 @@ use crate::solver::index_map::IndexMap;
 /// Beyond this many element lengths from an element's chord, a node's gap is its distance
 /// from the chord (the deflected shape lies well within it).
 pub(super) const FAR: f64 = 2.0;
+/// A gap within this fraction of the element length (plus the round-off of the positions,
+/// [`Solver::touching`]) is touching when sides are recorded: it tells no side.
+pub(super) const SIDE: f64 = 1e-10;
+
 /// Bodies of more elements than this are probed through the element grid.
 const GRID_MIN_ELEMENTS: usize = 32;
 
@@ -249,5 +253,33 @@ impl ContactSet {
                 (off - deflection(&cv.elements[a.beam], &sh.bending, &sh.xis, t)) / sh.l
             })
             .collect()
+    }
+
+    /// The side of body `b` node `n` was on at the last converged state against element `e` or
+    /// a neighbour of it (the one it projected onto closest), where it was clear of it and
+    /// within `FAR` element lengths (farther, a side is that of the element's line): for a
+    /// node whose remembered side was measured against a distant part of the body (a coil
+    /// holds a node between two of its layers, on opposite sides of each). None where it
+    /// projected onto none of them, or touched them.
+    pub(super) fn local_side(
+        &self,
+        cv: &ContactView<'_>,
+        n: usize,
+        b: usize,
+        e: usize,
+        views: &PassViews,
+    ) -> Option<(f64, usize)> {
+        let els = &cv.model.bodies[b].elements;
+        let k = els.iter().position(|&x| x == e)?;
+        let window = cv.self_window_of(n, b);
+        let place = &cv.place;
+        let near = (els[k.saturating_sub(1)..(k + 2).min(els.len())]
+            .iter()
+            .copied())
+        .filter(|f| window.is_none_or(|(lo, hi)| !(lo..=hi).contains(&place[*f])));
+        let at = current(&cv.model, &cv.dofs, cv.d, n).0;
+        let q = self.closest(cv, cv.d, at, near, Some(&views.before))?;
+        let clear = q.gap.abs() > cv.touching(SIDE, q.length) && q.gap.abs() <= FAR * q.length;
+        clear.then(|| (q.gap.signum(), q.beam))
     }
 }

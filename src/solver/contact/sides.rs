@@ -3,7 +3,9 @@
 //! a body since the last converged state (on the wrong side now, or swept through a chord).
 
 use super::broad_phase::BodyBoxes;
-use super::probe::{beside_a_convex_node, chord_fraction_of, PassViews, Probe, StateView, FAR};
+use super::probe::{
+    beside_a_convex_node, chord_fraction_of, PassViews, Probe, StateView, FAR, SIDE,
+};
 use super::set::ContactView;
 use super::set::{on_body, ContactSet};
 use crate::solver::assembly::current;
@@ -12,10 +14,6 @@ use crate::solver::index_map::IndexMap;
 /// A node found through a body by less than this (in element lengths) is taken as a crossing
 /// without the swept test: the chords used by that test miss the elements' own deflection.
 pub(super) const SHAPE_MARGIN: f64 = 0.05;
-
-/// A gap within this fraction of the element length (plus the round-off of the positions,
-/// [`Solver::touching`]) is touching when sides are recorded: it tells no side.
-pub(super) const SIDE: f64 = 1e-10;
 
 /// A node must be this fraction of the element length (plus the positions' round-off) on the
 /// wrong side of an element to have crossed it.
@@ -285,6 +283,10 @@ impl ContactSet {
     ) -> Option<(Probe, f64)> {
         let p = self.probe_near(cv, d, n, b, Some(&views.now))?;
         if let Some((side, was)) = self.side_of(cv, n, b, Some(&views.before)) {
+            let (side, was) = match Self::adjacent(cv, b, was, p.beam) {
+                true => (side, was),
+                false => (self.local_side(cv, n, b, p.beam, views)).unwrap_or((side, was)),
+            };
             // Beyond an element next to the one its side was measured against, a node went
             // through at any depth: a beam that springs back past a node resting inside the sag
             // of its chord, or a node that crosses inside the sag, crosses no chord. Beyond one
