@@ -152,34 +152,37 @@ impl<'a> SideAudit<'a> {
                 let at = (self.chains.elements[pair.body].iter())
                     .position(|&e| e == c.element)
                     .unwrap_or(0);
+                let pressing = contact_side(c.force);
                 match track.side {
                     None if c.force != 0.0 => {
-                        track.side = Some((contact_side(c.force), at));
+                        track.side = Some((pressing, at));
                         track.since = increment;
                     }
-                    Some((side, was))
-                        if c.force != 0.0
-                            && contact_side(c.force) != side
-                            && was.abs_diff(at) <= NEIGHBOURS =>
-                    {
-                        let name = &self.topology.bodies[pair.body].name;
-                        found.push(Finding {
-                            increment,
-                            node: Some(pair.node),
-                            body: Some(name.clone()),
-                            what: format!(
-                                "node {} rests on {name} element {} from its {} side, but it came from its {} side (since increment {}): the contact holds it on the far side of the body",
-                                pair.node,
-                                at + 1,
-                                side_name(-side),
-                                side_name(side),
-                                track.since,
-                            ),
-                            element: Some(c.element),
-                        });
-                        // Told once: the side is the contact's from here.
-                        track.side = Some((-side, at));
-                        track.since = increment;
+                    Some((side, was)) if c.force != 0.0 => {
+                        if pressing != side && was.abs_diff(at) <= NEIGHBOURS {
+                            let name = &self.topology.bodies[pair.body].name;
+                            found.push(Finding {
+                                increment,
+                                node: Some(pair.node),
+                                body: Some(name.clone()),
+                                what: format!(
+                                    "node {} rests on {name} element {} from its {} side, but it came from its {} side (since increment {}): the contact holds it on the far side of the body",
+                                    pair.node,
+                                    at + 1,
+                                    side_name(pressing),
+                                    side_name(side),
+                                    track.since,
+                                ),
+                                element: Some(c.element),
+                            });
+                        }
+                        // The side goes along the body with the contact; on a distant part of
+                        // the body (another layer of a coil), the side the contact presses from
+                        // is the one it has there. A contact from the far side is told once.
+                        if pressing != side {
+                            track.since = increment;
+                        }
+                        track.side = Some((pressing, at));
                     }
                     _ => {}
                 }

@@ -252,15 +252,23 @@ fn scene_of(case: &Case) -> Result<Scene, (String, String)> {
     Ok(scene)
 }
 
-/// Counts the Newton iterations of each increment number, every attempt included.
+/// Counts the Newton iterations of each increment number, every attempt included, and keeps
+/// every accepted increment as it is accepted: a step that stops part way has accepted states
+/// of its own, and the audit reads them too.
 #[derive(Default)]
 struct Count {
     per_increment: BTreeMap<usize, usize>,
+    accepted: Vec<IncrementRecord>,
 }
 
 impl Observer for Count {
     fn iteration(&mut self, r: &IterationRecord) -> Flow {
         *self.per_increment.entry(r.increment).or_default() += 1;
+        Flow::Continue
+    }
+
+    fn increment(&mut self, r: &IncrementRecord) -> Flow {
+        self.accepted.push(r.clone());
         Flow::Continue
     }
 }
@@ -293,7 +301,6 @@ pub fn run(case: &Case) -> Outcome {
         .collect();
     let load_step = scene.model.load_per_step * case.factor;
     let mut count = Count::default();
-    let mut records: Vec<IncrementRecord> = Vec::new();
     let legs = if case.reverse { 2 } else { 1 };
     let mut first = None;
     'drive: for leg in 0..legs {
@@ -306,9 +313,8 @@ pub fn run(case: &Case) -> Outcome {
             let lambda = solver.load_factor() + sign * load_step;
             let factors = solver.model.uniform_factors(lambda);
             match solver.advance_to(&targets, &factors, &mut count) {
-                Ok(r) => {
-                    records.extend(r);
-                    if first.is_none() && !records.is_empty() {
+                Ok(_) => {
+                    if first.is_none() && !count.accepted.is_empty() {
                         first = Some(solver.checkpoint());
                     }
                 }
@@ -326,6 +332,7 @@ pub fn run(case: &Case) -> Outcome {
             }
         }
     }
+    let records = std::mem::take(&mut count.accepted);
     outcome.iterations = (records.iter())
         .map(|r| {
             count

@@ -63,3 +63,50 @@ fn a_snap_under_the_drive_shows_in_the_tangent_and_flat_contact_does_not() {
     let (first, last) = stop(0x98c4_7599_f066_a9cf);
     assert!(first > 0.0 && last > first / 2.0, "{first} {last}");
 }
+
+/// A drive that stops part way through its one step has accepted states of its own, and the
+/// oracle reads them: `rolled_past_a_turn` (Timoshenko, 16 elements, one step of 46 times the
+/// scene's, then back) accepts 69 increments before it stops at the 70th without convergence.
+/// All 69 are counted and audited, and the oracle finds nothing in them.
+#[test]
+fn a_drive_that_stops_within_its_step_has_its_accepted_states_audited() {
+    let case = (cases(24, 1).into_iter())
+        .find(|c| c.seed == 0x78dd_e6eb_fd29_f055)
+        .expect("the campaign draws this drive");
+    let outcome = run(&case);
+    assert_eq!(
+        outcome.stop.as_ref().map(|s| s.0.as_str()),
+        Some("NoConvergence")
+    );
+    assert!(
+        outcome.iterations.len() >= 60,
+        "{} accepted increments",
+        outcome.iterations.len()
+    );
+    assert!(
+        outcome.findings.is_empty(),
+        "{}",
+        outcome.findings.join("\n")
+    );
+}
+
+/// The oracle carries a node's side along a body while the node rests on it: in
+/// `rolled_past_a_turn` (Bernoulli-Euler, 16 elements, one step of 39 times the scene's; drive
+/// 0xbc09_2f90_cb87_de15 of the campaign of 96 drives per scene, seed 7), node 15 rides on the
+/// coil's inner layer from element 2 to element 9, is let go, and lies on the left of the next
+/// layer's elements 3 and 4, as it has since it came near them. The oracle reports no crossing
+/// of node 15: its side was last measured over element 9, five elements from there.
+#[test]
+fn the_oracle_carries_a_resting_nodes_side_along_the_body() {
+    let case = (cases(96, 7).into_iter())
+        .find(|c| c.seed == 0xbc09_2f90_cb87_de15)
+        .expect("the campaign draws this drive");
+    let outcome = run(&case);
+    assert!(
+        outcome.iterations.len() >= 150,
+        "{} accepted increments",
+        outcome.iterations.len()
+    );
+    let node_15 = (outcome.findings.iter()).filter(|f| f.contains("node 15 "));
+    assert_eq!(node_15.count(), 0, "{}", outcome.findings.join("\n"));
+}
