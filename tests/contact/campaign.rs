@@ -110,3 +110,22 @@ fn the_oracle_carries_a_resting_nodes_side_along_the_body() {
     let node_15 = (outcome.findings.iter()).filter(|f| f.contains("node 15 "));
     assert_eq!(node_15.count(), 0, "{}", outcome.findings.join("\n"));
 }
+
+/// A coil holds its own nodes between two of its layers: in the drive above, node 16 lies
+/// between the coil's layers at elements 5 and 10, closer to the second, and the first comes
+/// down onto it. The node is found through the part it crossed, not only measured against the
+/// part it lies closest to, and each part is judged by the node's side of that part. The drive
+/// completes, and the oracle finds nothing in any accepted state.
+#[test]
+fn a_node_between_two_layers_of_a_coil_is_caught_by_either_layer() {
+    let case = (cases(96, 7).into_iter())
+        .find(|c| c.seed == 0xbc09_2f90_cb87_de15)
+        .expect("the campaign draws this drive");
+    let outcome = run(&case);
+    assert_eq!(outcome.stop, None, "{case:?} stops");
+    assert!(
+        outcome.findings.is_empty(),
+        "{}",
+        outcome.findings.join("\n")
+    );
+}

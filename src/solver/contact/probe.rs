@@ -19,6 +19,11 @@ pub(super) const FAR: f64 = 2.0;
 /// [`Solver::touching`]) is touching when sides are recorded: it tells no side.
 pub(super) const SIDE: f64 = 1e-10;
 
+/// A node is checked against another part of a body it lies near (`through_another_part`)
+/// where it lies within this many of that part's element lengths from the element's chord:
+/// the sag of an element bent by a quarter turn, and a crossing's depth, lie well within it.
+const ANOTHER_PART: f64 = 0.25;
+
 /// Bodies of more elements than this are probed through the element grid.
 const GRID_MIN_ELEMENTS: usize = 32;
 
@@ -255,20 +260,17 @@ impl ContactSet {
             .collect()
     }
 
-    /// The side of body `b` node `n` was on at the last converged state against element `e` or
-    /// a neighbour of it (the one it projected onto closest), where it was clear of it and
-    /// within `FAR` element lengths (farther, a side is that of the element's line): for a
-    /// node whose remembered side was measured against a distant part of the body (a coil
-    /// holds a node between two of its layers, on opposite sides of each). None where it
-    /// projected onto none of them, or touched them.
-    pub(super) fn local_side(
+    /// Where node `n` lies at displacements `d` relative to element `e` of body `b` and its
+    /// neighbours (those outside the node's own window): the one it projects onto closest, with
+    /// `view` of state `d`. None where it projects onto none of them.
+    pub(super) fn probe_around(
         &self,
         cv: &ContactView<'_>,
-        n: usize,
-        b: usize,
+        d: &[f64],
+        (n, b): (usize, usize),
         e: usize,
-        views: &PassViews,
-    ) -> Option<(f64, usize)> {
+        view: &StateView,
+    ) -> Option<Probe> {
         let els = &cv.model.bodies[b].elements;
         let k = els.iter().position(|&x| x == e)?;
         let window = cv.self_window_of(n, b);
@@ -277,8 +279,94 @@ impl ContactSet {
             .iter()
             .copied())
         .filter(|f| window.is_none_or(|(lo, hi)| !(lo..=hi).contains(&place[*f])));
-        let at = current(&cv.model, &cv.dofs, cv.d, n).0;
-        let q = self.closest(cv, cv.d, at, near, Some(&views.before))?;
+        let at = current(&cv.model, &cv.dofs, d, n).0;
+        self.closest(cv, d, at, near, Some(view))
+    }
+
+    /// The elements of body `b` that point `c` projects onto at state `d` within `reach` of
+    /// their lengths from the chord (found through the element grid for a long body), outside
+    /// node `n`'s own window.
+    fn elements_near(
+        cv: &ContactView<'_>,
+        d: &[f64],
+        (n, b): (usize, usize),
+        c: [f64; 2],
+        reach: f64,
+        view: &StateView,
+    ) -> Vec<usize> {
+        let m = &cv.model;
+        let els = &m.bodies[b].elements;
+        let grid = (els.len() > GRID_MIN_ELEMENTS)
+            .then(|| {
+                view.grid
+                    .get_or_init(|| ElementGrid::new(cv, d, FAR + 1.0))
+                    .as_ref()
+            })
+            .flatten();
+        let mut near: Vec<usize> = match grid {
+            Some(g) => g.near(c).filter(|&e| m.beams[e].body == b).collect(),
+            None => els.clone(),
+        };
+        let window = cv.self_window_of(n, b);
+        near.retain(|&e| {
+            let (xi, _) = current(m, &cv.dofs, d, m.beams[e].i);
+            let (xj, _) = current(m, &cv.dofs, d, m.beams[e].j);
+            let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
+            let l = dx.hypot(dy);
+            let t = chord_fraction_of(c, xi, xj);
+            let off = ((c[1] - xi[1]) * dx - (c[0] - xi[0]) * dy).abs() / l;
+            (0.0..=1.0).contains(&t)
+                && off <= reach * l
+                && window.is_none_or(|(lo, hi)| !(lo..=hi).contains(&cv.place[e]))
+        });
+        near
+    }
+
+    /// A node of body `b` near two other parts of it (between two layers of a coil) is checked against
+    /// each: the first element near it now (`ANOTHER_PART`; more than one element from each of
+    /// `skip`) that it
+    /// lies beyond, on the other side from the one it was clear on at the last converged state
+    /// (`local_side`), by more than `through` (a fraction of the element length). Returns its
+    /// probe now and the side it came from.
+    pub(super) fn through_another_part(
+        &self,
+        cv: &ContactView<'_>,
+        d: &[f64],
+        (n, b): (usize, usize),
+        skip: [usize; 2],
+        views: &PassViews,
+        through: f64,
+    ) -> Option<(Probe, f64)> {
+        // Only a body's own nodes: a body coils round its own nodes in the scenes that coil.
+        cv.self_window_of(n, b)?;
+        let c = current(&cv.model, &cv.dofs, d, n).0;
+        let near = Self::elements_near(cv, d, (n, b), c, ANOTHER_PART, &views.now);
+        let far_from_skip = |e: &usize| {
+            let place = cv.place[*e];
+            skip.iter().all(|&s| cv.place[s].abs_diff(place) > 1)
+        };
+        near.into_iter().filter(far_from_skip).find_map(|e| {
+            let q = self.closest(cv, d, c, std::iter::once(e), Some(&views.now))?;
+            let beyond = q.gap.abs() > cv.touching(through, q.length);
+            let (side, _) = beyond.then(|| self.local_side(cv, (n, b), e, views))??;
+            (q.gap * side < 0.0).then_some((q, side))
+        })
+    }
+
+    /// The side of body `b` node `n` was on at the last converged state against element `e` or
+    /// a neighbour of it (`probe_around`), where it was clear of it and within `FAR` element
+    /// lengths (farther, a side is that of the element's line): for a node whose remembered
+    /// side was measured against a distant part of the body (a coil holds a node between two
+    /// of its layers, on opposite sides of each). None where it projected onto none of them,
+    /// or touched them.
+    pub(super) fn local_side(
+        &self,
+        cv: &ContactView<'_>,
+        (n, b): (usize, usize),
+        e: usize,
+        views: &PassViews,
+    ) -> Option<(f64, usize)> {
+        let q = self.probe_around(cv, cv.d, (n, b), e, &views.before)?;
         let clear = q.gap.abs() > cv.touching(SIDE, q.length) && q.gap.abs() <= FAR * q.length;
         clear.then(|| (q.gap.signum(), q.beam))
     }

@@ -283,9 +283,13 @@ impl ContactSet {
     ) -> Option<(Probe, f64)> {
         let p = self.probe_near(cv, d, n, b, Some(&views.now))?;
         if let Some((side, was)) = self.side_of(cv, n, b, Some(&views.before)) {
+            // The part of the body the side was measured against (where the node rested, if it
+            // did): it and the part the node lies over now are judged by the rules below, every
+            // other part near the node by its side of that part (`through_another_part`).
+            let skip = [was, p.beam];
             let (side, was) = match Self::adjacent(cv, b, was, p.beam) {
                 true => (side, was),
-                false => (self.local_side(cv, n, b, p.beam, views)).unwrap_or((side, was)),
+                false => (self.local_side(cv, (n, b), p.beam, views)).unwrap_or((side, was)),
             };
             // Beyond an element next to the one its side was measured against, a node went
             // through at any depth: a beam that springs back past a node resting inside the sag
@@ -303,7 +307,7 @@ impl ContactSet {
                 return None;
             }
             if !wrong_side {
-                return None;
+                return self.through_another_part(cv, d, (n, b), skip, views, THROUGH);
             }
             // A side measured from afar (more than `FAR` element lengths from the element's line)
             // tells which side of the line the node lay on, not of the beam: a beam that
