@@ -3,14 +3,19 @@
 //! which shares no code with the solver): every accepted state in equilibrium, on the right
 //! side of every beam, within the friction law.
 
-use tsm_contact::reports::robust::{cases, run};
+use tsm_contact::reports::robust::{cases, run, Case};
+
+/// The drive with seed `drive` of the campaign of `per_scene` drives per scene and seed `seed`.
+fn drawn(per_scene: usize, seed: u64, drive: u64) -> Case {
+    (cases(per_scene, seed).into_iter())
+        .find(|c| c.seed == drive)
+        .expect("the campaign draws this drive")
+}
 
 /// The campaign's drive with seed `seed` (of 24 per scene, campaign seed 1), run: it completes
 /// and the oracle finds nothing in any accepted state.
 fn completes_audited(seed: u64) {
-    let case = (cases(24, 1).into_iter())
-        .find(|c| c.seed == seed)
-        .expect("the campaign draws this drive");
+    let case = drawn(24, 1, seed);
     let outcome = run(&case);
     assert_eq!(outcome.stop, None, "{case:?} stops");
     assert!(
@@ -47,9 +52,7 @@ fn a_tip_resting_on_the_mesh_node_of_a_frictional_beam_under_it_completes() {
 #[test]
 fn a_snap_under_the_drive_shows_in_the_tangent_and_flat_contact_does_not() {
     let stop = |seed: u64| {
-        let case = (cases(24, 1).into_iter())
-            .find(|c| c.seed == seed)
-            .expect("the campaign draws this drive");
+        let case = drawn(24, 1, seed);
         let outcome = run(&case);
         assert_eq!(
             outcome.stop.as_ref().map(|s| s.0.as_str()),
@@ -70,9 +73,7 @@ fn a_snap_under_the_drive_shows_in_the_tangent_and_flat_contact_does_not() {
 /// All 69 are counted and audited, and the oracle finds nothing in them.
 #[test]
 fn a_drive_that_stops_within_its_step_has_its_accepted_states_audited() {
-    let case = (cases(24, 1).into_iter())
-        .find(|c| c.seed == 0x78dd_e6eb_fd29_f055)
-        .expect("the campaign draws this drive");
+    let case = drawn(24, 1, 0x78dd_e6eb_fd29_f055);
     let outcome = run(&case);
     assert_eq!(
         outcome.stop.as_ref().map(|s| s.0.as_str()),
@@ -98,9 +99,7 @@ fn a_drive_that_stops_within_its_step_has_its_accepted_states_audited() {
 /// of node 15: its side was last measured over element 9, five elements from there.
 #[test]
 fn the_oracle_carries_a_resting_nodes_side_along_the_body() {
-    let case = (cases(96, 7).into_iter())
-        .find(|c| c.seed == 0xbc09_2f90_cb87_de15)
-        .expect("the campaign draws this drive");
+    let case = drawn(96, 7, 0xbc09_2f90_cb87_de15);
     let outcome = run(&case);
     assert!(
         outcome.iterations.len() >= 150,
@@ -118,9 +117,7 @@ fn the_oracle_carries_a_resting_nodes_side_along_the_body() {
 /// completes, and the oracle finds nothing in any accepted state.
 #[test]
 fn a_node_between_two_layers_of_a_coil_is_caught_by_either_layer() {
-    let case = (cases(96, 7).into_iter())
-        .find(|c| c.seed == 0xbc09_2f90_cb87_de15)
-        .expect("the campaign draws this drive");
+    let case = drawn(96, 7, 0xbc09_2f90_cb87_de15);
     let outcome = run(&case);
     assert_eq!(outcome.stop, None, "{case:?} stops");
     assert!(
