@@ -145,47 +145,13 @@ impl<'a> SideAudit<'a> {
                 .filter(|_| pair.obstacle.is_none())
                 .find(|c| c.node == pair.node && body_of(&c.body) == Some(pair.body));
             if let Some(c) = contact {
-                // In contact: it keeps the side it came from; a side not yet known is the one
-                // the contact presses from. A contact that presses from the other side of the
-                // same part of the body holds the node against the side it never came from:
-                // the node is through the body, held at its surface.
-                let at = (self.chains.elements[pair.body].iter())
-                    .position(|&e| e == c.element)
-                    .unwrap_or(0);
-                let pressing = contact_side(c.force);
-                match track.side {
-                    None if c.force != 0.0 => {
-                        track.side = Some((pressing, at));
-                        track.since = increment;
-                    }
-                    Some((side, was)) if c.force != 0.0 => {
-                        if pressing != side && was.abs_diff(at) <= NEIGHBOURS {
-                            let name = &self.topology.bodies[pair.body].name;
-                            found.push(Finding {
-                                increment,
-                                node: Some(pair.node),
-                                body: Some(name.clone()),
-                                what: format!(
-                                    "node {} rests on {name} element {} from its {} side, but it came from its {} side (since increment {}): the contact holds it on the far side of the body",
-                                    pair.node,
-                                    at + 1,
-                                    side_name(pressing),
-                                    side_name(side),
-                                    track.since,
-                                ),
-                                element: Some(c.element),
-                            });
-                        }
-                        // The side goes along the body with the contact; on a distant part of
-                        // the body (another layer of a coil), the side the contact presses from
-                        // is the one it has there. A contact from the far side is told once.
-                        if pressing != side {
-                            track.since = increment;
-                        }
-                        track.side = Some((pressing, at));
-                    }
-                    _ => {}
-                }
+                found.extend(resting(
+                    track,
+                    pair,
+                    c,
+                    (self.chains, self.topology),
+                    increment,
+                ));
                 continue;
             }
             let p1 = pair.at(s1, self.chains);
@@ -290,6 +256,56 @@ impl Pair {
             },
         }
     }
+}
+
+/// A pair whose node rests on the body in contact `c` at `increment`: it keeps the side it
+/// came from, and a side not yet known is the one the contact presses from. A contact that
+/// presses from the other side of the same part of the body holds the node against the side it
+/// never came from: the node is through the body, held at its surface (the finding returned).
+/// The side goes along the body with the contact; on a distant part of the body (another layer
+/// of a coil), the side the contact presses from is the one it has there. A contact from the
+/// far side is told once.
+fn resting(
+    track: &mut Track,
+    pair: &Pair,
+    c: &ContactState,
+    (chains, topology): (&Chains, &Topology),
+    increment: usize,
+) -> Option<Finding> {
+    if c.force == 0.0 {
+        return None;
+    }
+    let at = (chains.elements[pair.body].iter())
+        .position(|&e| e == c.element)
+        .unwrap_or(0);
+    let pressing = contact_side(c.force);
+    let Some((side, was)) = track.side else {
+        track.side = Some((pressing, at));
+        track.since = increment;
+        return None;
+    };
+    let finding = (pressing != side && was.abs_diff(at) <= NEIGHBOURS).then(|| {
+        let name = &topology.bodies[pair.body].name;
+        Finding {
+            increment,
+            node: Some(pair.node),
+            body: Some(name.clone()),
+            what: format!(
+                "node {} rests on {name} element {} from its {} side, but it came from its {} side (since increment {}): the contact holds it on the far side of the body",
+                pair.node,
+                at + 1,
+                side_name(pressing),
+                side_name(side),
+                track.since,
+            ),
+            element: Some(c.element),
+        }
+    });
+    if pressing != side {
+        track.since = increment;
+    }
+    track.side = Some((pressing, at));
+    finding
 }
 
 /// The convex features of the topology's obstacles, each paired with every body whose nodes

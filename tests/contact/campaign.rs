@@ -126,3 +126,26 @@ fn a_node_between_two_layers_of_a_coil_is_caught_by_either_layer() {
         outcome.findings.join("\n")
     );
 }
+
+/// A lower node that slides off the upper tip hands the touch to the tip only from the side the
+/// tip is on: in a drive of "a pin pressing two cantilevers" (Timoshenko, 64 and 64 elements,
+/// friction 0.2, 40 steps of 0.62 times the family's; drive 0xde04_97a6_65c3_ef0a of the
+/// campaign of 96 drives per scene, seed 3), the upper tip rests at the very end of a lower
+/// element, on its right, when a lower node slides off the tip at an angle. The bodies'
+/// directions would put the tip's new contact on the left, and the tip would go through the
+/// lower beam. The oracle finds nothing in any accepted state, and the drive accepts at least
+/// 70 increments.
+#[test]
+fn a_tip_handed_a_node_s_touch_keeps_the_side_it_is_on() {
+    let outcome = run(&drawn(96, 3, 0xde04_97a6_65c3_ef0a));
+    assert!(
+        outcome.findings.is_empty(),
+        "{}",
+        outcome.findings.join("\n")
+    );
+    assert!(
+        outcome.iterations.len() >= 70,
+        "{} accepted increments",
+        outcome.iterations.len()
+    );
+}

@@ -78,6 +78,20 @@ impl ContactSet {
             .is_none_or(|(lo, hi)| !(lo..=hi).contains(&cv.place[beam]))
     }
 
+    /// Whether the side of a contact handed over to node `h.node` on body `h.body` (what the
+    /// hand-over infers from the bodies' directions) is the side the node was on at the last
+    /// converged state, where that was measured against `h.beam` or a neighbour of it. A node
+    /// clear of the body then has not crossed it since (every crossing is caught at a converged
+    /// pass); where the two disagree (two bodies that meet tip on node at an angle), the node is
+    /// not handed over: it is let go, and found through the body from the side it is on if it
+    /// crosses.
+    fn side_agrees(&self, cv: &ContactView<'_>, h: &ActiveContact) -> bool {
+        match self.beams.sides.get(&(h.node, h.body)) {
+            Some(&(side, was)) if Self::adjacent(cv, h.body, was, h.beam) => side == h.side,
+            _ => true,
+        }
+    }
+
     /// The contact of tip `tip` on the body of node `a.node`, which slides off that tip: on the
     /// element at the node that the tip projects onto, from the side opposite to the node's
     /// (the elements lying roughly parallel). `None` where the node is no interior mesh node
@@ -249,7 +263,9 @@ impl ContactSet {
                 // Else a node of another body sliding off a tip that rests on nothing of that
                 // body leaves the tip resting on the body at the node: the same touch, seen
                 // from the tip.
-                let handed = onto_under.or_else(|| self.tip_onto_node_body(cv, d, &a, tip));
+                let handed = onto_under
+                    .or_else(|| self.tip_onto_node_body(cv, d, &a, tip))
+                    .filter(|h| self.side_agrees(cv, h));
                 if let Some(h) = handed {
                     let xi_there = Self::chord_fraction(cv, d, h.node, h.beam);
                     events.push(Self::event(
