@@ -322,12 +322,11 @@ impl ContactSet {
         near
     }
 
-    /// A node of body `b` near two other parts of it (between two layers of a coil) is checked against
-    /// each: the first element near it now (`ANOTHER_PART`; more than one element from each of
-    /// `skip`) that it
-    /// lies beyond, on the other side from the one it was clear on at the last converged state
-    /// (`local_side`), by more than `through` (a fraction of the element length). Returns its
-    /// probe now and the side it came from.
+    /// A node of body `b` near two other parts of it (between two layers of a coil), checked
+    /// against each: the first element near it now (`ANOTHER_PART`; more than one element from
+    /// each of `skip`) that it lies beyond, on the other side from the one it was clear on at
+    /// the last converged state (`local_side`), by more than `through` (a fraction of the
+    /// element length). Returns its probe now and the side it came from.
     pub(super) fn through_another_part(
         &self,
         cv: &ContactView<'_>,
