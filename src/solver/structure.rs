@@ -199,6 +199,13 @@ impl Structure {
         self.self_windows.get(&(n, b)).copied()
     }
 
+    /// Whether element `e` of body `b` lies outside node `n`'s own window on that body (every
+    /// element does for a pair that is not self-contact).
+    #[inline]
+    pub(crate) fn outside_window(&self, n: usize, b: usize, e: usize) -> bool {
+        (self.self_window_of(n, b)).is_none_or(|(lo, hi)| !(lo..=hi).contains(&self.place[e]))
+    }
+
     /// The larger side of the model's bounding box at rest (m).
     pub fn model_size(&self) -> f64 {
         self.size

@@ -273,12 +273,10 @@ impl ContactSet {
     ) -> Option<Probe> {
         let els = &cv.model.bodies[b].elements;
         let k = els.iter().position(|&x| x == e)?;
-        let window = cv.self_window_of(n, b);
-        let place = &cv.place;
         let near = (els[k.saturating_sub(1)..(k + 2).min(els.len())]
             .iter()
             .copied())
-        .filter(|f| window.is_none_or(|(lo, hi)| !(lo..=hi).contains(&place[*f])));
+        .filter(|&f| cv.outside_window(n, b, f));
         let at = current(&cv.model, &cv.dofs, d, n).0;
         self.closest(cv, d, at, near, Some(view))
     }
@@ -307,7 +305,6 @@ impl ContactSet {
             Some(g) => g.near(c).filter(|&e| m.beams[e].body == b).collect(),
             None => els.clone(),
         };
-        let window = cv.self_window_of(n, b);
         near.retain(|&e| {
             let (xi, _) = current(m, &cv.dofs, d, m.beams[e].i);
             let (xj, _) = current(m, &cv.dofs, d, m.beams[e].j);
@@ -315,9 +312,7 @@ impl ContactSet {
             let l = dx.hypot(dy);
             let t = chord_fraction_of(c, xi, xj);
             let off = ((c[1] - xi[1]) * dx - (c[0] - xi[0]) * dy).abs() / l;
-            (0.0..=1.0).contains(&t)
-                && off <= reach * l
-                && window.is_none_or(|(lo, hi)| !(lo..=hi).contains(&cv.place[e]))
+            (0.0..=1.0).contains(&t) && off <= reach * l && cv.outside_window(n, b, e)
         });
         near
     }

@@ -74,8 +74,7 @@ impl ContactSet {
         if own.i == n || own.j == n || !Self::candidates(cv).contains(&(n, b)) {
             return false;
         }
-        cv.self_window_of(n, b)
-            .is_none_or(|(lo, hi)| !(lo..=hi).contains(&cv.place[beam]))
+        cv.outside_window(n, b, beam)
     }
 
     /// Whether the side of a contact handed over to node `h.node` on body `h.body` (what the
