@@ -1,6 +1,7 @@
 //! Obstacles: no candidate node is inside a rigid obstacle beyond the accepted gap. The
 //! obstacle's curve at a state is its rest curve moved by its pilot's displacement; the signed
-//! distance to it is worked out here from the shape's own definition.
+//! distance to it, and the convex features the sides check follows between nodes, are worked
+//! out here from each shape's own definition (the audit's geometry of every shape).
 
 use std::collections::HashMap;
 
@@ -19,6 +20,33 @@ fn shape_scale(shape: &Shape) -> f64 {
         Shape::Circle { centre, radius, .. } | Shape::Arc { centre, radius, .. } => {
             big(centre) + radius
         }
+    }
+}
+
+/// The convex features of `shape` at rest, which fit between two nodes: the centre of a disk
+/// (a circle or an arc nodes stay out of), and each corner of a polyline where it turns right
+/// (juts into the free side).
+pub fn convex_features(shape: &Shape) -> Vec<[f64; 2]> {
+    match shape {
+        Shape::Circle {
+            centre,
+            hollow: false,
+            ..
+        }
+        | Shape::Arc {
+            centre,
+            hollow: false,
+            ..
+        } => vec![*centre],
+        Shape::Polyline { points } => (points.windows(3))
+            .filter(|w| {
+                let turn = (w[1][0] - w[0][0]) * (w[2][1] - w[1][1])
+                    - (w[1][1] - w[0][1]) * (w[2][0] - w[1][0]);
+                turn < 0.0
+            })
+            .map(|w| w[1])
+            .collect(),
+        _ => Vec::new(),
     }
 }
 

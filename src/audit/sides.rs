@@ -10,6 +10,7 @@
 
 use super::finding::Finding;
 use super::geometry::{Chains, Place};
+use super::obstacles::convex_features;
 use crate::history::Topology;
 use crate::solver::report::ContactState;
 use crate::solver::IncrementRecord;
@@ -311,32 +312,9 @@ fn resting(
 /// The convex features of the topology's obstacles, each paired with every body whose nodes
 /// may touch the obstacle.
 fn features(topology: &Topology, chains: &Chains) -> Vec<Pair> {
-    use crate::solver::Shape;
     let mut out = Vec::new();
     for (o, ob) in topology.obstacles.iter().enumerate() {
-        let points: Vec<[f64; 2]> = match &ob.shape {
-            Shape::Circle {
-                centre,
-                hollow: false,
-                ..
-            }
-            | Shape::Arc {
-                centre,
-                hollow: false,
-                ..
-            } => {
-                vec![*centre]
-            }
-            Shape::Polyline { points } => (points.windows(3))
-                .filter(|w| {
-                    let turn = (w[1][0] - w[0][0]) * (w[2][1] - w[1][1])
-                        - (w[1][1] - w[0][1]) * (w[2][0] - w[1][0]);
-                    turn < 0.0
-                })
-                .map(|w| w[1])
-                .collect(),
-            _ => Vec::new(),
-        };
+        let points = convex_features(&ob.shape);
         let pilot = ob.pilot.and_then(|p| chains.slot.get(&p).copied());
         let touching: Vec<usize> = (0..topology.bodies.len())
             .filter(|&b| {

@@ -4,7 +4,7 @@
 //! the rigid obstacles where their pilots have moved them.
 
 use crate::solver::element::beam::BeamElement;
-use crate::solver::{IncrementRecord, Model, Shape};
+use crate::solver::{IncrementRecord, Model};
 
 /// Samples per element along the deformed curve.
 pub const SAMPLES: usize = 8;
@@ -186,10 +186,6 @@ pub fn max_moment(curves: &[BodyCurve]) -> f64 {
         .fold(1e-30, |a, m| a.max(m.abs()))
 }
 
-/// Points per full turn of a drawn circle (the solver's circles are exact; only the drawing is
-/// a polygon).
-const CIRCLE_POINTS: usize = 128;
-
 /// The outline of every obstacle at record `r` (moved by its pilot's displacement), each a
 /// polyline in world coordinates: lines and the ends of polylines drawn `reach` beyond the
 /// model's bounding box at rest, circles and arcs as fine polygons.
@@ -197,62 +193,13 @@ pub fn obstacle_outlines(model: &Model, r: &IncrementRecord) -> Vec<Vec<[f64; 2]
     let (lo, hi) = model.bounds();
     let reach = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(1e-9);
     let centre = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
-    // How far along a direction from point p the drawing goes: past the box by `reach`.
-    let far = |p: [f64; 2]| (p[0] - centre[0]).hypot(p[1] - centre[1]) + reach;
-    let ray = |p: [f64; 2], t: [f64; 2]| {
-        let l = t[0].hypot(t[1]);
-        let k = far(p) / l;
-        [p[0] + k * t[0], p[1] + k * t[1]]
-    };
-    let arc = |c: [f64; 2], radius: f64, from: f64, sweep: f64| -> Vec<[f64; 2]> {
-        let n = ((CIRCLE_POINTS as f64 * sweep / std::f64::consts::TAU).ceil() as usize).max(4);
-        (0..=n)
-            .map(|k| {
-                let a = from + sweep * k as f64 / n as f64;
-                [c[0] + radius * a.cos(), c[1] + radius * a.sin()]
-            })
-            .collect()
-    };
     let mut out = Vec::new();
     for ob in &model.obstacles {
         let t = ob.pilot.map_or([0.0, 0.0], |p| {
             let at = r.nodes.get(p).copied().unwrap_or([0.0; 3]);
             [at[0] - model.nodes[p].x, at[1] - model.nodes[p].y]
         });
-        let line = match ob.shape.translated(t) {
-            Shape::Line { from, to } => {
-                // Both ways from the point of the line nearest the model's centre.
-                let d = [to[0] - from[0], to[1] - from[1]];
-                let t = ((centre[0] - from[0]) * d[0] + (centre[1] - from[1]) * d[1])
-                    / (d[0] * d[0] + d[1] * d[1]);
-                let foot = [from[0] + t * d[0], from[1] + t * d[1]];
-                vec![ray(foot, [-d[0], -d[1]]), ray(foot, d)]
-            }
-            Shape::Polyline { points } => {
-                let m = points.len();
-                let first = [points[0][0] - points[1][0], points[0][1] - points[1][1]];
-                let last = [
-                    points[m - 1][0] - points[m - 2][0],
-                    points[m - 1][1] - points[m - 2][1],
-                ];
-                let mut line = vec![ray(points[0], first)];
-                line.extend_from_slice(&points);
-                line.push(ray(points[m - 1], last));
-                line
-            }
-            Shape::Circle { centre, radius, .. } => arc(centre, radius, 0.0, std::f64::consts::TAU),
-            Shape::Arc {
-                centre,
-                radius,
-                from,
-                to,
-                ..
-            } => {
-                let sweep = (to - from).rem_euclid(std::f64::consts::TAU);
-                arc(centre, radius, from, sweep)
-            }
-        };
-        out.push(line);
+        out.push(ob.shape.translated(t).outline(centre, reach));
     }
     out
 }

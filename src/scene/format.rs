@@ -3,6 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
+pub use super::shape::ShapeDef;
 use super::units::Units;
 use crate::solver::{Dof, Formulation, StretchCorrection};
 
@@ -322,50 +323,6 @@ pub struct ObstacleDef {
     /// Coulomb friction coefficient between it and the nodes (default 0: frictionless).
     #[serde(default)]
     pub mu: f64,
-}
-
-/// The curve of an obstacle (m, degrees).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub enum ShapeDef {
-    /// The unbounded straight line through two points; free side to the left of `from` ->
-    /// `to`.
-    Line {
-        /// A point.
-        from: (f64, f64),
-        /// A second point.
-        to: (f64, f64),
-    },
-    /// Straight segments through the points, continued beyond both ends; free side to the
-    /// left of the direction of travel.
-    Polyline {
-        /// The corners, at least two.
-        points: Vec<(f64, f64)>,
-    },
-    /// A circle: a solid disk, or a hole with `hollow: true`.
-    Circle {
-        /// Centre.
-        centre: (f64, f64),
-        /// Radius.
-        radius: f64,
-        /// Whether the nodes stay inside (default false).
-        #[serde(default)]
-        hollow: bool,
-    },
-    /// The part of a circle from polar angle `from_deg` counter-clockwise to `to_deg`.
-    Arc {
-        /// Centre.
-        centre: (f64, f64),
-        /// Radius.
-        radius: f64,
-        /// Start angle (degrees).
-        from_deg: f64,
-        /// End angle (degrees).
-        to_deg: f64,
-        /// Whether the nodes stay inside (default false).
-        #[serde(default)]
-        hollow: bool,
-    },
 }
 
 /// Increment control.

@@ -3,6 +3,16 @@
 
 use serde::{Deserialize, Serialize};
 
+/// The largest size a number of a scene may have, in any units: beyond it, the products the
+/// solver forms of them (stiffness times displacement, load times steps) would leave double
+/// precision.
+pub(crate) const MAGNITUDE: f64 = 1e100;
+
+/// Whether `v` is finite and below `MAGNITUDE` in size.
+pub(crate) fn sized(v: f64) -> bool {
+    v.is_finite() && v.abs() < MAGNITUDE
+}
+
 /// A consistent set of force and length units.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Units {

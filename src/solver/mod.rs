@@ -5,8 +5,8 @@
 //! `linear/` (the band solve), `assembly/` (dofs, ordering, unbalanced force and tangent),
 //! `contact/` (the contact set and its life cycle), `newton/` (one Newton iteration for every
 //! increment control), `acceptance/` (the check every increment passes before it is
-//! committed) and `control/` (the `Solver`: increment control and cut-backs). `model.rs`,
-//! `load_path.rs`, `params.rs`, `report.rs` and `errors.rs` (what a run stops with) are the
+//! committed) and `control/` (the `Solver`: increment control and cut-backs). `model/` (with
+//! the obstacles' curves), `load_path.rs`, `params.rs`, `report.rs` and `errors.rs` (what a run stops with) are the
 //! vocabulary they share; `structure.rs` and `state.rs` the prepared model and the converged
 //! state; `rigid_modes.rs` tells a mechanism's free rigid motions, and `index_map.rs` is the
 //! small map the contact code keys by node and body.

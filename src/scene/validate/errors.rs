@@ -171,14 +171,7 @@ fn locate(text: &str, field: &str, needle: &str) -> Option<usize> {
         .map(|i| i + 1)
 }
 
-/// The largest size a number of a scene may have: beyond it, the products the solver forms of
-/// them (stiffness times displacement, load times steps) would leave double precision.
-pub(super) const MAGNITUDE: f64 = 1e100;
-
-/// Whether `v` is finite and below `MAGNITUDE` in size.
-pub(super) fn sized(v: f64) -> bool {
-    v.is_finite() && v.abs() < MAGNITUDE
-}
+pub(super) use crate::scene::units::sized;
 
 /// An optional size `v` (a thickness, a radius) must be zero or positive, finite and below
 /// `MAGNITUDE`; absent, it is 0.

@@ -7,7 +7,7 @@ use std::collections::HashSet;
 
 use super::errors::{sized, Ctx, SceneError};
 use super::geometry::Geometry;
-use crate::scene::format::{ObstacleDef, SceneFile, ShapeDef};
+use crate::scene::format::{ObstacleDef, SceneFile};
 use crate::solver::{Dof, Obstacle, Prescribed, Shape, Support};
 
 /// How far inside its obstacle (in units of the model's size) a candidate node may start:
@@ -36,7 +36,7 @@ pub(super) fn obstacles(
                 format!("\"{}\" is empty or names another obstacle too", o.name),
             ));
         }
-        let shape = shape(&o.shape).map_err(|m| ctx.err(leaf("shape"), here.clone(), m))?;
+        let shape = (o.shape.to_shape()).map_err(|m| ctx.err(leaf("shape"), here.clone(), m))?;
         let mut nodes = Vec::new();
         for (m, name) in o.bodies.iter().enumerate() {
             let b = g.body_of(ctx, format!("obstacles[{k}].bodies[{m}]"), name)?;
@@ -144,126 +144,16 @@ fn model_size(g: &Geometry) -> f64 {
     (hi[0] - lo[0]).max(hi[1] - lo[1]).max(0.0)
 }
 
-/// The solver's shape of `def`, or what is wrong with it.
-fn shape(def: &ShapeDef) -> Result<Shape, String> {
-    let pt = |p: (f64, f64)| [p.0, p.1];
-    let finite = |v: &[f64]| v.iter().all(|&x| sized(x));
-    match def {
-        ShapeDef::Line { from, to } => {
-            if !finite(&[from.0, from.1, to.0, to.1]) || from == to {
-                return Err(
-                    "a line needs two different points, finite and below 1e100 in size".into(),
-                );
-            }
-            Ok(Shape::Line {
-                from: pt(*from),
-                to: pt(*to),
-            })
-        }
-        ShapeDef::Polyline { points } => {
-            let flat: Vec<f64> = points.iter().flat_map(|p| [p.0, p.1]).collect();
-            if points.len() < 2 || !finite(&flat) {
-                return Err(
-                    "a polyline needs at least two points, finite and below 1e100 in size".into(),
-                );
-            }
-            // Two points in a row closer than the round-off of their coordinates make a segment
-            // with no direction; a segment that turns straight back makes a spike with no free
-            // side.
-            let scale = flat.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            let seg = |k: usize| [points[k + 1].0 - points[k].0, points[k + 1].1 - points[k].1];
-            let len = |d: [f64; 2]| d[0].hypot(d[1]);
-            if let Some(k) = (0..points.len() - 1).find(|&k| len(seg(k)) <= 1e-12 * scale) {
-                return Err(format!(
-                    "points {} and {} of the polyline are the same to round-off",
-                    k + 1,
-                    k + 2
-                ));
-            }
-            if let Some(k) = (1..points.len() - 1).find(|&k| {
-                let (a, b) = (seg(k - 1), seg(k));
-                let cross = a[0] * b[1] - a[1] * b[0];
-                let dot = a[0] * b[0] + a[1] * b[1];
-                dot < 0.0 && cross.abs() <= 1e-9 * len(a) * len(b)
-            }) {
-                return Err(format!(
-                    "the polyline folds straight back on itself at point {}",
-                    k + 1
-                ));
-            }
-            Ok(Shape::Polyline {
-                points: points.iter().map(|&p| pt(p)).collect(),
-            })
-        }
-        ShapeDef::Circle {
-            centre,
-            radius,
-            hollow,
-        } => {
-            if !finite(&[centre.0, centre.1, *radius]) || *radius <= 0.0 {
-                return Err(
-                    "a circle needs a centre and a positive radius, finite and below 1e100 in size"
-                        .into(),
-                );
-            }
-            Ok(Shape::Circle {
-                centre: pt(*centre),
-                radius: *radius,
-                hollow: *hollow,
-            })
-        }
-        ShapeDef::Arc {
-            centre,
-            radius,
-            from_deg,
-            to_deg,
-            hollow,
-        } => {
-            let ok = finite(&[centre.0, centre.1, *radius, *from_deg, *to_deg]);
-            if !ok || *radius <= 0.0 || (to_deg - from_deg).rem_euclid(360.0) == 0.0 {
-                return Err(
-                    "an arc needs a centre, a positive radius and two different angles, finite and below 1e100 in size"
-                        .into(),
-                );
-            }
-            Ok(Shape::Arc {
-                centre: pt(*centre),
-                radius: *radius,
-                from: from_deg.to_radians(),
-                to: to_deg.to_radians(),
-                hollow: *hollow,
-            })
-        }
-    }
-}
-
-/// An element of a body that may touch obstacle `o` (a solid circle) whose chord passes through
-/// the disk between its two nodes, both clear of it: the element and how deep its chord goes.
+/// An element of a body that may touch obstacle `o` whose chord at rest passes through the
+/// obstacle between its two nodes, both clear of it (`Shape::chord_through`): the element
+/// and how deep its chord goes.
 fn chord_through(shape: &Shape, o: &ObstacleDef, g: &Geometry) -> Option<(usize, f64)> {
-    let Shape::Circle {
-        centre,
-        radius,
-        hollow: false,
-    } = *shape
-    else {
-        return None;
-    };
     let bodies = (o.bodies.iter()).filter_map(|name| g.body_index.get(name.as_str()));
     let elements = bodies.flat_map(|&b| g.bodies[b].elements.iter().copied());
     elements
         .filter_map(|e| {
             let (p, q) = (&g.nodes[g.beams[e].i], &g.nodes[g.beams[e].j]);
-            let (dx, dy) = (q.x - p.x, q.y - p.y);
-            let l2 = dx * dx + dy * dy;
-            let t = (((centre[0] - p.x) * dx + (centre[1] - p.y) * dy) / l2).clamp(0.0, 1.0);
-            let (cx, cy) = (p.x + t * dx - centre[0], p.y + t * dy - centre[1]);
-            let depth = radius - cx.hypot(cy);
-            // Nodes resting on the disk (a band laid round a drum) touch it at the nodes, where
-            // contact acts: their chords dip inside by the sagitta, as they must.
-            let clear =
-                |x: f64, y: f64| (x - centre[0]).hypot(y - centre[1]) - radius > 1e-9 * radius;
-            let through = clear(p.x, p.y) && clear(q.x, q.y) && t > 0.0 && t < 1.0;
-            (through && depth > 1e-9 * radius).then_some((e, depth))
+            Some((e, shape.chord_through([p.x, p.y], [q.x, q.y])?))
         })
         .next()
 }

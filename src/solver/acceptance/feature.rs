@@ -6,7 +6,7 @@
 //! the element. A drum that a chord cuts by its sag keeps its centre on one side.
 
 use super::obstacle::pilot_offset;
-use crate::solver::model::{Model, Shape};
+use crate::solver::model::Model;
 use crate::solver::report::NodeState;
 
 /// A feature of an obstacle found through an element.
@@ -24,31 +24,6 @@ pub struct FeatureCrossing {
 /// chord: they tell no side.
 const ON_CHORD: f64 = 1e-9;
 
-/// The convex features of `shape` at rest.
-fn features(shape: &Shape) -> Vec<[f64; 2]> {
-    match shape {
-        Shape::Circle {
-            centre,
-            hollow: false,
-            ..
-        }
-        | Shape::Arc {
-            centre,
-            hollow: false,
-            ..
-        } => vec![*centre],
-        Shape::Polyline { points } => (points.windows(3))
-            .filter(|w| {
-                let turn = (w[1][0] - w[0][0]) * (w[2][1] - w[1][1])
-                    - (w[1][1] - w[0][1]) * (w[2][0] - w[1][0]);
-                turn < 0.0
-            })
-            .map(|w| w[1])
-            .collect(),
-        _ => Vec::new(),
-    }
-}
-
 /// The first feature of an obstacle of `model` that passed through an element between node
 /// states `before` and `after` (scene coordinates; `origin` is where the model's own
 /// coordinates are measured from, as for `inside_obstacle`).
@@ -58,7 +33,7 @@ pub fn feature_through(
     (before, after): (&[NodeState], &[NodeState]),
 ) -> Option<FeatureCrossing> {
     for (o, ob) in model.obstacles.iter().enumerate() {
-        let points = features(&ob.shape);
+        let points = ob.shape.convex_features();
         if points.is_empty() {
             continue;
         }

@@ -1,9 +1,16 @@
 //! The structural model: nodes, sections, beam elements, supports, loads, prescribed
-//! displacements and contact candidates. Plain data, validated by `scene` before it gets here.
+//! displacements, contact candidates and rigid obstacles (their curves: `shape.rs`). Plain
+//! data, validated by `scene` before it gets here.
 
 use serde::{Deserialize, Serialize};
 
 use super::load_path::LoadPath;
+
+mod curves;
+mod shape;
+
+pub use curves::Gap;
+pub use shape::Shape;
 
 /// Which beam theory an element's force equation follows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
@@ -200,89 +207,6 @@ pub struct ContactPair {
 /// The elements on either side of a node's own elements that its self-contact leaves out: a
 /// node cannot press on the elements it bends with.
 pub const SELF_CONTACT_WINDOW: usize = 2;
-
-/// The curve of a rigid obstacle, in the scene's coordinates. Each shape has a free side, where
-/// the nodes stay, and a solid side they may not enter.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub enum Shape {
-    /// The straight line through `from` and `to`, unbounded; free side to the left of the
-    /// direction from `from` to `to` (a floor drawn left to right is free above).
-    Line {
-        /// A point of the line (m).
-        from: [f64; 2],
-        /// A second point of the line (m).
-        to: [f64; 2],
-    },
-    /// The chain of straight segments through `points`, continued beyond its first and last
-    /// point along its end segments, so that it divides the plane in two; free side to the
-    /// left of the direction of travel.
-    Polyline {
-        /// The corners, at least two (m).
-        points: Vec<[f64; 2]>,
-    },
-    /// A circle: a solid disk (nodes stay outside) or, `hollow`, a hole (nodes stay inside).
-    Circle {
-        /// Centre (m).
-        centre: [f64; 2],
-        /// Radius (m).
-        radius: f64,
-        /// Whether the nodes stay inside.
-        hollow: bool,
-    },
-    /// The part of a circle between the polar angles `from` and `to` (rad, counter-clockwise
-    /// from `from`): a node touches it only while its polar angle about the centre lies in
-    /// that range; there, it is a disk or a hole as for `Circle`.
-    Arc {
-        /// Centre (m).
-        centre: [f64; 2],
-        /// Radius (m).
-        radius: f64,
-        /// Start angle (rad).
-        from: f64,
-        /// End angle (rad), reached counter-clockwise from `from`.
-        to: f64,
-        /// Whether the nodes stay inside.
-        hollow: bool,
-    },
-}
-
-impl Shape {
-    /// The shape moved by `by` (m).
-    pub fn translated(&self, by: [f64; 2]) -> Shape {
-        let mv = |p: [f64; 2]| [p[0] + by[0], p[1] + by[1]];
-        match self {
-            Shape::Line { from, to } => Shape::Line {
-                from: mv(*from),
-                to: mv(*to),
-            },
-            Shape::Polyline { points } => Shape::Polyline {
-                points: points.iter().map(|&p| mv(p)).collect(),
-            },
-            Shape::Circle {
-                centre,
-                radius,
-                hollow,
-            } => Shape::Circle {
-                centre: mv(*centre),
-                radius: *radius,
-                hollow: *hollow,
-            },
-            Shape::Arc {
-                centre,
-                radius,
-                from,
-                to,
-                hollow,
-            } => Shape::Arc {
-                centre: mv(*centre),
-                radius: *radius,
-                from: *from,
-                to: *to,
-                hollow: *hollow,
-            },
-        }
-    }
-}
 
 /// A rigid obstacle: a curve the candidate nodes may touch and slide along but not cross.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
