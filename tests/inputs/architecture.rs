@@ -647,6 +647,61 @@ fn files_read_in_one_sitting_and_folders_stay_small() {
     );
 }
 
+/// An obstacle shape lives in three files: its format and checks (`scene/shape.rs`), every
+/// geometric question the solver asks of it (`solver/model/shape.rs`) and the audit's own
+/// geometry (`audit/obstacles.rs`). No other file takes a shape apart by its variants, and the
+/// audit asks the solver's shape nothing but where it lies once moved (`translated`): the
+/// oracle measures with code of its own.
+#[test]
+fn an_obstacle_shape_lives_in_three_files() {
+    let g = Graph::new(&src());
+    let variants = ["Line", "Polyline", "Circle", "Arc"];
+    let mut matched = BTreeSet::new();
+    for (path, file) in &g.files {
+        let text = &file.text;
+        for v in variants {
+            for enum_name in ["Shape", "ShapeDef"] {
+                let pat = format!("{enum_name}::{v}");
+                // The solver's and the format's variants are structs (`Shape::Circle {`);
+                // egui's shapes of the same names are tuples (`Shape::Circle(`).
+                let found = text.match_indices(&pat).any(|(i, _)| {
+                    let rest = text[i + pat.len()..].trim_start();
+                    rest.starts_with('{') && !text[..i].ends_with("egui::")
+                });
+                if found {
+                    matched.insert(rel(path));
+                }
+            }
+        }
+    }
+    let expected: BTreeSet<String> = [
+        "audit/obstacles.rs",
+        "scene/shape.rs",
+        "solver/model/shape.rs",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    assert_eq!(matched, expected, "files that take an obstacle shape apart");
+    let shape = std::fs::read_to_string(src().join("solver/model/shape.rs")).unwrap();
+    let methods: Vec<&str> = (shape.split("pub fn ").skip(1))
+        .filter_map(|m| m.split_once("(&self"))
+        .map(|(name, _)| name)
+        .filter(|name| *name != "translated")
+        .collect();
+    assert!(methods.contains(&"gap") && methods.contains(&"depth_inside"));
+    for (path, file) in g.files.iter().filter(|(p, _)| rel(p).starts_with("audit/")) {
+        for m in &methods {
+            // A shape is held as `shape` or `o.shape` wherever the audit has one.
+            assert!(
+                !file.text.contains(&format!("shape.{m}(")),
+                "{} calls the solver's Shape::{m}",
+                rel(path)
+            );
+        }
+    }
+}
+
 /// The checks above find what they look for: a circle and an upward arrow written into
 /// sources of a scratch tree.
 #[test]
