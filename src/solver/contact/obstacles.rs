@@ -70,6 +70,49 @@ impl ContactSet {
         d: &[f64],
         asm: &Assembled,
     ) -> (usize, usize) {
+        let changed = self.obstacle_changes(cv, d, asm, false);
+        if changed > 0 {
+            return (changed, 0);
+        }
+        let tol = cv.obstacle_tolerance();
+        let forces = &asm.elements.obstacle_forces;
+        let mut updated = 0;
+        self.obstacles.widest_gap = None;
+        for (k, link) in self.obstacles.links.iter_mut().enumerate() {
+            if !link.active {
+                continue;
+            }
+            let Some(gap) = obstacle_gap(&cv.model, &cv.dofs, d, link.node, link.obstacle) else {
+                continue;
+            };
+            if gap.g.abs() > tol {
+                link.multiplier = forces[k];
+                updated += 1;
+                if self
+                    .obstacles
+                    .widest_gap
+                    .is_none_or(|w| gap.g.abs() > w.2.abs())
+                {
+                    self.obstacles.widest_gap = Some((link.node, link.obstacle, gap.g));
+                }
+            }
+        }
+        self.obstacles.multiplier_updates += usize::from(updated > 0);
+        (0, updated)
+    }
+
+    /// The releases and activations of `obstacle_pass` at displacements `d` with assembly
+    /// `asm`: contacts whose force turned tensile let go, nodes inside by more than the
+    /// tolerance touch (all at once, or the least pair alone once a set came back). Returns how
+    /// many changed. `releases_only`: only the contacts that turned tensile let go (a state on
+    /// the way to convergence, where the gaps of free nodes are not judged).
+    pub(crate) fn obstacle_changes(
+        &mut self,
+        cv: &ContactView<'_>,
+        d: &[f64],
+        asm: &Assembled,
+        releases_only: bool,
+    ) -> usize {
         let tol = cv.obstacle_tolerance();
         let forces = &asm.elements.obstacle_forces;
         // The violations, in the order of the pairs: (pair, activate).
@@ -79,6 +122,9 @@ impl ContactSet {
                 if forces[k] < 0.0 {
                     violations.push((k, false));
                 }
+                continue;
+            }
+            if releases_only {
                 continue;
             }
             let Some(gap) = obstacle_gap(&cv.model, &cv.dofs, d, link.node, link.obstacle) else {
@@ -118,31 +164,8 @@ impl ContactSet {
             }
             let set: Vec<bool> = self.obstacles.links.iter().map(|l| l.active).collect();
             self.obstacles.guard.reached(set);
-            return (violations.len(), 0);
         }
-        let mut updated = 0;
-        self.obstacles.widest_gap = None;
-        for (k, link) in self.obstacles.links.iter_mut().enumerate() {
-            if !link.active {
-                continue;
-            }
-            let Some(gap) = obstacle_gap(&cv.model, &cv.dofs, d, link.node, link.obstacle) else {
-                continue;
-            };
-            if gap.g.abs() > tol {
-                link.multiplier = forces[k];
-                updated += 1;
-                if self
-                    .obstacles
-                    .widest_gap
-                    .is_none_or(|w| gap.g.abs() > w.2.abs())
-                {
-                    self.obstacles.widest_gap = Some((link.node, link.obstacle, gap.g));
-                }
-            }
-        }
-        self.obstacles.multiplier_updates += usize::from(updated > 0);
-        (0, updated)
+        violations.len()
     }
 
     /// At the accepted pass: which nodes rest on their obstacles now, and the
