@@ -1,16 +1,18 @@
 //! The independent audit of a run's history: every accepted increment is in equilibrium from
-//! its recorded forces, no candidate node changed its side of a body except round an end, no
-//! node is inside an obstacle, every frictional contact is within the friction law, and every
-//! contact presses. It reads only the history (its topology, node states, forces and contact
-//! records) and shares no code with the solver's contact, acceptance, element, assembly or
-//! Newton code (`tests/inputs/architecture.rs` bars those imports): it is the oracle of the tests and
-//! of `tsm-contact check`.
+//! its recorded forces, every support and prescribed dof is where it is held, no candidate
+//! node changed its side of a body except round an end, no node is inside an obstacle, every
+//! frictional contact is within the friction law, and every contact presses. It reads only the
+//! history (its topology, node states, forces and contact records) and shares no code with the
+//! solver's contact, acceptance, element, assembly or Newton code
+//! (`tests/inputs/architecture.rs` bars those imports): it is the oracle of the tests and of
+//! `tsm-contact check`.
 
 pub mod equilibrium;
 pub mod finding;
 pub mod geometry;
 pub mod obstacles;
 pub mod sides;
+pub mod supports;
 
 use std::collections::HashMap;
 
@@ -127,6 +129,13 @@ fn audit_with(
                 what: format!("node {n} is {depth:.3e} m inside obstacle {o} (its face, at its clearance from it; accepted gap {obstacle_tol:.1e} m)"),
             });
         }
+        found.extend(supports::out_of_place(
+            topology,
+            slot,
+            &rest,
+            r,
+            (size, chains.roundoff),
+        ));
         found.extend(friction_and_pressure(topology, r));
         before = r.nodes.clone();
         c_before = contacts_of(r);

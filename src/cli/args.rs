@@ -76,9 +76,9 @@ pub(super) enum Command {
         after_help = "Example: tsm-contact solve example_3_2 --steps 12 --json history.json"
     )]
     Solve(SolveArgs),
-    /// Audit a history independently of the solver: equilibrium from the recorded forces, the
-    /// side of every candidate node (through contact and release), obstacles, the friction law
-    /// and the statuses. Exit 1 naming each increment, node and body found wrong. A thinned
+    /// Audit a history independently of the solver: equilibrium from the recorded forces, every
+    /// support and prescribed dof where it is held, the side of every candidate node (through
+    /// contact and release), obstacles, the friction law and the statuses. Exit 1 naming each increment, node and body found wrong. A thinned
     /// history (`solve --every N`) gets every check but pass-through, and says so.
     #[command(after_help = "Example: tsm-contact check history.json")]
     Check {

@@ -1,6 +1,6 @@
 //! `check`: the independent audit (`tsm_contact::audit`) of a written history: equilibrium from
-//! its recorded forces, the side of every candidate node, obstacles, the friction law and the
-//! statuses. Exit 0 when it finds nothing, 1 naming each increment, node and body found wrong,
+//! its recorded forces, every support and prescribed dof where it is held, the side of every
+//! candidate node, obstacles, the friction law and the statuses. Exit 0 when it finds nothing, 1 naming each increment, node and body found wrong,
 //! 2 when the history cannot be read. A thinned history ([`History::every`]) is audited but for
 //! pass-through, which it cannot support, and the output says so.
 

@@ -34,6 +34,10 @@ pub struct Topology {
     pub distributed: Vec<TopologyDistributed>,
     /// The held dofs: supported or prescribed, (node id, "u" | "v" | "phi").
     pub held: Vec<(u32, String)>,
+    /// The prescribed dofs, (node id, "u" | "v" | "phi"), in the order of
+    /// `IncrementRecord::prescribed`; empty in a history written without them.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub prescribed: Vec<(u32, String)>,
     /// The names of the load groups, in the order of `IncrementRecord::load_factors`; empty
     /// where every load has the one load factor.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -247,6 +251,9 @@ impl Topology {
                 })
                 .collect(),
             held,
+            prescribed: (model.prescribed.iter())
+                .map(|p| (id(p.node), p.dof.name().to_string()))
+                .collect(),
             load_groups: model.load_groups.clone(),
             stages: (model.path.iter().flat_map(|p| &p.stages))
                 .map(|s| TopologyStage {

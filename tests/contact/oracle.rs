@@ -468,3 +468,46 @@ fn a_plank_laid_on_a_floor_declared_above_it_rests_on_it() {
         );
     }
 }
+
+/// A record whose prescribed node stayed where it was while the record says it moved is in
+/// equilibrium from its own forces; the oracle finds it by the held dofs, and a support that
+/// moved likewise. Each tamper is well above the check's slack (1e-9 of the model's size) and
+/// far below anything the other checks see.
+#[test]
+fn the_oracle_finds_a_prescribed_node_left_behind_and_a_support_that_moved() {
+    let scene = builtin("example_3_2").unwrap().unwrap();
+    let (records, error) = solve(&scene, 6);
+    assert!(error.is_none(), "{error:?}");
+    assert!(findings(&scene, &records).is_empty());
+    let topology = Topology::of(&scene.model);
+    let ids: Vec<u32> = scene.model.nodes.iter().map(|n| n.id).collect();
+    let last = records.len() - 1;
+
+    let (pin, dof) = topology.prescribed[0].clone();
+    let mut left_behind = records.clone();
+    left_behind[last].prescribed[0] -= 1e-6;
+    let found = findings(&scene, &left_behind);
+    assert!(
+        found.iter().any(|f| f.increment == records[last].increment
+            && f.node == Some(pin)
+            && f.what.contains(&format!("{dof} is"))
+            && f.what.contains("prescribed value")),
+        "{found:?}"
+    );
+
+    let (held, dof) = (topology.held.iter())
+        .find(|h| !topology.prescribed.contains(h) && h.1 != "phi")
+        .expect("a support")
+        .clone();
+    let slot = ids.iter().position(|&i| i == held).expect("a node");
+    let k = if dof == "u" { 0 } else { 1 };
+    let mut moved = records.clone();
+    moved[last].nodes[slot][k] += 1e-6;
+    let found = findings(&scene, &moved);
+    assert!(
+        found
+            .iter()
+            .any(|f| f.node == Some(held) && f.what.contains("its support")),
+        "{found:?}"
+    );
+}
