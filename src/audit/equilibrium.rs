@@ -124,11 +124,7 @@ fn forces(
     let lam = |group: usize| r.load_factors.get(group).copied().unwrap_or(r.load_factor);
     let mut on = vec![[0.0; 3]; n];
     let mut at_points = vec![Vec::new(); n];
-    let dof = |d: &str| match d {
-        "u" => 0,
-        "v" => 1,
-        _ => 2,
-    };
+    let dof = |d: &str| super::geometry::dof_place(d).unwrap_or(2);
     let held: std::collections::HashSet<(u32, usize)> =
         topology.held.iter().map(|(n, d)| (*n, dof(d))).collect();
     let (mut free2, mut held_at): (f64, HashMap<(u32, usize), f64>) = (0.0, HashMap::new());

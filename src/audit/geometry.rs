@@ -199,6 +199,17 @@ fn polyline_offset(a: [f64; 3], c: [f64; 3], on: &[[f64; 2]], t: f64) -> f64 {
     0.0
 }
 
+/// The place of a dof, by its name in a history ("u", "v", "phi"), in a record's node state
+/// `[x, y, phi]`; `None` for any other name.
+pub fn dof_place(name: &str) -> Option<usize> {
+    match name {
+        "u" => Some(0),
+        "v" => Some(1),
+        "phi" => Some(2),
+        _ => None,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::deflection;

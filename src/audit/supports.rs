@@ -5,6 +5,7 @@
 
 use std::collections::HashMap;
 
+use super::geometry::dof_place;
 use super::Finding;
 use crate::history::Topology;
 use crate::solver::IncrementRecord;
@@ -17,13 +18,9 @@ const SLACK: f64 = 1e-9;
 
 /// The offset of dof `dof` ("u", "v" or "phi") of the node at `slot` in `r` from rest.
 fn displacement(r: &IncrementRecord, slot: usize, rest: [f64; 2], dof: &str) -> Option<f64> {
-    let p = r.nodes.get(slot)?;
-    match dof {
-        "u" => Some(p[0] - rest[0]),
-        "v" => Some(p[1] - rest[1]),
-        "phi" => Some(p[2]),
-        _ => None,
-    }
+    let k = dof_place(dof)?;
+    let at_rest = rest.get(k).copied().unwrap_or(0.0);
+    Some(r.nodes.get(slot)?[k] - at_rest)
 }
 
 /// Every held dof of `r` off where it is held by more than `SLACK` of `size` (m) and the

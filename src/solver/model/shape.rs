@@ -62,42 +62,19 @@ pub enum Shape {
 impl Shape {
     /// The shape moved by `by` (m).
     pub fn translated(&self, by: [f64; 2]) -> Shape {
-        let mv = |p: [f64; 2]| [p[0] + by[0], p[1] + by[1]];
-        match self {
-            Shape::Line { from, to } => Shape::Line {
-                from: mv(*from),
-                to: mv(*to),
-            },
-            Shape::Polyline { points } => Shape::Polyline {
-                points: points.iter().map(|&p| mv(p)).collect(),
-            },
-            Shape::Circle {
-                centre,
-                radius,
-                hollow,
-            } => Shape::Circle {
-                centre: mv(*centre),
-                radius: *radius,
-                hollow: *hollow,
-            },
-            Shape::Arc {
-                centre,
-                radius,
-                from,
-                to,
-                hollow,
-            } => Shape::Arc {
-                centre: mv(*centre),
-                radius: *radius,
-                from: *from,
-                to: *to,
-                hollow: *hollow,
-            },
+        let mv = |p: &mut [f64; 2]| *p = [p[0] + by[0], p[1] + by[1]];
+        let mut moved = self.clone();
+        match &mut moved {
+            Shape::Line { from, to } => {
+                mv(from);
+                mv(to);
+            }
+            Shape::Polyline { points } => points.iter_mut().for_each(mv),
+            Shape::Circle { centre, .. } | Shape::Arc { centre, .. } => mv(centre),
         }
+        moved
     }
-}
 
-impl Shape {
     /// Where point `x` lies against the shape, or `None` where the shape does not reach it
     /// (an arc, outside its angular range).
     pub fn gap(&self, x: [f64; 2]) -> Option<Gap> {
