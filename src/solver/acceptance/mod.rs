@@ -10,7 +10,9 @@
 //!   rotations alone; `chord.rs` holds the swept chord, `grid.rs` the grid of the long bodies;
 //!   and no candidate node inside a rigid obstacle beyond the obstacle tolerance
 //!   (`obstacle.rs`), nor an obstacle's convex feature through an element between its nodes
-//!   (`feature.rs`).
+//!   (`feature.rs`), nor a node that stands off the axes (a pin's radius, the beams'
+//!   thicknesses) within its contact distance of a body it is not in contact with
+//!   (`rim.rs`).
 //! - **Friction** (`friction.rs`): no friction force beyond mu times the pressure, and exactly
 //!   that, against the slip, where a contact slipped.
 
@@ -21,9 +23,11 @@ mod friction;
 mod grid;
 mod obstacle;
 mod range;
+mod rim;
 
 pub use crossing::{Crossing, CrossingCheck, CrossingMemory};
 pub use feature::{feature_through, FeatureCrossing};
 pub use friction::{friction_law, FrictionRecord, FrictionViolation, FRICTION_LAW_TOLERANCE};
 pub use obstacle::{inside_obstacle, ObstacleCrossing};
 pub use range::{out_of_range, spun, OutOfRange, MAX_SPIN_STEP, MAX_STRAIN_STEP, MAX_TURN_STEP};
+pub use rim::rim_overlap;

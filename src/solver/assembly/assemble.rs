@@ -9,7 +9,7 @@ use super::obstacles::{add_obstacles, ObstacleLink};
 use super::packed::PackedBeam;
 use crate::solver::element::beam::BeamElement;
 use crate::solver::element::contact_element::ContactOptions;
-use crate::solver::element::contact_law::contact_outcome;
+use crate::solver::element::contact_law::rim_outcome;
 use crate::solver::element::friction::{Grip, Traction};
 use crate::solver::linear::reduce::sum_squares;
 use crate::solver::linear::simd::{dispatch_wide, Avx2};
@@ -290,11 +290,13 @@ pub(super) fn assemble_kernel(
             } else {
                 on_this.iter().map(|&k| ctx.grips[k]).collect()
             };
-            let out = contact_outcome(
+            let rims: Vec<f64> = on_this.iter().map(|&k| ord.links[k].rim).collect();
+            let out = rim_outcome(
                 &ctx.elements[e],
                 (xi, xj),
                 [phi_i, phi_j],
                 &xc,
+                &rims,
                 ctx.contact,
                 &grips,
                 with_tangent,

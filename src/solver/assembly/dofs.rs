@@ -77,6 +77,9 @@ pub struct ContactLink {
     pub node: usize,
     /// Index of the beam element it touches.
     pub beam: usize,
+    /// The node's side of the beam times its contact distance (`Model::contact_distance`):
+    /// where it stands off the beam's axis (0: on it).
+    pub rim: f64,
 }
 
 /// Equation numbers of the free dofs for one element topology, and the band widths.

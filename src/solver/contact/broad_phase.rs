@@ -16,21 +16,26 @@ impl BodyBoxes {
     /// Boxes over every state in `states`.
     pub(crate) fn new(cv: &ContactView<'_>, states: &[&[f64]], margin: f64) -> BodyBoxes {
         let m = &cv.model;
+        let pins = m.nodes.iter().map(|n| n.clearance).fold(0.0, f64::max);
         let boxes = m
             .bodies
             .iter()
             .map(|body| {
                 let mut bx = [f64::MAX, f64::MAX, f64::MIN, f64::MIN];
                 let mut longest: f64 = 0.0;
+                let mut stand_off = pins;
                 for &e in &body.elements {
                     longest = longest.max(m.beam_length(e));
+                    stand_off = stand_off.max(pins + 0.5 * m.beams[e].section.thickness);
                     for n in [m.beams[e].i, m.beams[e].j] {
                         for d in states {
                             grow(&mut bx, current(m, &cv.dofs, d, n).0);
                         }
                     }
                 }
-                let g = margin * longest;
+                // A node that stands off the axis (a pin's radius, the thicknesses) touches
+                // from that much further out.
+                let g = margin * longest + stand_off;
                 [bx[0] - g, bx[1] - g, bx[2] + g, bx[3] + g]
             })
             .collect();

@@ -9,7 +9,9 @@ use super::broad_phase::ElementGrid;
 use super::set::ContactSet;
 use super::set::ContactView;
 use crate::solver::assembly::current;
+use crate::solver::element::beam::Chord;
 use crate::solver::element::contact_element::{contact_response, deflection};
+use crate::solver::element::contact_law::{rim_point, surface_turn};
 use crate::solver::index_map::IndexMap;
 
 /// Beyond this many element lengths from an element's chord, a node's gap is its distance
@@ -103,6 +105,42 @@ pub(super) fn beside_a_convex_node(
     })
 }
 
+/// Where node `n`, on side `side` of beam `e` and touching it, presses on the beam's axis at
+/// displacements `d`: the node itself, or for a node that stands off the axis
+/// (`Model::contact_distance`), the point of the axis under it along the surface normal
+/// (`rim_point`).
+pub(super) fn pressed_point(
+    cv: &ContactView<'_>,
+    d: &[f64],
+    n: usize,
+    e: usize,
+    side: f64,
+) -> [f64; 2] {
+    let m = &cv.model;
+    let c = current(m, &cv.dofs, d, n).0;
+    let r = m.contact_distance(n, e);
+    if r == 0.0 {
+        return c;
+    }
+    let (xi, pi) = current(m, &cv.dofs, d, m.beams[e].i);
+    let (xj, pj) = current(m, &cv.dofs, d, m.beams[e].j);
+    rim_point(&cv.elements[e], (xi, xj), [pi, pj], c, side * r).0
+}
+
+/// The gap of probe `p` (a node's centre from the deformed shape along the chord normal) of
+/// a node that stands off the axis by `r`: its surface's, `g - sign(g) r / cos t`, with t the
+/// surface turn at the node's fraction (the beam's parallel curve at r, measured along the
+/// chord normal). A node whose surface overlaps the beam has the sign of the other side.
+fn rimmed(cv: &ContactView<'_>, d: &[f64], p: Probe, r: f64) -> f64 {
+    let m = &cv.model;
+    let beam = &m.beams[p.beam];
+    let (xi, pi) = current(m, &cv.dofs, d, beam.i);
+    let (xj, pj) = current(m, &cv.dofs, d, beam.j);
+    let ch = Chord::new(xi, xj, cv.elements[p.beam].alpha0, 0.5 * (pi + pj));
+    let t = surface_turn(pi - ch.beta, pj - ch.beta, p.xi.clamp(0.0, 1.0));
+    p.gap - p.gap.signum() * r / t.cos()
+}
+
 impl ContactSet {
     /// li/l of node `n` on the current chord of beam `e`.
     pub(super) fn chord_fraction(cv: &ContactView<'_>, d: &[f64], n: usize, e: usize) -> f64 {
@@ -123,7 +161,7 @@ impl ContactSet {
             .active
             .iter()
             .filter(|a| a.beam == e)
-            .map(|a| current(m, &cv.dofs, d, a.node).0)
+            .map(|a| pressed_point(cv, d, a.node, e, a.side))
             .collect();
         let opts = cv.params.contact_options(usize::MAX);
         let r = contact_response(el, xi, xj, [pi, pj], &on, opts, false);
@@ -176,8 +214,8 @@ impl ContactSet {
         if let Some((g, v)) = grid {
             let near = g.near(p).filter(|&e| m.beams[e].body == b);
             let best = match window {
-                None => self.closest(cv, d, p, near, Some(v)),
-                Some(_) => self.closest(cv, d, p, near.filter(reaches), Some(v)),
+                None => self.closest(cv, d, n, near, Some(v)),
+                Some(_) => self.closest(cv, d, n, near.filter(reaches), Some(v)),
             };
             if best.is_some_and(|bp| bp.gap.abs() <= g.reach) {
                 return best;
@@ -185,23 +223,28 @@ impl ContactSet {
         }
         let all = m.bodies[b].elements.iter().copied();
         match window {
-            None => self.closest(cv, d, p, all, view),
-            Some(_) => self.closest(cv, d, p, all.filter(reaches), view),
+            None => self.closest(cv, d, n, all, view),
+            Some(_) => self.closest(cv, d, n, all.filter(reaches), view),
         }
     }
 
-    /// The element among `elements` whose deformed shape is closest to point `p` along the
-    /// chord normal, among those `p` projects onto (the lowest index on a tie).
+    /// The element among `elements` whose deformed shape is closest to node `n` along the
+    /// chord normal, among those the node projects onto (the lowest index on a tie). For a
+    /// node that stands off the axis (`Model::contact_distance`), the gap is its surface's:
+    /// the distance less the contact distance, measured along the chord normal (`rimmed`),
+    /// with the side of the node's centre.
     pub(super) fn closest(
         &self,
         cv: &ContactView<'_>,
         d: &[f64],
-        p: [f64; 2],
+        n: usize,
         elements: impl Iterator<Item = usize>,
         view: Option<&StateView>,
     ) -> Option<Probe> {
         let m = &cv.model;
+        let p = current(m, &cv.dofs, d, n).0;
         let mut best: Option<Probe> = None;
+        let mut rim = 0.0;
         for e in elements {
             let (xi, _) = current(m, &cv.dofs, d, m.beams[e].i);
             let (xj, _) = current(m, &cv.dofs, d, m.beams[e].j);
@@ -213,9 +256,11 @@ impl ContactSet {
                 continue;
             }
             let off = (-a[0] * dy + a[1] * dx) / l;
-            // Far from the chord (more than two element lengths) the deflected shape cannot
-            // change the side: skip the element's shape (the costly part of a probe).
-            let gap = if off.abs() > FAR * l {
+            let r = m.contact_distance(n, e);
+            // Far from the chord (more than two element lengths beyond the contact distance)
+            // the deflected shape cannot change the side: skip the element's shape (the costly
+            // part of a probe).
+            let gap = if off.abs() - r > FAR * l {
                 off
             } else {
                 let sh = match view {
@@ -238,9 +283,16 @@ impl ContactSet {
                     gap,
                     length: l,
                 });
+                rim = r;
             }
         }
-        best
+        match best {
+            Some(bp) if rim > 0.0 => Some(Probe {
+                gap: rimmed(cv, d, bp, rim),
+                ..bp
+            }),
+            _ => best,
+        }
     }
 
     /// Gap of every active contact node from its beam's deformed shape, relative to the element
@@ -251,7 +303,7 @@ impl ContactSet {
             .iter()
             .map(|a| {
                 let sh = self.shape(cv, d, a.beam);
-                let p = current(&cv.model, &cv.dofs, d, a.node).0;
+                let p = pressed_point(cv, d, a.node, a.beam, a.side);
                 let q = [p[0] - sh.origin[0], p[1] - sh.origin[1]];
                 let t = (q[0] * sh.c + q[1] * sh.s) / sh.l;
                 let off = -q[0] * sh.s + q[1] * sh.c;
@@ -277,8 +329,7 @@ impl ContactSet {
             .iter()
             .copied())
         .filter(|&f| cv.outside_window(n, b, f));
-        let at = current(&cv.model, &cv.dofs, d, n).0;
-        self.closest(cv, d, at, near, Some(view))
+        self.closest(cv, d, n, near, Some(view))
     }
 
     /// The elements of body `b` that point `c` projects onto at state `d` within `reach` of
@@ -312,7 +363,8 @@ impl ContactSet {
             let l = dx.hypot(dy);
             let t = chord_fraction_of(c, xi, xj);
             let off = ((c[1] - xi[1]) * dx - (c[0] - xi[0]) * dy).abs() / l;
-            (0.0..=1.0).contains(&t) && off <= reach * l && cv.outside_window(n, b, e)
+            let r = m.contact_distance(n, e);
+            (0.0..=1.0).contains(&t) && off <= reach * l + r && cv.outside_window(n, b, e)
         });
         near
     }
@@ -340,7 +392,7 @@ impl ContactSet {
             skip.iter().all(|&s| cv.place[s].abs_diff(place) > 1)
         };
         near.into_iter().filter(far_from_skip).find_map(|e| {
-            let q = self.closest(cv, d, c, std::iter::once(e), Some(&views.now))?;
+            let q = self.closest(cv, d, n, std::iter::once(e), Some(&views.now))?;
             let beyond = q.gap.abs() > cv.touching(through, q.length);
             let (side, _) = beyond.then(|| self.local_side(cv, (n, b), e, views))??;
             (q.gap * side < 0.0).then_some((q, side))

@@ -14,6 +14,7 @@ use crate::solver::assembly::{current, Assembled, ContactLink, ObstacleLink};
 use crate::solver::element::beam::Chord;
 use crate::solver::element::contact_law::surface_turn;
 use crate::solver::index_map::IndexMap;
+use crate::solver::model::Model;
 use crate::solver::report::{ContactState, Friction};
 use crate::solver::structure::Structure;
 
@@ -134,14 +135,15 @@ impl ContactSet {
         set
     }
 
-    /// The assembly's view of the active contacts.
-    pub fn links(&self) -> Vec<ContactLink> {
+    /// The assembly's view of the active contacts in `model`.
+    pub fn links(&self, model: &Model) -> Vec<ContactLink> {
         self.beams
             .active
             .iter()
             .map(|a| ContactLink {
                 node: a.node,
                 beam: a.beam,
+                rim: a.side * model.contact_distance(a.node, a.beam),
             })
             .collect()
     }

@@ -1,7 +1,7 @@
 //! Contacts that move during the iterations: transfer to the neighbouring element when li/l
 //! leaves (0, 1), and release when the node slides off a free end of the beam.
 
-use super::probe::chord_fraction_of;
+use super::probe::{chord_fraction_of, pressed_point};
 use super::set::ContactView;
 use super::set::{ActiveContact, ContactSet};
 use crate::solver::assembly::current;
@@ -170,7 +170,7 @@ impl ContactSet {
                 let beam = &m.beams[a.beam];
                 let (xi, _) = current(m, &cv.dofs, d, beam.i);
                 let (xj, _) = current(m, &cv.dofs, d, beam.j);
-                let p = current(m, &cv.dofs, d, a.node).0;
+                let p = pressed_point(cv, d, a.node, a.beam, a.side);
                 let t = chord_fraction_of(p, xi, xj);
                 xi_now = t;
                 let before = cv.node_beams[beam.i]

@@ -5,8 +5,8 @@
 
 use super::solver::Solver;
 use crate::solver::acceptance::{
-    feature_through, friction_law, inside_obstacle, out_of_range, spun, FrictionRecord,
-    MAX_STRAIN_STEP, MAX_TURN_STEP,
+    feature_through, friction_law, inside_obstacle, out_of_range, rim_overlap, spun,
+    FrictionRecord, MAX_STRAIN_STEP, MAX_TURN_STEP,
 };
 use crate::solver::newton::{AttemptError, Converged};
 use crate::solver::report::{ContactChange, Event, IncrementStatus, NodeState, SolveError};
@@ -47,11 +47,13 @@ impl Solver {
         if let Some(x) = friction_law(&self.friction_records(c)) {
             return Err(AttemptError::FrictionLaw(x));
         }
-        match self
-            .crossing
-            .find(&self.model, &states, &c.contacts.pairs())
-        {
-            Some(x) => Err(AttemptError::Crossed(x)),
+        let active = c.contacts.pairs();
+        if let Some(x) = self.crossing.find(&self.model, &states, &active) {
+            return Err(AttemptError::Crossed(x));
+        }
+        let window = |n, b| self.self_window_of(n, b);
+        match rim_overlap(&self.model, &self.candidates, window, &states, &active) {
+            Some(x) => Err(AttemptError::Overlap(x)),
             None => Ok((status, states)),
         }
     }
@@ -133,7 +135,7 @@ impl Solver {
                 floor,
                 bound: self.params.roundoff_bound,
             },
-            AttemptError::Crossed(x) => SolveError::Crossing {
+            AttemptError::Crossed(x) | AttemptError::Overlap(x) => SolveError::Crossing {
                 increment,
                 cutbacks,
                 node: self.model.nodes[x.node].id,

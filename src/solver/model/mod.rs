@@ -327,6 +327,13 @@ impl Model {
         [self.nodes[n].x, self.nodes[n].y]
     }
 
+    /// How far node `n` stands off the axis of beam `e` when it touches it (m): its radius
+    /// and half its own beams' thickness (`Node::clearance`), plus half the thickness of `e`.
+    /// 0 for a point pin on a line beam.
+    pub fn contact_distance(&self, n: usize, e: usize) -> f64 {
+        self.nodes[n].clearance + 0.5 * self.beams[e].section.thickness
+    }
+
     /// Initial length of beam `e`.
     pub fn beam_length(&self, e: usize) -> f64 {
         let b = &self.beams[e];

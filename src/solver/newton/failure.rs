@@ -96,6 +96,10 @@ pub enum AttemptError {
     },
     /// The acceptance check found a node through a body it is not in contact with.
     Crossed(Crossing),
+    /// The acceptance check found a node that stands off the axes (a radius, a thickness)
+    /// within its contact distance of an element it is not in contact with (depth in
+    /// element lengths).
+    Overlap(Crossing),
     /// The acceptance check found an element outside the range of its theory.
     OutOfRange(OutOfRange),
     /// The acceptance check found a node turned by a half turn or more within the increment:
@@ -181,6 +185,13 @@ impl AttemptError {
             }
             AttemptError::AtFloor { residual, floor } => format!(
                 "Newton stalls at relative residual {residual:.3e} (round-off floor {floor:.1e}), above the bound {bound:.0e}"
+            ),
+            AttemptError::Overlap(x) => format!(
+                "{} ends within its contact distance ({:.3e} m) of {} without touching it ({:.2e} element lengths)",
+                model.node_label(x.node),
+                model.contact_distance(x.node, x.element),
+                model.element_label(x.element),
+                x.depth
             ),
             AttemptError::Crossed(x) => format!(
                 "{} passes through {} ({:.2e} element lengths beyond it)",

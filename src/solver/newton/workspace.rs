@@ -69,7 +69,7 @@ impl Workspace {
         structure: &Structure,
         contacts: &ContactSet,
     ) -> Arc<Ordering> {
-        let links = contacts.links();
+        let links = contacts.links(&structure.model);
         let mut cache = self.ordering.borrow_mut();
         match cache.as_ref() {
             Some(o) if o.links == links => o.clone(),

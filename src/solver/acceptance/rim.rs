@@ -1,0 +1,80 @@
+//! The rim half of the acceptance check (`rim_overlap`): no candidate node that stands off
+//! the beams' axes (a pin with a radius, beams with a thickness: `Model::contact_distance`)
+//! ends nearer the axis of an element of a body it is not in contact with than its contact
+//! distance. It works on node positions and rotations alone: the element's shape is bounded
+//! by its chord and the bulge its end rotations allow (`Chord::bulge`), so a node is refused
+//! only where it overlaps whatever the shape between the nodes.
+
+use super::chord::Chord;
+use super::crossing::Crossing;
+use crate::solver::model::Model;
+use crate::solver::report::NodeState;
+
+/// Overlaps below this fraction of the element length, or below `ROUNDOFF_ULPS` round-off
+/// units of the coordinates, are touching.
+const TOUCH: f64 = 1e-9;
+
+/// Round-off units of the largest coordinate that a distance may be off by.
+const ROUNDOFF_ULPS: f64 = 64.0;
+
+/// The first candidate pair of `pairs` (node, body), not in contact (`active`, sorted), whose
+/// node ends within its contact distance of an element of the body at node states `after`,
+/// beyond the element's bulge: the node and element, and the overlap in element lengths.
+/// `window` gives the elements of its own body a node never touches (its self-contact window,
+/// by place along the body).
+pub fn rim_overlap(
+    model: &Model,
+    pairs: &[(usize, usize)],
+    window: impl Fn(usize, usize) -> Option<(usize, usize)>,
+    after: &[NodeState],
+    active: &[(usize, usize)],
+) -> Option<Crossing> {
+    for &(n, b) in pairs {
+        if active.binary_search(&(n, b)).is_ok() {
+            continue;
+        }
+        let c = [after[n][0], after[n][1]];
+        let own = window(n, b);
+        for (place, &e) in model.bodies[b].elements.iter().enumerate() {
+            let r = model.contact_distance(n, e);
+            if r == 0.0 || own.is_some_and(|(lo, hi)| (lo..=hi).contains(&place)) {
+                continue;
+            }
+            let (p, q) = (
+                model.position(model.beams[e].i),
+                model.position(model.beams[e].j),
+            );
+            let angle0 = (q[1] - p[1]).atan2(q[0] - p[0]);
+            let chord = Chord::at(model, angle0, e, after);
+            let (s, h) = chord.locate(c);
+            let end = |k: usize| {
+                let x = after[if k == 0 {
+                    model.beams[e].i
+                } else {
+                    model.beams[e].j
+                }];
+                (c[0] - x[0]).hypot(c[1] - x[1])
+            };
+            let dist = match s {
+                s if s < 0.0 => end(0),
+                s if s > 1.0 => end(1),
+                _ => h.abs(),
+            };
+            let scale = c[0]
+                .abs()
+                .max(c[1].abs())
+                .max(chord.p[0].abs().max(chord.p[1].abs()));
+            let slack = TOUCH * chord.l + ROUNDOFF_ULPS * f64::EPSILON * scale;
+            let depth = r - dist - chord.bulge();
+            if depth > slack {
+                return Some(Crossing {
+                    node: n,
+                    body: b,
+                    element: e,
+                    depth: depth / chord.l,
+                });
+            }
+        }
+    }
+    None
+}
