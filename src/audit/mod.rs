@@ -1,6 +1,7 @@
 //! The independent audit of a run's history: every accepted increment is in equilibrium from
 //! its recorded forces, every support and prescribed dof is where it is held, no candidate
-//! node changed its side of a body except round an end, no node is inside an obstacle, every
+//! node changed its side of a body except round an end, none that stands off the axes (a
+//! radius, a thickness) overlaps a body it does not touch, no node is inside an obstacle, every
 //! frictional contact is within the friction law, and every contact presses. It reads only the
 //! history (its topology, node states, forces and contact records) and shares no code with the
 //! solver's contact, acceptance, element, assembly or Newton code
@@ -11,6 +12,7 @@ pub mod equilibrium;
 pub mod finding;
 pub mod geometry;
 pub mod obstacles;
+pub mod rims;
 pub mod sides;
 pub mod supports;
 
@@ -117,6 +119,7 @@ fn audit_with(
         if sides_judged {
             found.extend(sides.step(&before, &c_before, r, &|e| sag[e]));
         }
+        found.extend(rims::overlapping(topology, &chains, r, &|e| sag[e]));
         let slot = &chains.slot;
         if let Some((n, o, depth)) =
             obstacles::deepest_inside(topology, slot, &rest, &r.nodes, obstacle_tol)

@@ -96,6 +96,9 @@ pub struct TopologyElement {
     pub ei: f64,
     /// G Ae (N).
     pub gae: f64,
+    /// Depth of the section across the plane of bending (m; 0: a line).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub thickness: f64,
 }
 
 /// A body: a chain of elements.
@@ -214,6 +217,7 @@ impl Topology {
                     ea: b.section.ea,
                     ei: b.section.ei,
                     gae: b.section.gae,
+                    thickness: b.section.thickness,
                 })
                 .collect(),
             bodies,

@@ -91,14 +91,28 @@ fn shoot(u: [f64; 4], k: Stiffness, steps: usize) -> [f64; 4] {
     z
 }
 
-/// The four conditions at s_c (zero when met), scaled to comparable sizes.
-fn conditions(u: [f64; 4], pin: [f64; 2], k: Stiffness, length: f64, w: f64) -> [f64; 4] {
+/// The four conditions at s_c (zero when met), scaled to comparable sizes. A pin of radius
+/// `radius` touches the beam's parallel curve: its centre lies `radius` from the contact
+/// point along the beam's normal on the pin's side (left of the beam's direction).
+fn conditions(
+    u: [f64; 4],
+    (pin, radius): ([f64; 2], f64),
+    k: Stiffness,
+    length: f64,
+    w: f64,
+) -> [f64; 4] {
     let z = shoot(u, k, STEPS);
     let scale = u[0].hypot(u[1]).max(f64::MIN_POSITIVE);
     let [dx, dy] = tangent(z[2], [u[0], u[1]], k, w);
+    let (nx, ny) = if radius == 0.0 {
+        (0.0, 0.0)
+    } else {
+        let norm = dx.hypot(dy);
+        (-dy / norm * radius, dx / norm * radius)
+    };
     [
-        (z[0] - pin[0]) / length,
-        (z[1] - pin[1]) / length,
+        (z[0] + nx - pin[0]) / length,
+        (z[1] + ny - pin[1]) / length,
         z[3] / (scale * length),
         (u[0] * dx + u[1] * dy) / (scale * dx.hypot(dy)),
     ]
@@ -115,12 +129,24 @@ pub fn pin_on_cantilever(
     k: Stiffness,
     kink_share: f64,
 ) -> Option<PinContact> {
+    rim_on_cantilever((pin, 0.0), length, k, kink_share)
+}
+
+/// `pin_on_cantilever` for a pin of radius `radius` (the pin's centre at `pin`, above the
+/// beam): the contact on the beam's parallel curve at that distance, the force along the
+/// normal through the pin's centre.
+pub fn rim_on_cantilever(
+    (pin, radius): ([f64; 2], f64),
+    length: f64,
+    k: Stiffness,
+    kink_share: f64,
+) -> Option<PinContact> {
     // Start from small-deflection theory: a tip load at the pin's distance.
     let a = pin[0];
-    let p = -3.0 * k.ei * pin[1] / a.powi(3);
+    let p = -3.0 * k.ei * (pin[1] - radius) / a.powi(3);
     let mut u = [0.0, -p, -p * a, a];
     for _ in 0..60 {
-        let g = conditions(u, pin, k, length, kink_share);
+        let g = conditions(u, (pin, radius), k, length, kink_share);
         let size = g.iter().map(|v| v.abs()).fold(0.0, f64::max);
         if size < 1e-14 {
             let out = PinContact {
@@ -135,9 +161,9 @@ pub fn pin_on_cantilever(
             let du = 1e-7 * u[j].abs().max(1e-3);
             let mut v = u;
             v[j] += du;
-            let gp = conditions(v, pin, k, length, kink_share);
+            let gp = conditions(v, (pin, radius), k, length, kink_share);
             v[j] = u[j] - du;
-            let gm = conditions(v, pin, k, length, kink_share);
+            let gm = conditions(v, (pin, radius), k, length, kink_share);
             for i in 0..4 {
                 jac[i][j] = (gp[i] - gm[i]) / (2.0 * du);
             }

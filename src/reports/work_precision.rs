@@ -6,7 +6,7 @@
 use std::fmt::Write as _;
 use std::time::Instant;
 
-use crate::reports::pin_elastica::{pin_on_cantilever, Stiffness};
+use crate::reports::pin_elastica::{rim_on_cantilever, Stiffness};
 use crate::scene::builtin::with_elements;
 use crate::scene::Scene;
 use crate::solver::{Formulation, IncrementRecord, Silent};
@@ -200,7 +200,8 @@ pub fn pin_errors(sc: &Scene, recs: &[IncrementRecord]) -> Option<[f64; 2]> {
     // The shear kink under the pin (`pin_elastica`'s module comment): the force is normal to
     // the section (`surface_normal`), or to the chord, which weights the two sides by li / l.
     let share = contact.xi * f64::from(u8::from(!sc.params.surface_normal));
-    let reference = pin_on_cantilever(at, length, stiffness, share)?;
+    let radius = sc.model.contact_distance(pin.node, 0);
+    let reference = rim_on_cantilever((at, radius), length, stiffness, share)?;
     let user = sc.model.nodes[pin.node].id;
     let reaction = |dof: &str| {
         (last.reactions.iter())

@@ -16,6 +16,7 @@ mod load_paths;
 mod mesh_node_contact;
 mod obstacle_campaign;
 mod obstacles;
+mod rims;
 mod oracle;
 mod self_contact;
 mod thickness;

@@ -1,0 +1,111 @@
+//! Rims: no candidate node that stands off the beams' axes (its radius, its own beams' half
+//! thickness and the half thickness of the body's elements, as the topology gives them) lies
+//! nearer an element's axis than that distance, unless the record has it in contact with the
+//! body. The element's shape between its nodes is bounded by its chord and a bulge from its
+//! end rotations against the chord (a quarter of the length a radian, as a cubic with those
+//! end slopes stays within) plus the sag of its distributed load: a node is found only where
+//! it overlaps whatever the shape.
+
+use std::collections::HashMap;
+
+use super::finding::Finding;
+use super::geometry::Chains;
+use crate::history::Topology;
+use crate::solver::IncrementRecord;
+
+/// Overlaps below this fraction of the element length (beyond the positions' round-off) are
+/// touching.
+const TOUCH: f64 = 1e-9;
+
+/// The deflection bound of an element from its chord per radian of end rotation, in element
+/// lengths (a cubic with end slopes a and b stays within (|a| + |b|) l / 4 of its chord).
+const BULGE_PER_RADIAN: f64 = 0.25;
+
+/// The first node of a candidate pair in record `r` that overlaps an element of its body it
+/// is not in contact with, with `sag` the load sag of each element.
+pub fn overlapping(
+    topology: &Topology,
+    chains: &Chains,
+    r: &IncrementRecord,
+    sag: &dyn Fn(usize) -> f64,
+) -> Option<Finding> {
+    let clearance: HashMap<u32, f64> = (topology.nodes.iter())
+        .filter(|n| n.clearance != 0.0)
+        .map(|n| (n.id, n.clearance))
+        .collect();
+    let thick = topology.elements.iter().any(|e| e.thickness != 0.0);
+    if clearance.is_empty() && !thick {
+        return None;
+    }
+    let body_of: HashMap<&str, usize> = (topology.bodies.iter().enumerate())
+        .map(|(b, body)| (body.name.as_str(), b))
+        .collect();
+    for pair in &topology.candidates {
+        let (Some(&b), Some(&slot)) = (body_of.get(pair.body.as_str()), chains.slot.get(&pair.node))
+        else {
+            continue;
+        };
+        let touching = (r.contacts.iter())
+            .any(|c| c.node == pair.node && topology.elements[c.element].body == b);
+        if touching {
+            continue;
+        }
+        let own = own_window(topology, chains, b, slot);
+        let c = r.nodes[slot];
+        let pin = clearance.get(&pair.node).copied().unwrap_or(0.0);
+        for (place, &e) in chains.elements[b].iter().enumerate() {
+            let el = &topology.elements[e];
+            let reach = pin + 0.5 * el.thickness;
+            if reach == 0.0 || own.is_some_and(|(lo, hi)| (lo..=hi).contains(&place)) {
+                continue;
+            }
+            let (a, z) = (r.nodes[chains.slot[&el.i]], r.nodes[chains.slot[&el.j]]);
+            let u = [z[0] - a[0], z[1] - a[1]];
+            let l = u[0].hypot(u[1]);
+            let v = [c[0] - a[0], c[1] - a[1]];
+            let s = (v[0] * u[0] + v[1] * u[1]) / (l * l);
+            let dist = if s < 0.0 {
+                v[0].hypot(v[1])
+            } else if s > 1.0 {
+                (c[0] - z[0]).hypot(c[1] - z[1])
+            } else {
+                (u[0] * v[1] - u[1] * v[0]).abs() / l
+            };
+            let chord = u[1].atan2(u[0]);
+            let turn = |phi: f64| {
+                let t = phi + chains.angle0[e] - chord;
+                (t + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI
+            };
+            let bulge = BULGE_PER_RADIAN * l * (turn(a[2]).abs() + turn(z[2]).abs()) + sag(e);
+            let overlap = reach - dist - bulge;
+            if overlap > TOUCH * l + chains.roundoff {
+                return Some(Finding {
+                    increment: r.increment,
+                    node: Some(pair.node),
+                    body: Some(pair.body.clone()),
+                    element: Some(e),
+                    what: format!(
+                        "node {} is {overlap:.3e} m within its contact distance ({reach:.3e} m) of element {} of {} without touching it",
+                        pair.node,
+                        place + 1,
+                        pair.body
+                    ),
+                });
+            }
+        }
+    }
+    None
+}
+
+/// The places along body `b` that the node in `slot` never touches when it is one of the
+/// body's own nodes: its own elements and `Topology::self_window` more on either side.
+fn own_window(
+    topology: &Topology,
+    chains: &Chains,
+    b: usize,
+    slot: usize,
+) -> Option<(usize, usize)> {
+    let k = chains.nodes[b].iter().position(|&s| s == slot)?;
+    let w = topology.self_window;
+    Some((k.saturating_sub(1 + w), k + w))
+}
