@@ -41,7 +41,8 @@ pub fn overlapping(
         .map(|(b, body)| (body.name.as_str(), b))
         .collect();
     for pair in &topology.candidates {
-        let (Some(&b), Some(&slot)) = (body_of.get(pair.body.as_str()), chains.slot.get(&pair.node))
+        let (Some(&b), Some(&slot)) =
+            (body_of.get(pair.body.as_str()), chains.slot.get(&pair.node))
         else {
             continue;
         };

@@ -56,7 +56,10 @@ fn a_pin_with_a_radius_converges_to_the_parallel_curve_elastica_as_h_squared() {
         for n in [10, 20, 40, 80, 160] {
             let sc = parse(&rim_pin(f, n, 0.7, radius), "rim_pin.ron").unwrap();
             let recs = solved(&sc);
-            assert!(!recs.last().unwrap().contacts.is_empty(), "{f} {n}: no contact");
+            assert!(
+                !recs.last().unwrap().contacts.is_empty(),
+                "{f} {n}: no contact"
+            );
             let [force, arc] = pin_errors(&sc, &recs).expect("the pin on the beam");
             errors.push(force.max(arc));
         }
@@ -80,7 +83,10 @@ fn a_pin_with_a_radius_converges_to_the_parallel_curve_elastica_as_h_squared() {
         let apart = (parallel.force[0] - translated.force[0])
             .hypot(parallel.force[1] - translated.force[1])
             / size;
-        assert!(apart > errors[0], "{f}: translated beam {apart:e}, errors {errors:?}");
+        assert!(
+            apart > errors[0],
+            "{f}: translated beam {apart:e}, errors {errors:?}"
+        );
     }
 }
 

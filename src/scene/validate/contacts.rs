@@ -81,6 +81,7 @@ pub(super) fn contacts(
                 ),
             ));
         }
+        stand_off(ctx, k, (c.mu, c.own), (&cn, &cb), g)?;
         contacts.push(ContactPair {
             nodes: cn,
             bodies: cb,
@@ -234,4 +235,86 @@ fn segments_cross(p: [f64; 2], q: [f64; 2], r: [f64; 2], s: [f64; 2]) -> bool {
     let (o1, o2) = (orient(p, q, r), orient(p, q, s));
     let (o3, o4) = (orient(r, s, p), orient(r, s, q));
     o1 * o2 < 0.0 && o3 * o4 < 0.0
+}
+
+/// Contact entry `k`'s candidates that stand off the axes (a node's radius, the thickness of
+/// its own elements or of the bodies `cb`: the solver's contact distance) must start clear of
+/// the bodies by that distance, and touch them without friction: the friction of a surface
+/// off the axis would put a moment on the node and the beam that the contact does not carry.
+fn stand_off(
+    ctx: &Ctx,
+    k: usize,
+    (mu, own): (f64, bool),
+    (cn, cb): (&[usize], &[usize]),
+    g: &Geometry,
+) -> Result<(), SceneError> {
+    let thick =
+        |b: usize| (g.bodies[b].elements.iter()).any(|&e| g.beams[e].section.thickness > 0.0);
+    if cn.iter().all(|&n| g.nodes[n].clearance == 0.0) && !cb.iter().any(|&b| thick(b)) {
+        return Ok(());
+    }
+    let at = |n: usize| [g.nodes[n].x, g.nodes[n].y];
+    for &n in cn {
+        for &b in cb {
+            let els = &g.bodies[b].elements;
+            // A node's own elements and the window beyond them, by place along the body.
+            let places: Vec<usize> = (0..els.len())
+                .filter(|&p| g.beams[els[p]].i == n || g.beams[els[p]].j == n)
+                .collect();
+            let window = places.first().zip(places.last()).map(|(&lo, &hi)| {
+                (
+                    lo.saturating_sub(SELF_CONTACT_WINDOW),
+                    hi + SELF_CONTACT_WINDOW,
+                )
+            });
+            if window.is_some() && !own {
+                continue;
+            }
+            for (place, &e) in els.iter().enumerate() {
+                if window.is_some_and(|(lo, hi)| (lo..=hi).contains(&place)) {
+                    continue;
+                }
+                let r = g.nodes[n].clearance + 0.5 * g.beams[e].section.thickness;
+                if r == 0.0 {
+                    continue;
+                }
+                let node = &g.nodes[n];
+                if mu != 0.0 {
+                    return Err(ctx.err(
+                        format!("contacts[{k}].mu"),
+                        Some(format!("id:{}", node.id)),
+                        format!(
+                            "node {} stands {r:e} m off the axis of body {} (its radius and the \
+                             half thicknesses): contact at a distance is frictionless, set mu: 0 \
+                             or the radius and thicknesses to 0",
+                            node.id, g.bodies[b].name
+                        ),
+                    ));
+                }
+                let dist = segment_distance(at(n), at(g.beams[e].i), at(g.beams[e].j));
+                if dist < r * (1.0 - 1e-9) {
+                    return Err(ctx.err(
+                        format!("contacts[{k}]"),
+                        Some(format!("id:{}", node.id)),
+                        format!(
+                            "node {} starts {dist:e} m from the axis of element {} of body {}, \
+                             within its contact distance {r:e} m (its radius and the half \
+                             thicknesses): it must start clear of the body by that distance",
+                            node.id,
+                            place + 1,
+                            g.bodies[b].name
+                        ),
+                    ));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The distance of point `p` from the segment from `a` to `b`.
+fn segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let (u, v) = ([b[0] - a[0], b[1] - a[1]], [p[0] - a[0], p[1] - a[1]]);
+    let t = ((u[0] * v[0] + u[1] * v[1]) / (u[0] * u[0] + u[1] * u[1])).clamp(0.0, 1.0);
+    (v[0] - t * u[0]).hypot(v[1] - t * u[1])
 }
