@@ -21,8 +21,9 @@ pub(super) fn obstacles(
     sf: &SceneFile,
     g: &Geometry,
     held: (&[Support], &[Prescribed]),
-) -> Result<Vec<Obstacle>, SceneError> {
+) -> Result<(Vec<Obstacle>, Vec<Roller>), SceneError> {
     let mut out = Vec::new();
+    let mut rollers = Vec::new();
     let mut names = HashSet::new();
     let size = model_size(g);
     for (k, o) in sf.obstacles.iter().enumerate() {
@@ -38,8 +39,10 @@ pub(super) fn obstacles(
         }
         let shape = (o.shape.to_shape()).map_err(|m| ctx.err(leaf("shape"), here.clone(), m))?;
         let mut nodes = Vec::new();
+        let mut bodies = Vec::new();
         for (m, name) in o.bodies.iter().enumerate() {
             let b = g.body_of(ctx, format!("obstacles[{k}].bodies[{m}]"), name)?;
+            bodies.push(b);
             for &e in &g.bodies[b].elements {
                 nodes.extend([g.beams[e].i, g.beams[e].j]);
             }
@@ -54,6 +57,7 @@ pub(super) fn obstacles(
             Some(id) => Some(pilot(ctx, g, &leaf("pilot"), id, held)?),
         };
         nodes.retain(|&n| Some(n) != pilot);
+        let roller = roller(&shape, pilot, o.mu, bodies, g);
         if nodes.is_empty() {
             return Err(ctx.err(field, here, "no node may touch it: name bodies or nodes"));
         }
@@ -100,6 +104,15 @@ pub(super) fn obstacles(
                 ),
             ));
         }
+        if let Some(r) = roller {
+            // The bodies' nodes touch it through their elements.
+            let on: HashSet<usize> = (r.bodies.iter())
+                .flat_map(|&b| &g.bodies[b].elements)
+                .flat_map(|&e| [g.beams[e].i, g.beams[e].j])
+                .collect();
+            nodes.retain(|n| !on.contains(n));
+            rollers.push(r);
+        }
         out.push(Obstacle {
             name: o.name.clone(),
             shape,
@@ -108,7 +121,52 @@ pub(super) fn obstacles(
             mu: o.mu,
         });
     }
-    Ok(out)
+    Ok((out, rollers))
+}
+
+/// A solid circle carried by a pilot node at its centre, frictionless: it touches the
+/// elements of its bodies, not only their nodes, as a pin of its radius at the pilot
+/// (`Model::contact_distance`): the contact element carries its force at the point of the
+/// element's deformed shape it touches, sliding along the element and on to the next.
+pub(super) struct Roller {
+    /// The pilot node (index).
+    pub(super) pilot: usize,
+    /// The bodies it touches (indices).
+    pub(super) bodies: Vec<usize>,
+    /// Its radius (m).
+    pub(super) radius: f64,
+}
+
+/// The obstacle of shape `shape`, pilot `pilot` and friction `mu` touching `bodies` as a
+/// `Roller`, where it is one.
+fn roller(
+    shape: &Shape,
+    pilot: Option<usize>,
+    mu: f64,
+    bodies: Vec<usize>,
+    g: &Geometry,
+) -> Option<Roller> {
+    let (
+        Shape::Circle {
+            centre,
+            radius,
+            hollow: false,
+        },
+        Some(p),
+    ) = (shape, pilot)
+    else {
+        return None;
+    };
+    let at = [g.nodes[p].x, g.nodes[p].y];
+    let off = (at[0] - centre[0]).hypot(at[1] - centre[1]);
+    if mu != 0.0 || bodies.is_empty() || off > 1e-12 * radius.max(model_size(g)) {
+        return None;
+    }
+    Some(Roller {
+        pilot: p,
+        bodies,
+        radius: *radius,
+    })
 }
 
 /// The pilot node `id` named in `field` (an obstacle's `pilot`): a node with u and v held.

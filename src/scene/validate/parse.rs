@@ -12,7 +12,7 @@ use super::geometry::{geometry, sections};
 use super::obstacles::obstacles;
 use super::stages::{load_groups, load_path};
 use crate::scene::format::SceneFile;
-use crate::solver::{Model, SolveError, Solver, SolverParams};
+use crate::solver::{ContactPair, Model, SolveError, Solver, SolverParams};
 
 /// A validated scene: the file as written, the model and the run settings.
 #[derive(Clone, Debug)]
@@ -180,8 +180,19 @@ fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
     let g = geometry(&ctx, &sf, &sections)?;
     let groups = load_groups(&sf);
     let c = conditions(&ctx, &sf, &g, &groups)?;
-    let contacts = contacts(&ctx, &sf, &g)?;
-    let obstacles = obstacles(&ctx, &sf, &g, (&c.supports, &c.prescribed))?;
+    let mut contacts = contacts(&ctx, &sf, &g)?;
+    let (obstacles, rollers) = obstacles(&ctx, &sf, &g, (&c.supports, &c.prescribed))?;
+    let mut g = g;
+    for r in rollers {
+        g.nodes[r.pilot].clearance += r.radius;
+        contacts.push(ContactPair {
+            nodes: vec![r.pilot],
+            bodies: r.bodies,
+            own: false,
+            mu: 0.0,
+            side: None,
+        });
+    }
     let path = load_path(&ctx, &sf, &g, &groups, &c.prescribed)?;
     let run = control(&ctx, &sf, &c, path.as_ref())?;
     if g.beams.is_empty() {

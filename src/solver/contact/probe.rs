@@ -36,8 +36,12 @@ pub struct Probe {
     pub beam: usize,
     /// li/l on that element's chord.
     pub xi: f64,
-    /// Signed distance from the deformed shape along the chord normal (m).
+    /// Signed distance from the deformed shape along the chord normal (m); for a node that
+    /// stands off the axis, of its surface (`rimmed`): negative where it overlaps the beam.
     pub gap: f64,
+    /// The node's own signed distance from the deformed shape (`gap` but for the contact
+    /// distance): its sign is the side the node is on, overlapping or not.
+    pub centre: f64,
     /// Element chord length (m).
     pub length: f64,
 }
@@ -281,6 +285,7 @@ impl ContactSet {
                     beam: e,
                     xi: t,
                     gap,
+                    centre: gap,
                     length: l,
                 });
                 rim = r;
@@ -413,7 +418,7 @@ impl ContactSet {
         views: &PassViews,
     ) -> Option<(f64, usize)> {
         let q = self.probe_around(cv, cv.d, (n, b), e, &views.before)?;
-        let clear = q.gap.abs() > cv.touching(SIDE, q.length) && q.gap.abs() <= FAR * q.length;
-        clear.then(|| (q.gap.signum(), q.beam))
+        let clear = q.centre.abs() > cv.touching(SIDE, q.length) && q.gap.abs() <= FAR * q.length;
+        clear.then(|| (q.centre.signum(), q.beam))
     }
 }

@@ -154,10 +154,10 @@ impl ContactSet {
                 continue;
             }
             match self.probe_near(cv, d, n, b, Some(&view)) {
-                Some(p) if p.gap.abs() > cv.touching(SIDE, p.length) => {
+                Some(p) if p.centre.abs() > cv.touching(SIDE, p.length) => {
                     // Every crossing since the last converged state was caught by
                     // `after_convergence`, so the side now is the side to keep.
-                    self.beams.sides.insert((n, b), (p.gap.signum(), p.beam));
+                    self.beams.sides.insert((n, b), (p.centre.signum(), p.beam));
                 }
                 // Touching: the node lies on the body, so its own position says nothing. The
                 // side the scene declares; else a node of a beam touches from the side its own
@@ -228,7 +228,7 @@ impl ContactSet {
             return Some(s);
         }
         let p = self.probe_near(cv, cv.d, n, b, view)?;
-        (p.gap.abs() > cv.touching(SIDE, p.length)).then(|| (p.gap.signum(), p.beam))
+        (p.centre.abs() > cv.touching(SIDE, p.length)).then(|| (p.centre.signum(), p.beam))
     }
 
     /// The side of body `b` on which the beam neighbours of node `n` lie, if they agree and are
@@ -250,12 +250,12 @@ impl ContactSet {
         {
             let other = if beam.i == n { beam.j } else { beam.i };
             let p = self.probe_near(cv, d, other, b, view)?;
-            if p.gap.abs() <= cv.touching(SIDE, p.length) {
+            if p.centre.abs() <= cv.touching(SIDE, p.length) {
                 return None;
             }
             match side {
-                None => side = Some(p.gap.signum()),
-                Some(s) if s != p.gap.signum() => return None,
+                None => side = Some(p.centre.signum()),
+                Some(s) if s != p.centre.signum() => return None,
                 Some(_) => {}
             }
         }
@@ -327,6 +327,12 @@ impl ContactSet {
                 || self.crossed_on_the_way(cv, d, (n, b), side, was, near_before());
             return crossed.then_some((p, side));
         }
+        if p.gap != p.centre {
+            // A node that stands off the axis has its side from its centre: with no side
+            // remembered, an overlap on that side is a touch.
+            let side = p.centre.signum();
+            return (p.gap * side < -cv.touching(THROUGH, p.length)).then_some((p, side));
+        }
         if p.gap.abs() <= cv.touching(THROUGH, p.length) {
             return None;
         }
@@ -361,7 +367,7 @@ impl ContactSet {
         let clear = (c[0] - xi[0] - t * dx).hypot(c[1] - xi[1] - t * dy);
         let l = (dx * dx + dy * dy).sqrt();
         (clear > cv.touching(THROUGH, l) && Self::adjacent(cv, b, e, p.beam))
-            .then_some((p, -p.gap.signum()))
+            .then_some((p, -p.centre.signum()))
     }
 
     /// Whether node `n`, now on the wrong side of body `b` (its side `side`, measured against
@@ -397,7 +403,7 @@ impl ContactSet {
             };
             let near = p.gap.abs() <= FAR * p.length;
             let Some(from) = at.filter(|&e| near && Self::adjacent(cv, b, e, p.beam)) else {
-                (at, local) = (near.then_some(p.beam), p.gap.signum());
+                (at, local) = (near.then_some(p.beam), p.centre.signum());
                 continue;
             };
             if p.gap * local < -cv.touching(THROUGH, p.length)
