@@ -149,3 +149,98 @@ fn two_strips_with_a_thickness_press_with_their_axes_the_thickness_apart() {
         assert!(touched >= 5, "{f}: in contact in {touched} increments");
     }
 }
+
+/// The nearest point to `p` of the deformed body whose elements run from node id `first` to
+/// `first + n` along x, each a cubic through its end nodes with their recorded rotations
+/// (sampled): the distance and the slope angle of the beam there.
+fn nearest_on_strip(
+    r: &IncrementRecord,
+    slot: &dyn Fn(u32) -> usize,
+    (first, n): (u32, u32),
+    p: [f64; 2],
+) -> (f64, f64) {
+    let mut best = (f64::INFINITY, 0.0);
+    for e in 0..n {
+        let (a, b) = (r.nodes[slot(first + e)], r.nodes[slot(first + e + 1)]);
+        let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+        let l = dx.hypot(dy);
+        let chord = dy.atan2(dx);
+        let (ti, tj) = (a[2] - chord, b[2] - chord);
+        for k in 0..=2000 {
+            let s = k as f64 / 2000.0;
+            let w = l * (ti * s * (1.0 - s).powi(2) - tj * s * s * (1.0 - s));
+            let slope = ti * (1.0 - s) * (1.0 - 3.0 * s) - tj * s * (2.0 - 3.0 * s);
+            let q = [a[0] + s * dx - w * dy / l, a[1] + s * dy + w * dx / l];
+            let dist = (p[0] - q[0]).hypot(p[1] - q[1]);
+            if dist < best.0 {
+                best = (dist, chord + slope.atan());
+            }
+        }
+    }
+    best
+}
+
+/// The built-in roller (radius 50 mm, frictionless) rolled along the cantilever on 10, 20, 50
+/// and 100 elements: wherever it presses, its centre lies its radius from the beam's deformed
+/// shape (within the deflection its point load adds inside the element), its horizontal force is its normal force times the slope of
+/// the beam under it (H = -V tan(slope), within 1% of the normal force; the slope taken from
+/// the node states, a cubic per element), and the force curve is smooth: no increment's
+/// horizontal force leaves the mean of its neighbours' by more than 1% of the normal force
+/// (a roller resting on the nodes alone makes a sawtooth of the element's period, of 20% of
+/// it).
+#[test]
+fn the_roller_force_follows_the_slope_under_it_smoothly_on_every_mesh() {
+    use tsm_contact::scene::{builtin::builtin, from_scene_file, remesh::remesh};
+    let base = builtin("roller").unwrap().unwrap();
+    for n in [10u32, 20, 50, 100] {
+        let file = remesh(&base.file, n as usize).expect("one body");
+        let sc = from_scene_file(file, "roller").unwrap();
+        let recs = solved(&sc);
+        assert_eq!(recs.len(), 48, "{n}: every step");
+        let ids: Vec<u32> = sc.model.nodes.iter().map(|node| node.id).collect();
+        let slot = |id: u32| ids.iter().position(|&k| k == id).unwrap();
+        let force = |r: &IncrementRecord, dof: &str| {
+            (r.reactions.iter())
+                .find(|x| x.node == 1000 && x.dof == dof)
+                .map_or(0.0, |x| x.value)
+        };
+        let mut curve = Vec::new();
+        for r in recs.iter().filter(|r| !r.contacts.is_empty()) {
+            let (h, v) = (force(r, "u"), force(r, "v"));
+            let centre = r.nodes[slot(1000)];
+            let (dist, slope) = nearest_on_strip(r, &slot, (1, n), [centre[0], centre[1]]);
+            let normal = h.hypot(v);
+            // The cubic through the end rotations leaves out what the roller's point load adds
+            // inside the element, at most that of a simply supported span under a central
+            // load, N l^3 / (48 EI).
+            let (l, ei) = (1.0 / n as f64, sc.model.beams[0].section.ei);
+            let within = normal * l.powi(3) / (48.0 * ei);
+            assert!(
+                (dist - 0.05).abs() < within,
+                "{n} increment {}: the centre {dist} m from the beam, not within {within:e} of 0.05",
+                r.increment
+            );
+            let expected = -v * slope.tan();
+            assert!(
+                (h - expected).abs() < 0.01 * normal,
+                "{n} increment {}: H {h} against {expected} (N {normal})",
+                r.increment
+            );
+            curve.push((h, normal));
+        }
+        assert!(
+            curve.len() >= 30,
+            "{n}: {} increments in contact",
+            curve.len()
+        );
+        for w in curve.windows(3).skip(1) {
+            let mean = 0.5 * (w[0].0 + w[2].0);
+            assert!(
+                (w[1].0 - mean).abs() < 0.01 * w[1].1,
+                "{n}: H {} off the mean of its neighbours {mean} (N {})",
+                w[1].0,
+                w[1].1
+            );
+        }
+    }
+}
