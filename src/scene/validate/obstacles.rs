@@ -146,17 +146,7 @@ fn roller(
     bodies: Vec<usize>,
     g: &Geometry,
 ) -> Option<Roller> {
-    let (
-        Shape::Circle {
-            centre,
-            radius,
-            hollow: false,
-        },
-        Some(p),
-    ) = (shape, pilot)
-    else {
-        return None;
-    };
+    let ((centre, radius), p) = shape.disk().zip(pilot)?;
     let at = [g.nodes[p].x, g.nodes[p].y];
     let off = (at[0] - centre[0]).hypot(at[1] - centre[1]);
     if mu != 0.0 || bodies.is_empty() || off > 1e-12 * radius.max(model_size(g)) {
@@ -165,7 +155,7 @@ fn roller(
     Some(Roller {
         pilot: p,
         bodies,
-        radius: *radius,
+        radius,
     })
 }
 

@@ -289,6 +289,19 @@ impl Shape {
         }
     }
 
+    /// The centre and radius of a solid circle (a disk nodes stay out of); `None` for any
+    /// other shape.
+    pub fn disk(&self) -> Option<([f64; 2], f64)> {
+        match self {
+            Shape::Circle {
+                centre,
+                radius,
+                hollow: false,
+            } => Some((*centre, *radius)),
+            _ => None,
+        }
+    }
+
     /// How deep the straight segment from `p` to `q` (an element's chord at rest) runs into a
     /// solid circle between its two ends, both clear of it (by more than 1e-9 of the radius);
     /// `None` where it does not, or for any other shape. Ends resting on the disk (a band laid
