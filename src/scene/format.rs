@@ -323,6 +323,29 @@ pub struct ObstacleDef {
     /// Coulomb friction coefficient between it and the nodes (default 0: frictionless).
     #[serde(default)]
     pub mu: f64,
+    /// What of its bodies it touches (default `Nodes`).
+    #[serde(default, skip_serializing_if = "Touches::is_nodes")]
+    pub touches: Touches,
+}
+
+/// What of a body an obstacle touches.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Touches {
+    /// The bodies' nodes, each pushed out along the obstacle's normal (any shape; a body may
+    /// lie along it, as a strip wrapped round a drum).
+    #[default]
+    Nodes,
+    /// Any point of the bodies' elements, at one place of each body: a frictionless solid
+    /// circle (a roller, a peg) touching as a pin of its radius at its centre, the contact
+    /// element carrying its force where it touches the element's deformed shape.
+    Elements,
+}
+
+impl Touches {
+    /// Whether it is the default, `Nodes`.
+    pub fn is_nodes(&self) -> bool {
+        *self == Touches::Nodes
+    }
 }
 
 /// Increment control.

@@ -244,3 +244,128 @@ fn the_roller_force_follows_the_slope_under_it_smoothly_on_every_mesh() {
         }
     }
 }
+
+/// One-step loads onto a fixed peg and a roller on 10-element meshes, both formulations: a
+/// cantilever's tip loaded at once onto a peg of radius 5 cm standing under it between two
+/// nodes, and the built-in roller driven in one step 0.25 m along and 0.025 m down (into the
+/// strip by 15 mm). Each completes; the circle presses on one element with a positive
+/// pressure; its centre lies its radius from the beam's deformed shape (within the deflection
+/// its point load adds inside the element) and on its own side (the peg below the beam, the
+/// roller above); the peg's centre node carries the force on it, the load less the clamp's.
+#[test]
+fn one_step_loads_onto_a_peg_and_a_roller_on_ten_elements_touch_on_the_right_side() {
+    use tsm_contact::scene::{builtin::builtin, from_scene_file, remesh::remesh};
+    for f in ["BernoulliEuler", "Timoshenko"] {
+        let peg = format!(
+            r#"(
+            name: "cantilever onto a peg", formulation: {f},
+            sections: [(name: "strip", E: 1.0, A: 1.0e6, I: 1.0, G: 0.4)],
+            bodies: [(name: "beam", section: "strip", path: [(0.0, 0.0), (1.0, 0.0)], elements: 10, first_node: 1)],
+            supports: [(node: 1, u: true, v: true, phi: true)],
+            loads: [(node: 11, fy: -1.0)],
+            obstacles: [(name: "peg", shape: Circle(centre: (0.65, -0.06), radius: 0.05), bodies: ["beam"], touches: Elements)],
+            control: (steps: 1),
+        )"#
+        );
+        let peg = parse(&peg, "peg.ron").unwrap();
+        // The peg's centre node: the next id after the scene's largest (11), held.
+        assert_eq!(peg.model.nodes.last().map(|n| n.id), Some(12));
+        let mut roller = builtin("roller").unwrap().unwrap().file;
+        roller.formulation = if f == "Timoshenko" {
+            tsm_contact::solver::Formulation::Timoshenko
+        } else {
+            tsm_contact::solver::Formulation::BernoulliEuler
+        };
+        let mut roller = remesh(&roller, 10).unwrap();
+        for p in &mut roller.prescribed {
+            p.per_step *= 20.0;
+        }
+        roller.control.steps = 1;
+        let roller = from_scene_file(roller, "roller").unwrap();
+        for (sc, centre_id, above) in [(&peg, 12u32, false), (&roller, 1000, true)] {
+            let recs = solved(sc);
+            let last = recs.last().unwrap();
+            assert!(last.load_factor == 1.0 || !last.prescribed.is_empty());
+            let [contact] = last.contacts.as_slice() else {
+                panic!("{f} {centre_id}: contacts {:?}", last.contacts);
+            };
+            assert!(
+                contact.node == centre_id && contact.pressure > 0.0,
+                "{contact:?}"
+            );
+            let ids: Vec<u32> = sc.model.nodes.iter().map(|n| n.id).collect();
+            let slot = |id: u32| ids.iter().position(|&k| k == id).unwrap();
+            let c = last.nodes[slot(centre_id)];
+            let (dist, _) = nearest_on_strip(last, &slot, (1, 10), [c[0], c[1]]);
+            let ei = sc.model.beams[0].section.ei;
+            let within = contact.pressure * 0.1f64.powi(3) / (48.0 * ei);
+            assert!(
+                (dist - 0.05).abs() < within,
+                "{f} {centre_id}: {dist} m from the beam"
+            );
+            // Its side: the beam's deflection under the centre against the centre's height.
+            let e = contact.element;
+            let (a, b) = (
+                last.nodes[slot(1 + e as u32)],
+                last.nodes[slot(2 + e as u32)],
+            );
+            let s = ((c[0] - a[0]) / (b[0] - a[0])).clamp(0.0, 1.0);
+            let under = a[1] + s * (b[1] - a[1]);
+            assert_eq!(
+                c[1] > under,
+                above,
+                "{f} {centre_id}: centre {c:?}, beam at {under}"
+            );
+        }
+        let last = solved(&peg).pop().unwrap();
+        let v = |id: u32| {
+            (last.reactions.iter())
+                .find(|r| r.node == id && r.dof == "v")
+                .map_or(0.0, |r| r.value)
+        };
+        assert!(
+            (v(12) + v(1) - 1.0).abs() < 1e-7,
+            "peg {} clamp {}",
+            v(12),
+            v(1)
+        );
+        assert!(v(12) > 0.5, "the peg holds the tip up: {}", v(12));
+    }
+}
+
+/// `touches: Elements` is refused, naming the obstacle's field, on a shape other than a solid
+/// circle, with friction, and with its pilot off its centre.
+#[test]
+fn touching_elements_is_refused_where_it_cannot_be_carried() {
+    let scene = |obstacle: &str| {
+        format!(
+            r#"(
+            name: "bad", sections: [(name: "s", E: 1.0, A: 1.0, I: 1.0)],
+            nodes: [(id: 100, x: 0.5, y: 0.3, rotation: false)],
+            bodies: [(name: "beam", section: "s", path: [(0.0, 0.0), (1.0, 0.0)], elements: 4, first_node: 1)],
+            supports: [(node: 1, u: true, v: true, phi: true), (node: 100, u: true, v: true)],
+            obstacles: [{obstacle}],
+        )"#
+        )
+    };
+    for (obstacle, says) in [
+        (
+            r#"(name: "floor", shape: Line(from: (0.0, -0.1), to: (1.0, -0.1)), bodies: ["beam"], touches: Elements)"#,
+            "only a solid circle",
+        ),
+        (
+            r#"(name: "peg", shape: Circle(centre: (0.5, -0.2), radius: 0.1), bodies: ["beam"], mu: 0.2, touches: Elements)"#,
+            "without friction",
+        ),
+        (
+            r#"(name: "peg", shape: Circle(centre: (0.5, 0.2), radius: 0.1), bodies: ["beam"], pilot: 100, touches: Elements)"#,
+            "must sit at its centre",
+        ),
+    ] {
+        let err = parse(&scene(obstacle), "bad.ron").unwrap_err().to_string();
+        assert!(
+            err.contains("obstacles[0].touches") && err.contains(says),
+            "{obstacle}: {err}"
+        );
+    }
+}

@@ -7,7 +7,7 @@ use std::collections::HashSet;
 
 use super::errors::{sized, Ctx, SceneError};
 use super::geometry::Geometry;
-use crate::scene::format::{ObstacleDef, SceneFile};
+use crate::scene::format::{ObstacleDef, SceneFile, Touches};
 use crate::solver::{Dof, Obstacle, Prescribed, Shape, Support};
 
 /// How far inside its obstacle (in units of the model's size) a candidate node may start:
@@ -57,7 +57,10 @@ pub(super) fn obstacles(
             Some(id) => Some(pilot(ctx, g, &leaf("pilot"), id, held)?),
         };
         nodes.retain(|&n| Some(n) != pilot);
-        let roller = roller(&shape, pilot, o.mu, bodies, g);
+        let roller = match o.touches {
+            Touches::Nodes => None,
+            Touches::Elements => Some(roller(ctx, (k, o), &shape, pilot, bodies, g)?),
+        };
         if nodes.is_empty() {
             return Err(ctx.err(field, here, "no node may touch it: name bodies or nodes"));
         }
@@ -124,36 +127,73 @@ pub(super) fn obstacles(
     Ok((out, rollers))
 }
 
-/// A solid circle carried by a pilot node at its centre, frictionless: it touches the
-/// elements of its bodies, not only their nodes, as a pin of its radius at the pilot
-/// (`Model::contact_distance`): the contact element carries its force at the point of the
-/// element's deformed shape it touches, sliding along the element and on to the next.
+/// An obstacle that touches its bodies' elements (`Touches::Elements`): a frictionless solid
+/// circle that touches them as a pin of its radius at its centre (`Model::contact_distance`),
+/// the contact element carrying its force at the point of the element's deformed shape it
+/// touches, sliding along the element and on to the next. Its pilot sits at its centre; a
+/// fixed circle gets a centre node of its own, held, whose reactions are the force on it.
 pub(super) struct Roller {
-    /// The pilot node (index).
-    pub(super) pilot: usize,
+    /// Index of the obstacle.
+    pub(super) obstacle: usize,
+    /// The pilot node (index), or `None` for a fixed circle.
+    pub(super) pilot: Option<usize>,
+    /// Its centre at rest (m).
+    pub(super) centre: [f64; 2],
     /// The bodies it touches (indices).
     pub(super) bodies: Vec<usize>,
     /// Its radius (m).
     pub(super) radius: f64,
 }
 
-/// The obstacle of shape `shape`, pilot `pilot` and friction `mu` touching `bodies` as a
-/// `Roller`, where it is one.
+/// Obstacle `k` (`o`, of shape `shape` and pilot `pilot`, touching `bodies`) as a `Roller`:
+/// it must be a frictionless solid circle touching bodies, its pilot, if any, at its centre.
 fn roller(
+    ctx: &Ctx,
+    (k, o): (usize, &ObstacleDef),
     shape: &Shape,
     pilot: Option<usize>,
-    mu: f64,
     bodies: Vec<usize>,
     g: &Geometry,
-) -> Option<Roller> {
-    let ((centre, radius), p) = shape.disk().zip(pilot)?;
-    let at = [g.nodes[p].x, g.nodes[p].y];
-    let off = (at[0] - centre[0]).hypot(at[1] - centre[1]);
-    if mu != 0.0 || bodies.is_empty() || off > 1e-12 * radius.max(model_size(g)) {
-        return None;
+) -> Result<Roller, SceneError> {
+    let here = Some(format!("name: \"{}\"", o.name));
+    let field = format!("obstacles[{k}].touches (obstacle \"{}\")", o.name);
+    let why = if shape.disk().is_none() {
+        Some(
+            "only a solid circle (a roller, a peg) touches elements: other shapes touch the nodes"
+                .to_string(),
+        )
+    } else if o.mu != 0.0 {
+        Some(format!(
+            "it touches elements without friction: set mu: 0 (it is {:e})",
+            o.mu
+        ))
+    } else if bodies.is_empty() {
+        Some("it touches the elements of the bodies it names: name at least one".to_string())
+    } else {
+        None
+    };
+    if let Some(why) = why {
+        return Err(ctx.err(field, here, why));
     }
-    Some(Roller {
-        pilot: p,
+    let (centre, radius) = shape.disk().expect("a disk");
+    if let Some(p) = pilot {
+        let at = [g.nodes[p].x, g.nodes[p].y];
+        let off = (at[0] - centre[0]).hypot(at[1] - centre[1]);
+        if off > 1e-12 * radius.max(model_size(g)) {
+            return Err(ctx.err(
+                field,
+                here,
+                format!(
+                    "its pilot, node {}, must sit at its centre ({}, {}) to carry it: it is {off:e} m from it",
+                    g.nodes[p].id, centre[0], centre[1]
+                ),
+            ));
+        }
+    }
+    Ok(Roller {
+        obstacle: k,
+        pilot,
+        centre,
         bodies,
         radius,
     })

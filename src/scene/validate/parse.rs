@@ -12,7 +12,7 @@ use super::geometry::{geometry, sections};
 use super::obstacles::obstacles;
 use super::stages::{load_groups, load_path};
 use crate::scene::format::SceneFile;
-use crate::solver::{ContactPair, Model, SolveError, Solver, SolverParams};
+use crate::solver::{ContactPair, Dof, Model, Node, SolveError, Solver, SolverParams, Support};
 
 /// A validated scene: the file as written, the model and the run settings.
 #[derive(Clone, Debug)]
@@ -181,12 +181,28 @@ fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
     let groups = load_groups(&sf);
     let c = conditions(&ctx, &sf, &g, &groups)?;
     let mut contacts = contacts(&ctx, &sf, &g)?;
-    let (obstacles, rollers) = obstacles(&ctx, &sf, &g, (&c.supports, &c.prescribed))?;
-    let mut g = g;
+    let (mut obstacles, rollers) = obstacles(&ctx, &sf, &g, (&c.supports, &c.prescribed))?;
+    let (mut g, mut c) = (g, c);
     for r in rollers {
-        g.nodes[r.pilot].clearance += r.radius;
+        // A fixed circle's centre node: the next id after the scene's largest, held.
+        let pilot = r.pilot.unwrap_or_else(|| {
+            let id = g.nodes.iter().map(|n| n.id).max().unwrap_or(0) + 1;
+            g.nodes.push(Node {
+                id,
+                x: r.centre[0],
+                y: r.centre[1],
+                rotation: false,
+                clearance: 0.0,
+            });
+            let n = g.nodes.len() - 1;
+            c.supports
+                .extend([Dof::U, Dof::V].map(|dof| Support { node: n, dof }));
+            obstacles[r.obstacle].pilot = Some(n);
+            n
+        });
+        g.nodes[pilot].clearance += r.radius;
         contacts.push(ContactPair {
-            nodes: vec![r.pilot],
+            nodes: vec![pilot],
             bodies: r.bodies,
             own: false,
             mu: 0.0,
