@@ -378,3 +378,64 @@ fn touching_elements_is_refused_where_it_cannot_be_carried() {
         );
     }
 }
+
+/// A cantilever of 8 elements loaded at its tip over a table's edge that stands between two of
+/// its nodes (a polyline's convex corner), both formulations. With `touches: Elements` the edge
+/// is a held node of its own that touches the strip's elements: every step completes, the edge
+/// presses on the element it stands under, the strip lies on it (the edge within the
+/// deflection its point load adds inside the element of the strip's shape), and the edge's
+/// node and the clamp carry the load between them. Touching the nodes alone, the strip cannot
+/// hold the edge between its nodes and the run stops, naming the obstacle.
+#[test]
+fn a_strip_bends_over_a_table_edge_between_its_nodes() {
+    use tsm_contact::solver::SolveError;
+    for f in ["BernoulliEuler", "Timoshenko"] {
+        let text = |touches: &str| {
+            format!(
+                r#"(
+            name: "strip over a table edge", formulation: {f},
+            sections: [(name: "strip", E: 1.0, A: 1.0e6, I: 1.0, G: 0.4)],
+            bodies: [(name: "strip", section: "strip", path: [(0.0, 0.001), (1.0, 0.001)], elements: 8, first_node: 1)],
+            supports: [(node: 1, u: true, v: true, phi: true)],
+            loads: [(node: 9, fy: -1.0)],
+            obstacles: [(name: "table", shape: Polyline(points: [(-1.0, 0.0), (0.55, 0.0), (0.55, -1.0)]),
+                         bodies: ["strip"], touches: {touches})],
+            control: (steps: 4),
+        )"#
+            )
+        };
+        let sc = parse(&text("Elements"), "edge.ron").unwrap();
+        let edge = sc.model.nodes.last().unwrap().id;
+        assert_eq!(edge, 10, "the edge's node: the next id");
+        let recs = solved(&sc);
+        let last = recs.last().unwrap();
+        assert_eq!(last.load_factor, 1.0);
+        let [contact] = last.contacts.as_slice() else {
+            panic!("{f}: contacts {:?}", last.contacts);
+        };
+        assert!(contact.node == edge && contact.element == 4 && contact.pressure > 0.0);
+        let ids: Vec<u32> = sc.model.nodes.iter().map(|n| n.id).collect();
+        let slot = |id: u32| ids.iter().position(|&k| k == id).unwrap();
+        let (dist, _) = nearest_on_strip(last, &slot, (1, 8), [0.55, 0.0]);
+        let within = contact.pressure * 0.125f64.powi(3) / (48.0 * 1.0);
+        assert!(dist < within, "{f}: the edge {dist} m from the strip");
+        let v = |id: u32| {
+            (last.reactions.iter())
+                .find(|r| r.node == id && r.dof == "v")
+                .map_or(0.0, |r| r.value)
+        };
+        assert!(
+            (v(edge) + v(1) - 1.0).abs() < 1e-7,
+            "edge {} clamp {}",
+            v(edge),
+            v(1)
+        );
+        let nodes_only = parse(&text("Nodes"), "edge.ron").unwrap();
+        let mut solver = nodes_only.solver().unwrap();
+        let stopped = (0..4).find_map(|_| solver.step(&mut Silent).err());
+        assert!(
+            matches!(stopped, Some(SolveError::ObstacleThrough { .. })),
+            "{f}: {stopped:?}"
+        );
+    }
+}

@@ -108,12 +108,14 @@ pub(super) fn obstacles(
             ));
         }
         if let Some(r) = roller {
-            // The bodies' nodes touch it through their elements.
+            // The bodies' nodes touch a circle through their elements.
             let on: HashSet<usize> = (r.bodies.iter())
                 .flat_map(|&b| &g.bodies[b].elements)
                 .flat_map(|&e| [g.beams[e].i, g.beams[e].j])
                 .collect();
-            nodes.retain(|n| !on.contains(n));
+            if r.circle {
+                nodes.retain(|n| !on.contains(n));
+            }
             rollers.push(r);
         }
         out.push(Obstacle {
@@ -122,31 +124,38 @@ pub(super) fn obstacles(
             pilot,
             nodes,
             mu: o.mu,
+            touches_elements: o.touches == Touches::Elements,
         });
     }
     Ok((out, rollers))
 }
 
-/// An obstacle that touches its bodies' elements (`Touches::Elements`): a frictionless solid
-/// circle that touches them as a pin of its radius at its centre (`Model::contact_distance`),
-/// the contact element carrying its force at the point of the element's deformed shape it
-/// touches, sliding along the element and on to the next. Its pilot sits at its centre; a
-/// fixed circle gets a centre node of its own, held, whose reactions are the force on it.
+/// An obstacle that touches its bodies' elements (`Touches::Elements`), frictionless, through
+/// points that act as pins on them (`Model::contact_distance`), the contact element carrying
+/// the force at the point of the element's deformed shape touched, sliding along the element
+/// and on to the next: a solid circle's centre with its radius (its pilot, which sits there,
+/// or for a fixed circle a centre node of its own, held, whose reactions are the force on
+/// it), or each convex corner of a fixed polyline (a held node of its own; its faces keep
+/// touching the nodes).
 pub(super) struct Roller {
     /// Index of the obstacle.
     pub(super) obstacle: usize,
-    /// The pilot node (index), or `None` for a fixed circle.
+    /// The pilot node (index) of a circle that has one.
     pub(super) pilot: Option<usize>,
-    /// Its centre at rest (m).
-    pub(super) centre: [f64; 2],
+    /// The points that touch, at rest (m): a circle's centre, a polyline's convex corners.
+    pub(super) points: Vec<[f64; 2]>,
+    /// Whether it is a circle (its pilot is its centre's node; its bodies' nodes touch it only
+    /// through the contact element).
+    pub(super) circle: bool,
     /// The bodies it touches (indices).
     pub(super) bodies: Vec<usize>,
-    /// Its radius (m).
+    /// The radius its points touch with (m): a circle's, 0 for corners.
     pub(super) radius: f64,
 }
 
 /// Obstacle `k` (`o`, of shape `shape` and pilot `pilot`, touching `bodies`) as a `Roller`:
-/// it must be a frictionless solid circle touching bodies, its pilot, if any, at its centre.
+/// a frictionless solid circle, its pilot, if any, at its centre, or a fixed polyline with a
+/// convex corner, touching bodies.
 fn roller(
     ctx: &Ctx,
     (k, o): (usize, &ObstacleDef),
@@ -157,11 +166,18 @@ fn roller(
 ) -> Result<Roller, SceneError> {
     let here = Some(format!("name: \"{}\"", o.name));
     let field = format!("obstacles[{k}].touches (obstacle \"{}\")", o.name);
-    let why = if shape.disk().is_none() {
+    let corners = match shape {
+        Shape::Polyline { .. } => shape.convex_features(),
+        _ => Vec::new(),
+    };
+    let why = if shape.disk().is_none() && corners.is_empty() {
         Some(
-            "only a solid circle (a roller, a peg) touches elements: other shapes touch the nodes"
+            "only a solid circle (a roller, a peg) or a polyline's convex corners touch \
+             elements: other shapes touch the nodes"
                 .to_string(),
         )
+    } else if !corners.is_empty() && pilot.is_some() {
+        Some("a polyline's corners touch elements only where it is fixed: no pilot".to_string())
     } else if o.mu != 0.0 {
         Some(format!(
             "it touches elements without friction: set mu: 0 (it is {:e})",
@@ -175,7 +191,16 @@ fn roller(
     if let Some(why) = why {
         return Err(ctx.err(field, here, why));
     }
-    let (centre, radius) = shape.disk().expect("a disk");
+    let Some((centre, radius)) = shape.disk() else {
+        return Ok(Roller {
+            obstacle: k,
+            pilot: None,
+            points: corners,
+            circle: false,
+            bodies,
+            radius: 0.0,
+        });
+    };
     if let Some(p) = pilot {
         let at = [g.nodes[p].x, g.nodes[p].y];
         let off = (at[0] - centre[0]).hypot(at[1] - centre[1]);
@@ -193,7 +218,8 @@ fn roller(
     Ok(Roller {
         obstacle: k,
         pilot,
-        centre,
+        points: vec![centre],
+        circle: true,
         bodies,
         radius,
     })

@@ -184,30 +184,35 @@ fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
     let (mut obstacles, rollers) = obstacles(&ctx, &sf, &g, (&c.supports, &c.prescribed))?;
     let (mut g, mut c) = (g, c);
     for r in rollers {
-        // A fixed circle's centre node: the next id after the scene's largest, held.
-        let pilot = r.pilot.unwrap_or_else(|| {
-            let id = g.nodes.iter().map(|n| n.id).max().unwrap_or(0) + 1;
-            g.nodes.push(Node {
-                id,
-                x: r.centre[0],
-                y: r.centre[1],
-                rotation: false,
-                clearance: 0.0,
+        for &at in &r.points {
+            // A circle's pilot, or a node of its own for a fixed circle's centre or a corner:
+            // the next id after the scene's largest, held.
+            let node = r.pilot.unwrap_or_else(|| {
+                let id = g.nodes.iter().map(|n| n.id).max().unwrap_or(0) + 1;
+                g.nodes.push(Node {
+                    id,
+                    x: at[0],
+                    y: at[1],
+                    rotation: false,
+                    clearance: 0.0,
+                });
+                let n = g.nodes.len() - 1;
+                c.supports
+                    .extend([Dof::U, Dof::V].map(|dof| Support { node: n, dof }));
+                if r.circle {
+                    obstacles[r.obstacle].pilot = Some(n);
+                }
+                n
             });
-            let n = g.nodes.len() - 1;
-            c.supports
-                .extend([Dof::U, Dof::V].map(|dof| Support { node: n, dof }));
-            obstacles[r.obstacle].pilot = Some(n);
-            n
-        });
-        g.nodes[pilot].clearance += r.radius;
-        contacts.push(ContactPair {
-            nodes: vec![pilot],
-            bodies: r.bodies,
-            own: false,
-            mu: 0.0,
-            side: None,
-        });
+            g.nodes[node].clearance += r.radius;
+            contacts.push(ContactPair {
+                nodes: vec![node],
+                bodies: r.bodies.clone(),
+                own: false,
+                mu: 0.0,
+                side: None,
+            });
+        }
     }
     let path = load_path(&ctx, &sf, &g, &groups, &c.prescribed)?;
     let run = control(&ctx, &sf, &c, path.as_ref())?;

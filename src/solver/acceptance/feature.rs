@@ -33,8 +33,9 @@ pub fn feature_through(
     (before, after): (&[NodeState], &[NodeState]),
 ) -> Option<FeatureCrossing> {
     for (o, ob) in model.obstacles.iter().enumerate() {
+        // Features that touch elements are contact nodes, kept out by the crossing check.
         let points = ob.shape.convex_features();
-        if points.is_empty() {
+        if points.is_empty() || ob.touches_elements {
             continue;
         }
         let (t0, t1) = (

@@ -224,6 +224,11 @@ pub struct Obstacle {
     /// Coulomb friction coefficient between it and the nodes (0: frictionless).
     #[serde(default)]
     pub mu: f64,
+    /// Whether its convex features touch its bodies' elements as contact nodes of their own
+    /// (a circle's centre, a polyline's corners: `touches: Elements` in a scene), so that the
+    /// node-on-beam contacts, not the feature check, keep them out of the elements.
+    #[serde(default)]
+    pub touches_elements: bool,
 }
 
 /// The whole model as the solver sees it.
