@@ -4,7 +4,8 @@
 //! body. The element's shape between its nodes is bounded by its chord and a bulge from its
 //! end rotations against the chord (a quarter of the length a radian, as a cubic with those
 //! end slopes stays within) plus the sag of its distributed load: a node is found only where
-//! it overlaps whatever the shape.
+//! it overlaps whatever the shape. Past a free end of the body the end's corner is not
+//! judged (no contact reaches it; an obstacle holds such an end by its node contact).
 
 use std::collections::HashMap;
 
@@ -65,9 +66,19 @@ pub fn overlapping(
             let l = u[0].hypot(u[1]);
             let v = [c[0] - a[0], c[1] - a[1]];
             let s = (v[0] * u[0] + v[1] * u[1]) / (l * l);
+            // Past a free end of the body (the first or last place of an open chain) the
+            // end's corner is not judged: no contact reaches it.
+            let last = chains.elements[b].len() - 1;
+            let ring = chains.nodes[b].first() == chains.nodes[b].last();
             let dist = if s < 0.0 {
+                if place == 0 && !ring {
+                    continue;
+                }
                 v[0].hypot(v[1])
             } else if s > 1.0 {
+                if place == last && !ring {
+                    continue;
+                }
                 (c[0] - z[0]).hypot(c[1] - z[1])
             } else {
                 (u[0] * v[1] - u[1] * v[0]).abs() / l

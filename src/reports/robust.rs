@@ -243,11 +243,22 @@ fn scene_of(case: &Case) -> Result<Scene, (String, String)> {
         (None, None) => builtin(&case.scene).ok_or_else(unknown)?.map_err(refused)?,
     };
     scene.model.formulation = case.formulation;
-    for pair in &mut scene.model.contacts {
-        pair.mu = case.mu;
+    // Contacts at a distance from the axes (a radius, a thickness, an obstacle that touches
+    // elements) are frictionless.
+    let m = &scene.model;
+    let thick =
+        |b: usize| (m.bodies[b].elements.iter()).any(|&e| m.beams[e].section.thickness > 0.0);
+    let at_a_distance: Vec<bool> = (m.contacts.iter())
+        .map(|c| {
+            c.nodes.iter().any(|&n| m.nodes[n].clearance > 0.0)
+                || c.bodies.iter().any(|&b| thick(b))
+        })
+        .collect();
+    for (pair, far) in scene.model.contacts.iter_mut().zip(at_a_distance) {
+        pair.mu = if far { 0.0 } else { case.mu };
     }
     for ob in &mut scene.model.obstacles {
-        ob.mu = case.mu;
+        ob.mu = if ob.touches_elements { 0.0 } else { case.mu };
     }
     Ok(scene)
 }

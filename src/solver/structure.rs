@@ -41,6 +41,12 @@ pub struct Structure {
     pub(crate) candidates: Vec<(usize, usize)>,
     /// Distinct candidate nodes.
     pub(crate) candidate_nodes: usize,
+    /// The largest clearance of a node (its radius and half its thickest element's
+    /// thickness; `Node::clearance`): how far beyond their axes nodes may touch.
+    pub(crate) max_clearance: f64,
+    /// Whether any contact stands off the axes (a node's clearance, a section's thickness):
+    /// without, every contact distance is 0 and the probes skip looking them up.
+    pub(crate) stands_off: bool,
     /// The beam elements at each node.
     pub(crate) node_beams: Vec<Vec<usize>>,
     /// Where the model's coordinates are measured from ([`Model::recentred`]): positions handed
@@ -168,6 +174,9 @@ impl Structure {
             force_floor: params.force_floor * max_ea.max(f64::MIN_POSITIVE),
             candidates,
             candidate_nodes: nodes.len(),
+            max_clearance: model.nodes.iter().map(|n| n.clearance).fold(0.0, f64::max),
+            stands_off: model.nodes.iter().any(|n| n.clearance > 0.0)
+                || model.beams.iter().any(|b| b.section.thickness > 0.0),
             node_beams,
             origin,
             size: (hi[0] - lo[0]).max(hi[1] - lo[1]).max(0.0),

@@ -327,6 +327,7 @@ fn a_strip_peeling_off_a_table_lets_go_within_sixty_iterations_an_increment() {
 fn a_roller_driven_by_its_pilot_never_lets_a_node_inside_and_feels_the_contact_forces() {
     let mut file = tsm_contact::scene::open("roller").expect("built in").file;
     file.obstacles[0].bodies.clear();
+    file.obstacles[0].touches = tsm_contact::scene::format::Touches::Nodes;
     file.obstacles[0].nodes = (1..=101).collect();
     let scene = tsm_contact::scene::from_scene_file(file, "roller").unwrap();
     let (centre, radius) = match &scene.model.obstacles[0].shape {

@@ -3,7 +3,7 @@
 //! its pilot node, whose u and v must be supported or prescribed. No candidate node may start
 //! inside its obstacle.
 
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 
 use super::errors::{sized, Ctx, SceneError};
 use super::geometry::Geometry;
@@ -108,10 +108,17 @@ pub(super) fn obstacles(
             ));
         }
         if let Some(r) = roller {
-            // The bodies' nodes touch a circle through their elements.
-            let on: HashSet<usize> = (r.bodies.iter())
-                .flat_map(|&b| &g.bodies[b].elements)
-                .flat_map(|&e| [g.beams[e].i, g.beams[e].j])
+            // The bodies' nodes touch a circle through their elements, but for their ends (a
+            // free tip's corner): there the element ends, and the node keeps touching.
+            let mut count: HashMap<usize, usize> = HashMap::new();
+            for e in r.bodies.iter().flat_map(|&b| &g.bodies[b].elements) {
+                for n in [g.beams[*e].i, g.beams[*e].j] {
+                    *count.entry(n).or_default() += 1;
+                }
+            }
+            let on: HashSet<usize> = (count.into_iter())
+                .filter(|&(_, k)| k > 1)
+                .map(|(n, _)| n)
                 .collect();
             if r.circle {
                 nodes.retain(|n| !on.contains(n));
@@ -166,10 +173,7 @@ fn roller(
 ) -> Result<Roller, SceneError> {
     let here = Some(format!("name: \"{}\"", o.name));
     let field = format!("obstacles[{k}].touches (obstacle \"{}\")", o.name);
-    let corners = match shape {
-        Shape::Polyline { .. } => shape.convex_features(),
-        _ => Vec::new(),
-    };
+    let corners = shape.convex_corners();
     let why = if shape.disk().is_none() && corners.is_empty() {
         Some(
             "only a solid circle (a roller, a peg) or a polyline's convex corners touch \

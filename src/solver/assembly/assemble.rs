@@ -290,7 +290,12 @@ pub(super) fn assemble_kernel(
             } else {
                 on_this.iter().map(|&k| ctx.grips[k]).collect()
             };
-            let rims: Vec<f64> = on_this.iter().map(|&k| ord.links[k].rim).collect();
+            // Contacts on the axis (every one in most scenes) take the plain element.
+            let rims: Vec<f64> = if on_this.iter().all(|&k| ord.links[k].rim == 0.0) {
+                Vec::new()
+            } else {
+                on_this.iter().map(|&k| ord.links[k].rim).collect()
+            };
             let out = rim_outcome(
                 &ctx.elements[e],
                 (xi, xj),

@@ -16,7 +16,7 @@ impl BodyBoxes {
     /// Boxes over every state in `states`.
     pub(crate) fn new(cv: &ContactView<'_>, states: &[&[f64]], margin: f64) -> BodyBoxes {
         let m = &cv.model;
-        let pins = m.nodes.iter().map(|n| n.clearance).fold(0.0, f64::max);
+        let pins = cv.structure.max_clearance;
         let boxes = m
             .bodies
             .iter()
@@ -26,7 +26,9 @@ impl BodyBoxes {
                 let mut stand_off = pins;
                 for &e in &body.elements {
                     longest = longest.max(m.beam_length(e));
-                    stand_off = stand_off.max(pins + 0.5 * m.beams[e].section.thickness);
+                    if cv.stands_off {
+                        stand_off = stand_off.max(pins + 0.5 * m.beams[e].section.thickness);
+                    }
                     for n in [m.beams[e].i, m.beams[e].j] {
                         for d in states {
                             grow(&mut bx, current(m, &cv.dofs, d, n).0);

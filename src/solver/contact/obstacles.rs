@@ -57,6 +57,21 @@ impl ContactSet {
             .collect()
     }
 
+    /// Whether `node` is the end of a body that an obstacle touching elements (its pilot in
+    /// contact with the body) slid off in this attempt: the body's end springs onto the
+    /// obstacle there, and its node touches it at once, however deep it is found.
+    fn handed_over(&self, cv: &ContactView<'_>, node: usize, obstacle: usize) -> bool {
+        let m = &cv.model;
+        let Some(pilot) = m.obstacles[obstacle]
+            .pilot
+            .filter(|_| m.obstacles[obstacle].touches_elements)
+        else {
+            return false;
+        };
+        (cv.node_beams[node].iter())
+            .any(|&e| self.beams.slid_off.contains(&(pilot, m.beams[e].body)))
+    }
+
     /// At a converged pass at displacements `d` with assembly `asm` (made with these
     /// contacts): releases and activations, else the augmented Lagrangian update. Returns the
     /// contacts made or let go, and the multipliers moved (both 0: every gap is closed). A node
@@ -133,7 +148,10 @@ impl ContactSet {
             if gap.g < -tol {
                 violations.push((k, true));
                 let reach = cv.params.max_penetration * node_length(cv, link.node);
-                if !self.obstacles.resting[k] && -gap.g > reach && self.obstacles.too_deep.is_none()
+                if !self.obstacles.resting[k]
+                    && -gap.g > reach
+                    && self.obstacles.too_deep.is_none()
+                    && !self.handed_over(cv, link.node, link.obstacle)
                 {
                     self.obstacles.too_deep = Some((link.node, link.obstacle, -gap.g));
                 }

@@ -113,6 +113,7 @@ pub(super) fn beside_a_convex_node(
 /// displacements `d`: the node itself, or for a node that stands off the axis
 /// (`Model::contact_distance`), the point of the axis under it along the surface normal
 /// (`rim_point`).
+#[inline]
 pub(super) fn pressed_point(
     cv: &ContactView<'_>,
     d: &[f64],
@@ -122,7 +123,11 @@ pub(super) fn pressed_point(
 ) -> [f64; 2] {
     let m = &cv.model;
     let c = current(m, &cv.dofs, d, n).0;
-    let r = m.contact_distance(n, e);
+    let r = if cv.stands_off {
+        m.contact_distance(n, e)
+    } else {
+        0.0
+    };
     if r == 0.0 {
         return c;
     }
@@ -218,8 +223,8 @@ impl ContactSet {
         if let Some((g, v)) = grid {
             let near = g.near(p).filter(|&e| m.beams[e].body == b);
             let best = match window {
-                None => self.closest(cv, d, n, near, Some(v)),
-                Some(_) => self.closest(cv, d, n, near.filter(reaches), Some(v)),
+                None => self.closest(cv, d, (n, p), near, Some(v)),
+                Some(_) => self.closest(cv, d, (n, p), near.filter(reaches), Some(v)),
             };
             if best.is_some_and(|bp| bp.gap.abs() <= g.reach) {
                 return best;
@@ -227,13 +232,13 @@ impl ContactSet {
         }
         let all = m.bodies[b].elements.iter().copied();
         match window {
-            None => self.closest(cv, d, n, all, view),
-            Some(_) => self.closest(cv, d, n, all.filter(reaches), view),
+            None => self.closest(cv, d, (n, p), all, view),
+            Some(_) => self.closest(cv, d, (n, p), all.filter(reaches), view),
         }
     }
 
-    /// The element among `elements` whose deformed shape is closest to node `n` along the
-    /// chord normal, among those the node projects onto (the lowest index on a tie). For a
+    /// The element among `elements` whose deformed shape is closest to node `n`, at `p`, along
+    /// the chord normal, among those the node projects onto (the lowest index on a tie). For a
     /// node that stands off the axis (`Model::contact_distance`), the gap is its surface's:
     /// the distance less the contact distance, measured along the chord normal (`rimmed`),
     /// with the side of the node's centre.
@@ -241,12 +246,27 @@ impl ContactSet {
         &self,
         cv: &ContactView<'_>,
         d: &[f64],
-        n: usize,
+        at: (usize, [f64; 2]),
+        elements: impl Iterator<Item = usize>,
+        view: Option<&StateView>,
+    ) -> Option<Probe> {
+        // Most models have no contact distances: their probes skip them (`RIMS` false).
+        match cv.stands_off {
+            true => self.closest_with::<true>(cv, d, at, elements, view),
+            false => self.closest_with::<false>(cv, d, at, elements, view),
+        }
+    }
+
+    /// `closest`, with contact distances looked up where `RIMS`.
+    fn closest_with<const RIMS: bool>(
+        &self,
+        cv: &ContactView<'_>,
+        d: &[f64],
+        (n, p): (usize, [f64; 2]),
         elements: impl Iterator<Item = usize>,
         view: Option<&StateView>,
     ) -> Option<Probe> {
         let m = &cv.model;
-        let p = current(m, &cv.dofs, d, n).0;
         let mut best: Option<Probe> = None;
         let mut rim = 0.0;
         for e in elements {
@@ -260,7 +280,7 @@ impl ContactSet {
                 continue;
             }
             let off = (-a[0] * dy + a[1] * dx) / l;
-            let r = m.contact_distance(n, e);
+            let r = if RIMS { m.contact_distance(n, e) } else { 0.0 };
             // Far from the chord (more than two element lengths beyond the contact distance)
             // the deflected shape cannot change the side: skip the element's shape (the costly
             // part of a probe).
@@ -292,7 +312,7 @@ impl ContactSet {
             }
         }
         match best {
-            Some(bp) if rim > 0.0 => Some(Probe {
+            Some(bp) if RIMS && rim > 0.0 => Some(Probe {
                 gap: rimmed(cv, d, bp, rim),
                 ..bp
             }),
@@ -334,7 +354,8 @@ impl ContactSet {
             .iter()
             .copied())
         .filter(|&f| cv.outside_window(n, b, f));
-        self.closest(cv, d, n, near, Some(view))
+        let at = current(&cv.model, &cv.dofs, d, n).0;
+        self.closest(cv, d, (n, at), near, Some(view))
     }
 
     /// The elements of body `b` that point `c` projects onto at state `d` within `reach` of
@@ -397,7 +418,7 @@ impl ContactSet {
             skip.iter().all(|&s| cv.place[s].abs_diff(place) > 1)
         };
         near.into_iter().filter(far_from_skip).find_map(|e| {
-            let q = self.closest(cv, d, n, std::iter::once(e), Some(&views.now))?;
+            let q = self.closest(cv, d, (n, c), std::iter::once(e), Some(&views.now))?;
             let beyond = q.gap.abs() > cv.touching(through, q.length);
             let (side, _) = beyond.then(|| self.local_side(cv, (n, b), e, views))??;
             (q.gap * side < 0.0).then_some((q, side))

@@ -52,7 +52,10 @@ impl Solver {
             return Err(AttemptError::Crossed(x));
         }
         let window = |n, b| self.self_window_of(n, b);
-        match rim_overlap(&self.model, &self.candidates, window, &states, &active) {
+        let overlap = (self.stands_off)
+            .then(|| rim_overlap(&self.model, &self.candidates, window, &states, &active))
+            .flatten();
+        match overlap {
             Some(x) => Err(AttemptError::Overlap(x)),
             None => Ok((status, states)),
         }

@@ -46,6 +46,9 @@ impl Solver {
     /// Set up a solver at the undeformed state; fails if the structure is a mechanism or a
     /// contact candidate node starts on a body with no side to tell.
     pub fn new(model: Model, params: SolverParams) -> Result<Solver, SolveError> {
+        if let Some(reason) = friction_at_a_distance(&model) {
+            return Err(SolveError::Invalid { reason });
+        }
         let structure = Structure::new(model, params);
         let state = State {
             d: vec![0.0; structure.dofs.len()],
@@ -246,4 +249,23 @@ impl Solver {
             }
         }
     }
+}
+
+/// A frictional contact pair of `model` with a candidate that stands off the axes
+/// (`Model::contact_distance`), named: contact at a distance is frictionless (the friction of
+/// a face off the axis would put a moment on the node and the beam that the contact element
+/// does not carry).
+fn friction_at_a_distance(model: &Model) -> Option<String> {
+    let thick = |b: usize| {
+        (model.bodies[b].elements.iter()).any(|&e| model.beams[e].section.thickness > 0.0)
+    };
+    model.contacts.iter().filter(|c| c.mu != 0.0).find_map(|c| {
+        let own = |n: usize| model.nodes[n].clearance > 0.0;
+        let node = c.nodes.iter().find(|&&n| own(n) || c.bodies.iter().any(|&b| thick(b)))?;
+        Some(format!(
+            "{} has friction (mu {}) on a contact at a distance from the axes (a radius or a thickness): such contacts are frictionless",
+            model.node_label(*node),
+            c.mu
+        ))
+    })
 }

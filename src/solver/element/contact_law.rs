@@ -208,8 +208,11 @@ pub fn rim_point(
 /// `contact_outcome` for contact nodes at `xc` standing off the axis by the signed contact
 /// distances `rims` (side times distance; all 0: none): the element evaluated at the points on
 /// the axis (`rim_point`), its forces on them put on the nodes, its tangent carried over by
-/// the chain rule (see the module's notes). Frictionless: the rims take no grips.
+/// the chain rule (see the module's notes). Contacts with rims are frictionless (`Solver::new`
+/// refuses friction on them); `grips` pass on as given. An empty
+/// `rims` is all 0.
 #[allow(clippy::too_many_arguments)]
+#[inline]
 pub fn rim_outcome(
     beam: &BeamElement,
     ends: ([f64; 2], [f64; 2]),
@@ -221,6 +224,7 @@ pub fn rim_outcome(
     with_tangent: bool,
 ) -> ContactOutcome {
     if rims.iter().all(|&r| r == 0.0) {
+        // No rims (an empty slice included): the plain element.
         return contact_outcome(beam, ends, phi, xc, opts, grips, with_tangent);
     }
     let points: Vec<([f64; 2], f64, f64)> = (xc.iter().zip(rims))
@@ -261,7 +265,7 @@ fn point_jacobian(
         let l2 = d.dot(&d);
         let gd = (a - d * (2.0 * xi)) / l2;
         let ga = d / l2;
-        let mut g = vec![0.0; 6];
+        let mut g = [0.0; 6];
         for k in 0..2 {
             g[k] = dtheta * (-ga[k] - gd[k]);
             g[3 + k] = dtheta * gd[k];
@@ -304,8 +308,11 @@ mod tests {
         BeamElement::new([0.0, 0.0], [1.0, 0.0], section, 0.0)
     }
 
+    /// The ends, end rotations and contact node of one state.
+    type State = (([f64; 2], [f64; 2]), [f64; 2], [f64; 2]);
+
     /// A bent element (ends moved and turned) with a node above it.
-    fn state() -> (([f64; 2], [f64; 2]), [f64; 2], [f64; 2]) {
+    fn state() -> State {
         (([0.01, -0.02], [0.98, 0.07]), [0.06, 0.16], [0.43, 0.31])
     }
 

@@ -281,6 +281,15 @@ impl Shape {
                 hollow: false,
                 ..
             } => vec![*centre],
+            Shape::Polyline { .. } => self.convex_corners(),
+            _ => Vec::new(),
+        }
+    }
+
+    /// The corners of a polyline where it turns right (juts into the free side); none for any
+    /// other shape.
+    pub fn convex_corners(&self) -> Vec<[f64; 2]> {
+        match self {
             Shape::Polyline { points } => (points.windows(3))
                 .filter(|w| cross(sub(w[1], w[0]), sub(w[2], w[1])) < 0.0)
                 .map(|w| w[1])
