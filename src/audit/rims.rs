@@ -1,7 +1,7 @@
 //! Rims: no candidate node that stands off the beams' axes (its radius, its own beams' half
 //! thickness and the half thickness of the body's elements, as the topology gives them) lies
-//! nearer an element's axis than that distance, unless the record has it in contact with the
-//! body. The element's shape between its nodes is bounded by its chord and a bulge from its
+//! nearer an element's axis than that distance, unless the record has it in contact with that
+//! element or a neighbour. The element's shape between its nodes is bounded by its chord and a bulge from its
 //! end rotations against the chord (a quarter of the length a radian, as a cubic with those
 //! end slopes stays within) plus the sag of its distributed load: a node is found only where
 //! it overlaps whatever the shape. Past a free end of the body the end's corner is not
@@ -47,18 +47,23 @@ pub fn overlapping(
         else {
             continue;
         };
-        let touching = (r.contacts.iter())
-            .any(|c| c.node == pair.node && topology.elements[c.element].body == b);
-        if touching {
-            continue;
-        }
+        // The elements it rests on: it may touch the body's other elements only by going
+        // through them.
+        let on: Vec<usize> = (r.contacts.iter())
+            .filter(|c| c.node == pair.node && topology.elements[c.element].body == b)
+            .filter_map(|c| chains.elements[b].iter().position(|&e| e == c.element))
+            .collect();
         let own = own_window(topology, chains, b, slot);
         let c = r.nodes[slot];
         let pin = clearance.get(&pair.node).copied().unwrap_or(0.0);
         for (place, &e) in chains.elements[b].iter().enumerate() {
             let el = &topology.elements[e];
             let reach = pin + 0.5 * el.thickness;
-            if reach == 0.0 || own.is_some_and(|(lo, hi)| (lo..=hi).contains(&place)) {
+            let skip = own.is_some_and(|(lo, hi)| (lo..=hi).contains(&place));
+            // Where it rests, and the neighbours, which its contact spring lets it sink into
+            // at their shared node.
+            let resting = on.iter().any(|&p| p.abs_diff(place) <= 1);
+            if reach == 0.0 || skip || resting {
                 continue;
             }
             let (a, z) = (r.nodes[chains.slot[&el.i]], r.nodes[chains.slot[&el.j]]);

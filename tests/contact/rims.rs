@@ -439,3 +439,32 @@ fn a_strip_bends_over_a_table_edge_between_its_nodes() {
         );
     }
 }
+
+/// The oracle finds a pin sunk into the beam: the last state of the pin of radius 0.1 m on 16
+/// elements, its centre moved 5 cm towards the beam, overlaps elements beyond the one it rests
+/// on and their neighbours, and is found though its contact is recorded; with the contact
+/// left out of the record, it is found as well. The history itself is clean.
+#[test]
+fn the_oracle_finds_a_pin_sunk_into_the_beam_beyond_its_contact() {
+    let sc = parse(&rim_pin("BernoulliEuler", 16, 0.7, 0.1), "rim_pin.ron").unwrap();
+    let recs = solved(&sc);
+    let pin = sc.model.nodes.iter().position(|n| n.id == 100000).unwrap();
+    let sunk = |keep_contact: bool| {
+        let mut r = recs.clone();
+        let last = r.last_mut().unwrap();
+        last.nodes[pin][1] -= 0.05;
+        if !keep_contact {
+            last.contacts.clear();
+        }
+        common::findings(&sc, &r)
+    };
+    for keep in [true, false] {
+        let found = sunk(keep);
+        assert!(
+            found
+                .iter()
+                .any(|f| f.what.contains("within its contact distance") && f.node == Some(100000)),
+            "contact kept {keep}: {found:?}"
+        );
+    }
+}

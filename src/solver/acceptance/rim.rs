@@ -1,7 +1,6 @@
 //! The rim half of the acceptance check (`rim_overlap`): no candidate node that stands off
 //! the beams' axes (a pin with a radius, beams with a thickness: `Model::contact_distance`)
-//! ends nearer the axis of an element of a body it is not in contact with than its contact
-//! distance. It works on node positions and rotations alone: the element's shape is bounded
+//! ends nearer the axis of an element it is not in contact with than its contact distance. It works on node positions and rotations alone: the element's shape is bounded
 //! by its chord and the bulge its end rotations allow (`Chord::bulge`), so a node is refused
 //! only where it overlaps whatever the shape between the nodes. Past a free end of a body
 //! it is not judged: no contact element reaches the end's corner (an obstacle that touches
@@ -19,9 +18,12 @@ const TOUCH: f64 = 1e-9;
 /// Round-off units of the largest coordinate that a distance may be off by.
 const ROUNDOFF_ULPS: f64 = 64.0;
 
-/// The first candidate pair of `pairs` (node, body), not in contact (`active`, sorted), whose
-/// node ends within its contact distance of an element of the body at node states `after`,
-/// beyond the element's bulge: the node and element, and the overlap in element lengths.
+/// The first candidate pair of `pairs` (node, body) whose node ends within its contact
+/// distance of an element of the body it is not in contact with (`active`: node, body and
+/// element of every contact) at node states `after`, beyond the element's bulge: the node and
+/// element, and the overlap in element lengths. A node in contact with a body is judged
+/// against the body's elements beyond the one it rests on and its neighbours too: it touches
+/// one place of it.
 /// `window` gives the elements of its own body a node never touches (its self-contact window,
 /// by place along the body).
 pub fn rim_overlap(
@@ -29,17 +31,22 @@ pub fn rim_overlap(
     pairs: &[(usize, usize)],
     window: impl Fn(usize, usize) -> Option<(usize, usize)>,
     after: &[NodeState],
-    active: &[(usize, usize)],
+    active: &[(usize, usize, usize)],
 ) -> Option<Crossing> {
     for &(n, b) in pairs {
-        if active.binary_search(&(n, b)).is_ok() {
-            continue;
-        }
+        // The place along the body of the element it rests on, if it does.
+        let els = &model.bodies[b].elements;
+        let touched = (active.iter().find(|a| a.0 == n && a.1 == b))
+            .and_then(|a| els.iter().position(|&e| e == a.2));
         let c = [after[n][0], after[n][1]];
         let own = window(n, b);
         for (place, &e) in model.bodies[b].elements.iter().enumerate() {
             let r = model.contact_distance(n, e);
-            if r == 0.0 || own.is_some_and(|(lo, hi)| (lo..=hi).contains(&place)) {
+            let skip = own.is_some_and(|(lo, hi)| (lo..=hi).contains(&place));
+            // Where it rests, and the neighbours, which its contact spring lets it sink into
+            // at their shared node.
+            let resting = touched.is_some_and(|t| t.abs_diff(place) <= 1);
+            if r == 0.0 || skip || resting {
                 continue;
             }
             let (p, q) = (

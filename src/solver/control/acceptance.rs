@@ -52,8 +52,11 @@ impl Solver {
             return Err(AttemptError::Crossed(x));
         }
         let window = |n, b| self.self_window_of(n, b);
+        let touching: Vec<(usize, usize, usize)> = (c.contacts.beams.active.iter())
+            .map(|a| (a.node, a.body, a.beam))
+            .collect();
         let overlap = (self.stands_off)
-            .then(|| rim_overlap(&self.model, &self.candidates, window, &states, &active))
+            .then(|| rim_overlap(&self.model, &self.candidates, window, &states, &touching))
             .flatten();
         match overlap {
             Some(x) => Err(AttemptError::Overlap(x)),
