@@ -126,20 +126,7 @@ fn two_strips_with_a_thickness_press_with_their_axes_the_thickness_apart() {
             }
             touched += 1;
             let tip = r.nodes[slot(109)];
-            let mut nearest = f64::INFINITY;
-            for e in 0..16u32 {
-                let (a, b) = (r.nodes[slot(1 + e)], r.nodes[slot(2 + e)]);
-                let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-                let l = dx.hypot(dy);
-                let chord = dy.atan2(dx);
-                let (ti, tj) = (a[2] - chord, b[2] - chord);
-                for k in 0..=4000 {
-                    let s = k as f64 / 4000.0;
-                    let w = l * (ti * s * (1.0 - s).powi(2) - tj * s * s * (1.0 - s));
-                    let p = [a[0] + s * dx - w * dy / l, a[1] + s * dy + w * dx / l];
-                    nearest = nearest.min((tip[0] - p[0]).hypot(tip[1] - p[1]));
-                }
-            }
+            let (nearest, _) = nearest_on_strip(r, &slot, (1, 16), [tip[0], tip[1]]);
             worst = worst.max((nearest - t).abs());
             assert!(
                 (nearest - t).abs() < 1e-3 * t,
