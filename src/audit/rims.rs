@@ -1,11 +1,11 @@
 //! Rims: no candidate node that stands off the beams' axes (its radius, its own beams' half
-//! thickness and the half thickness of the body's elements, as the topology gives them) lies
-//! nearer an element's axis than that distance, unless the record has it in contact with that
-//! element or a neighbour. The element's shape between its nodes is bounded by its chord and a bulge from its
-//! end rotations against the chord (a quarter of the length a radian, as a cubic with those
-//! end slopes stays within) plus the sag of its distributed load: a node is found only where
-//! it overlaps whatever the shape. Past a free end of the body the end's corner is not
-//! judged (no contact reaches it; an obstacle holds such an end by its node contact).
+//! thickness and the half thickness of the body's elements, as the topology gives them) lies nearer
+//! an element's axis than that distance, unless the record has it in contact with that element or a
+//! neighbour. The element's shape between its nodes is bounded by its chord and a bulge from its
+//! end rotations against the chord (a quarter of the length a radian, as a cubic with those end
+//! slopes stays within) plus the sag of its distributed load: a node is found only where it
+//! overlaps whatever the shape. Past a free end of a body that an obstacle carried by the node
+//! touches, the end's corner is left to the obstacle check (the end node touches it).
 
 use std::collections::HashMap;
 
@@ -71,17 +71,22 @@ pub fn overlapping(
             let l = u[0].hypot(u[1]);
             let v = [c[0] - a[0], c[1] - a[1]];
             let s = (v[0] * u[0] + v[1] * u[1]) / (l * l);
-            // Past a free end of the body (the first or last place of an open chain) the
-            // end's corner is not judged: no contact reaches it.
+            // Past a free end of the body (the first or last place of an open chain) that
+            // an obstacle carried by the node touches, the end's corner is the obstacle
+            // check's: the end node touches the obstacle there.
             let last = chains.elements[b].len() - 1;
             let ring = chains.nodes[b].first() == chains.nodes[b].last();
+            let obstacle_holds = |end: u32| {
+                (topology.obstacles.iter())
+                    .any(|o| o.pilot == Some(pair.node) && o.nodes.contains(&end))
+            };
             let dist = if s < 0.0 {
-                if place == 0 && !ring {
+                if place == 0 && !ring && obstacle_holds(el.i) {
                     continue;
                 }
                 v[0].hypot(v[1])
             } else if s > 1.0 {
-                if place == last && !ring {
+                if place == last && !ring && obstacle_holds(el.j) {
                     continue;
                 }
                 (c[0] - z[0]).hypot(c[1] - z[1])

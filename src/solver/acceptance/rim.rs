@@ -1,10 +1,11 @@
-//! The rim half of the acceptance check (`rim_overlap`): no candidate node that stands off
-//! the beams' axes (a pin with a radius, beams with a thickness: `Model::contact_distance`)
-//! ends nearer the axis of an element it is not in contact with than its contact distance. It works on node positions and rotations alone: the element's shape is bounded
-//! by its chord and the bulge its end rotations allow (`Chord::bulge`), so a node is refused
-//! only where it overlaps whatever the shape between the nodes. Past a free end of a body
-//! it is not judged: no contact element reaches the end's corner (an obstacle that touches
-//! elements holds the end node by its node contact, checked with the obstacles).
+//! The rim half of the acceptance check (`rim_overlap`): no candidate node that stands off the
+//! beams' axes (a pin with a radius, beams with a thickness: `Model::contact_distance`) ends nearer
+//! the axis of an element it is not in contact with than its contact distance. It works on node
+//! positions and rotations alone: the element's shape is bounded by its chord and the bulge its end
+//! rotations allow (`Chord::bulge`), so a node is refused only where it overlaps whatever the shape
+//! between the nodes. Past a free end of a body that an obstacle carried by the node touches, the
+//! end's corner is left to the obstacle check: the end node's contact with the obstacle holds it
+//! there.
 
 use super::chord::Chord;
 use super::crossing::Crossing;
@@ -64,20 +65,19 @@ pub fn rim_overlap(
                 }];
                 (c[0] - x[0]).hypot(c[1] - x[1])
             };
-            // Beyond an end of the element, the end node's corner: a free end of the body is
-            // a corner no contact element reaches (an obstacle's node contact holds it).
-            let free = |k: usize| {
-                let x = if k == 0 {
-                    model.beams[e].i
-                } else {
-                    model.beams[e].j
-                };
+            // Beyond an end of the element, the end node's corner; at a free end of the body
+            // that an obstacle carried by the node touches, its node contact holds the corner
+            // (and the obstacle check judges it).
+            let held_by_node_contact = |k: usize| {
+                let x = [model.beams[e].i, model.beams[e].j][k];
                 let along = |f: &usize| model.beams[*f].i == x || model.beams[*f].j == x;
-                model.bodies[b].elements.iter().filter(|f| along(f)).count() < 2
+                let free = model.bodies[b].elements.iter().filter(|f| along(f)).count() < 2;
+                free && (model.obstacles.iter())
+                    .any(|o| o.pilot == Some(n) && o.nodes.binary_search(&x).is_ok())
             };
             let dist = match s {
-                s if s < 0.0 && free(0) => continue,
-                s if s > 1.0 && free(1) => continue,
+                s if s < 0.0 && held_by_node_contact(0) => continue,
+                s if s > 1.0 && held_by_node_contact(1) => continue,
                 s if s < 0.0 => end(0),
                 s if s > 1.0 => end(1),
                 _ => h.abs(),
