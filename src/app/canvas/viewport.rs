@@ -12,6 +12,7 @@ use crate::solver::Dof;
 
 use super::beams_gpu::{self, Built, Strip};
 use super::diagrams::{self, moment_color};
+use super::legend;
 use super::overlays::{self, INK};
 use super::query::{describe, pick};
 use super::strips::Polyline;
@@ -166,8 +167,8 @@ pub fn show(
     }
     overlays::loads(&painter, model, r, units, &to_screen);
     overlays::distributed_loads(&painter, model, r, units, &to_screen);
-    overlays::legend(&painter, rect, mmax, units);
-    overlays::scale_bar(&painter, rect, view.scale, units);
+    legend::legend(&painter, rect, mmax, units);
+    legend::scale_bar(&painter, rect, view.scale, units);
     // What the pointer is on: its values on hover, pinned in the details panel on a click.
     let at = bg.hover_pos();
     let hovered = at.and_then(|at| pick(model, r, at, &to_screen));
