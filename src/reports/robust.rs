@@ -243,7 +243,7 @@ fn scene_of(case: &Case) -> Result<Scene, (String, String)> {
         (None, None) => builtin(&case.scene).ok_or_else(unknown)?.map_err(refused)?,
     };
     scene.model.formulation = case.formulation;
-    // Contacts at a distance from the axes (a radius, a thickness, an obstacle that touches
+    // Contacts at a distance from the axes (a radius, a thickness, a circle that touches
     // elements) are frictionless.
     let m = &scene.model;
     let thick =
@@ -258,7 +258,8 @@ fn scene_of(case: &Case) -> Result<Scene, (String, String)> {
         pair.mu = if far { 0.0 } else { case.mu };
     }
     for ob in &mut scene.model.obstacles {
-        ob.mu = if ob.touches_elements { 0.0 } else { case.mu };
+        let rolls = ob.touches_elements && ob.shape.disk().is_some();
+        ob.mu = if rolls { 0.0 } else { case.mu };
     }
     Ok(scene)
 }

@@ -371,7 +371,8 @@ fn touching_elements_is_refused_where_it_cannot_be_carried() {
 /// is a held node of its own that touches the strip's elements: every step completes, the edge
 /// presses on the element it stands under, the strip lies on it (the edge within the
 /// deflection its point load adds inside the element of the strip's shape), and the edge's
-/// node and the clamp carry the load between them. Touching the nodes alone, the strip cannot
+/// node and the clamp carry the load between them. A rough edge (mu 0.3) holds the strip's
+/// tip pulled along within mu N, at mu N where it slips. Touching the nodes alone, the strip cannot
 /// hold the edge between its nodes and the run stops, naming the obstacle.
 #[test]
 fn a_strip_bends_over_a_table_edge_between_its_nodes() {
@@ -416,6 +417,25 @@ fn a_strip_bends_over_a_table_edge_between_its_nodes() {
             "edge {} clamp {}",
             v(edge),
             v(1)
+        );
+        // A rough edge (mu 0.3, the strip's tip pulled along too): the corner's contact takes
+        // the table's friction, slipping at mu N or sticking within it.
+        let rough = text("Elements, mu: 0.3").replace("fy: -1.0)", "fx: 0.5, fy: -1.0)");
+        let rough = parse(&rough, "edge.ron").unwrap();
+        let last = solved(&rough).pop().unwrap();
+        let [c] = last.contacts.as_slice() else {
+            panic!("{f}: contacts {:?}", last.contacts);
+        };
+        let limit = 0.3 * c.pressure;
+        let slipping = c.friction == tsm_contact::solver::Friction::Slipping;
+        assert!(c.tangential.abs() > 0.1 * limit, "{f}: no friction {c:?}");
+        assert!(
+            c.tangential.abs() <= limit * (1.0 + 1e-6),
+            "{f}: beyond mu N {c:?}"
+        );
+        assert!(
+            !slipping || c.tangential.abs() >= limit * (1.0 - 1e-6),
+            "{f}: {c:?}"
         );
         let nodes_only = parse(&text("Nodes"), "edge.ron").unwrap();
         let mut solver = nodes_only.solver().unwrap();

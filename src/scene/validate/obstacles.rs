@@ -158,11 +158,21 @@ pub(super) struct Roller {
     pub(super) bodies: Vec<usize>,
     /// The radius its points touch with (m): a circle's, 0 for corners.
     pub(super) radius: f64,
+    /// The friction of its contacts: a polyline's on bodies without a thickness (its corners
+    /// touch on the axis); 0 for a circle.
+    pub(super) mu: f64,
+}
+
+/// Whether any of `bodies` has a thickness.
+fn thick(bodies: &[usize], g: &Geometry) -> bool {
+    (bodies.iter())
+        .flat_map(|&b| &g.bodies[b].elements)
+        .any(|&e| g.beams[e].section.thickness > 0.0)
 }
 
 /// Obstacle `k` (`o`, of shape `shape` and pilot `pilot`, touching `bodies`) as a `Roller`:
 /// a frictionless solid circle, its pilot, if any, at its centre, or a fixed polyline with a
-/// convex corner, touching bodies.
+/// convex corner (with friction only on bodies without a thickness), touching bodies.
 fn roller(
     ctx: &Ctx,
     (k, o): (usize, &ObstacleDef),
@@ -182,9 +192,9 @@ fn roller(
         )
     } else if !corners.is_empty() && pilot.is_some() {
         Some("a polyline's corners touch elements only where it is fixed: no pilot".to_string())
-    } else if o.mu != 0.0 {
+    } else if o.mu != 0.0 && (shape.disk().is_some() || thick(&bodies, g)) {
         Some(format!(
-            "it touches elements without friction: set mu: 0 (it is {:e})",
+            "a circle, or corners on a body with a thickness, touches elements without friction: set mu: 0 (it is {:e})",
             o.mu
         ))
     } else if bodies.is_empty() {
@@ -203,6 +213,7 @@ fn roller(
             circle: false,
             bodies,
             radius: 0.0,
+            mu: o.mu,
         });
     };
     if let Some(p) = pilot {
@@ -226,6 +237,7 @@ fn roller(
         circle: true,
         bodies,
         radius,
+        mu: 0.0,
     })
 }
 

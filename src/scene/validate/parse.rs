@@ -209,7 +209,7 @@ fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
                 nodes: vec![node],
                 bodies: r.bodies.clone(),
                 own: false,
-                mu: 0.0,
+                mu: r.mu,
                 side: None,
             });
         }
