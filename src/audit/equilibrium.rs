@@ -217,7 +217,10 @@ fn forces(
         let s = slot[&c.node];
         on[s][0] += f[0];
         on[s][1] += f[1];
-        at_points[group[slot[&e.i]]].push((pos(c.node), [-f[0], -f[1]]));
+        // On the beam where it presses: the node, or the point of the axis under a node
+        // that stands off it.
+        let at = c.point.unwrap_or(pos(c.node));
+        at_points[group[slot[&e.i]]].push((at, [-f[0], -f[1]]));
     }
     for c in &r.obstacle_contacts {
         let t = [c.normal[1], -c.normal[0]];

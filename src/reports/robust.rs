@@ -243,23 +243,32 @@ fn scene_of(case: &Case) -> Result<Scene, (String, String)> {
         (None, None) => builtin(&case.scene).ok_or_else(unknown)?.map_err(refused)?,
     };
     scene.model.formulation = case.formulation;
-    // Contacts at a distance from the axes (a radius, a thickness, a circle that touches
-    // elements) are frictionless.
-    let m = &scene.model;
-    let thick =
-        |b: usize| (m.bodies[b].elements.iter()).any(|&e| m.beams[e].section.thickness > 0.0);
-    let at_a_distance: Vec<bool> = (m.contacts.iter())
-        .map(|c| {
-            c.nodes.iter().any(|&n| m.nodes[n].clearance > 0.0)
-                || c.bodies.iter().any(|&b| thick(b))
+    // Friction only where the model carries it (`Model::friction_allowed`).
+    let allowed: Vec<bool> = (scene.model.contacts.iter())
+        .map(|c| scene.model.friction_allowed(c))
+        .collect();
+    for (pair, ok) in scene.model.contacts.iter_mut().zip(allowed) {
+        pair.mu = if ok { case.mu } else { 0.0 };
+    }
+    let thin = |bodies: &[usize], m: &crate::solver::Model| {
+        (bodies.iter())
+            .all(|&b| (m.bodies[b].elements.iter()).all(|&e| m.beams[e].section.thickness == 0.0))
+    };
+    let obstacle_mu: Vec<f64> = (scene.model.obstacles.iter())
+        .map(|ob| {
+            let bodies: Vec<usize> = (scene.model.contacts.iter())
+                .filter(|c| ob.touches_elements && c.nodes.iter().any(|&n| Some(n) == ob.pilot))
+                .flat_map(|c| c.bodies.iter().copied())
+                .collect();
+            if thin(&bodies, &scene.model) {
+                case.mu
+            } else {
+                0.0
+            }
         })
         .collect();
-    for (pair, far) in scene.model.contacts.iter_mut().zip(at_a_distance) {
-        pair.mu = if far { 0.0 } else { case.mu };
-    }
-    for ob in &mut scene.model.obstacles {
-        let rolls = ob.touches_elements && ob.shape.disk().is_some();
-        ob.mu = if rolls { 0.0 } else { case.mu };
+    for (ob, mu) in scene.model.obstacles.iter_mut().zip(obstacle_mu) {
+        ob.mu = mu;
     }
     Ok(scene)
 }

@@ -303,6 +303,10 @@ pub struct ContactState {
     /// material point the node is held to (m); `None` where the contact is frictionless.
     #[serde(default)]
     pub stick: Option<f64>,
+    /// Where the contact presses on the beam's axis, for a node that stands off it (a radius,
+    /// a thickness: the force acts on the beam there); `None`: at the node itself.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub point: Option<[f64; 2]>,
 }
 
 /// The frictional state of a contact.

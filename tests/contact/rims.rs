@@ -330,13 +330,14 @@ fn one_step_loads_onto_a_peg_and_a_roller_on_ten_elements_touch_on_the_right_sid
 }
 
 /// `touches: Elements` is refused, naming the obstacle's field, on a shape other than a solid
-/// circle, with friction, and with its pilot off its centre.
+/// circle or a polyline, with friction on a body with a thickness, and with its pilot off its
+/// centre.
 #[test]
 fn touching_elements_is_refused_where_it_cannot_be_carried() {
     let scene = |obstacle: &str| {
         format!(
             r#"(
-            name: "bad", sections: [(name: "s", E: 1.0, A: 1.0, I: 1.0)],
+            name: "bad", sections: [(name: "s", E: 1.0, A: 1.0, I: 1.0, thickness: 0.01)],
             nodes: [(id: 100, x: 0.5, y: 0.3, rotation: false)],
             bodies: [(name: "beam", section: "s", path: [(0.0, 0.0), (1.0, 0.0)], elements: 4, first_node: 1)],
             supports: [(node: 1, u: true, v: true, phi: true), (node: 100, u: true, v: true)],
@@ -351,7 +352,7 @@ fn touching_elements_is_refused_where_it_cannot_be_carried() {
         ),
         (
             r#"(name: "peg", shape: Circle(centre: (0.5, -0.2), radius: 0.1), bodies: ["beam"], mu: 0.2, touches: Elements)"#,
-            "without friction",
+            "on a body with a thickness it touches elements without friction",
         ),
         (
             r#"(name: "peg", shape: Circle(centre: (0.5, 0.2), radius: 0.1), bodies: ["beam"], pilot: 100, touches: Elements)"#,
@@ -472,6 +473,57 @@ fn the_oracle_finds_a_pin_sunk_into_the_beam_beyond_its_contact() {
                 .iter()
                 .any(|f| f.what.contains("within its contact distance") && f.node == Some(100000)),
             "contact kept {keep}: {found:?}"
+        );
+    }
+}
+
+/// The built-in roller with friction (mu 0.3) on 20 elements: a rigid roller that does not
+/// turn, dragged along the strip, slips with its friction force at mu N against the slip in
+/// every increment after the first in contact, and the oracle finds every state in
+/// equilibrium with the force on the strip where the roller presses on its axis (it would find
+/// the friction's moment missing with the force put at the roller's centre), both
+/// formulations.
+#[test]
+fn a_rough_roller_slips_along_the_strip_at_mu_n() {
+    use tsm_contact::scene::{builtin::builtin, from_scene_file, remesh::remesh};
+    use tsm_contact::solver::Friction;
+    for f in [
+        tsm_contact::solver::Formulation::BernoulliEuler,
+        tsm_contact::solver::Formulation::Timoshenko,
+    ] {
+        let mut file = builtin("roller").unwrap().unwrap().file;
+        file.formulation = f;
+        file.obstacles[0].mu = 0.3;
+        let sc = from_scene_file(remesh(&file, 20).unwrap(), "roller").unwrap();
+        let recs = solved(&sc);
+        let last = recs.last().unwrap();
+        assert!(
+            (last.prescribed[0] - 0.6).abs() < 1e-12,
+            "{f:?}: every step"
+        );
+        let rubbing: Vec<_> = (recs.iter())
+            .filter_map(|r| r.contacts.first())
+            .skip(1)
+            .collect();
+        assert!(rubbing.len() > 30, "{f:?}: {} in contact", rubbing.len());
+        for c in rubbing {
+            assert!(c.point.is_some(), "{c:?}");
+            assert_eq!(c.friction, Friction::Slipping, "{f:?}: {c:?}");
+            let ratio = c.tangential.abs() / (0.3 * c.pressure);
+            assert!((ratio - 1.0).abs() < 1e-6, "{f:?}: T / mu N = {ratio}");
+        }
+        // The same history with the force on the strip put at the roller's centre is out of
+        // balance by the friction's moment.
+        let mut moved = recs.clone();
+        for r in &mut moved {
+            for c in &mut r.contacts {
+                c.point = None;
+            }
+        }
+        let found = common::findings(&sc, &moved);
+        assert!(
+            found.iter().any(|x| x.what.contains("out of balance")),
+            "{f:?}: {found:?}"
         );
     }
 }

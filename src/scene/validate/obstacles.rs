@@ -192,9 +192,9 @@ fn roller(
         )
     } else if !corners.is_empty() && pilot.is_some() {
         Some("a polyline's corners touch elements only where it is fixed: no pilot".to_string())
-    } else if o.mu != 0.0 && (shape.disk().is_some() || thick(&bodies, g)) {
+    } else if o.mu != 0.0 && thick(&bodies, g) {
         Some(format!(
-            "a circle, or corners on a body with a thickness, touches elements without friction: set mu: 0 (it is {:e})",
+            "on a body with a thickness it touches elements without friction: set mu: 0 (it is {:e})",
             o.mu
         ))
     } else if bodies.is_empty() {
@@ -237,7 +237,7 @@ fn roller(
         circle: true,
         bodies,
         radius,
-        mu: 0.0,
+        mu: o.mu,
     })
 }
 

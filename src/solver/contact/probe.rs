@@ -6,8 +6,8 @@ use std::cell::{OnceCell, RefCell};
 use std::rc::Rc;
 
 use super::broad_phase::ElementGrid;
-use super::set::ContactSet;
 use super::set::ContactView;
+use super::set::{pressed_point, ContactSet};
 use crate::solver::assembly::current;
 use crate::solver::element::beam::Chord;
 use crate::solver::element::contact_element::{contact_response, deflection};
@@ -34,7 +34,8 @@ const GRID_MIN_ELEMENTS: usize = 32;
 pub struct Probe {
     /// Element the node projects onto.
     pub beam: usize,
-    /// li/l on that element's chord.
+    /// li/l on that element's chord (of the point of the axis it would press on, for a node
+    /// that stands off the axis).
     pub xi: f64,
     /// Signed distance from the deformed shape along the chord normal (m); for a node that
     /// stands off the axis, of its surface (`rimmed`): negative where it overlaps the beam.
@@ -109,45 +110,23 @@ pub(super) fn beside_a_convex_node(
     })
 }
 
-/// Where node `n`, on side `side` of beam `e` and touching it, presses on the beam's axis at
-/// displacements `d`: the node itself, or for a node that stands off the axis
-/// (`Model::contact_distance`), the point of the axis under it along the surface normal
-/// (`rim_point`).
-#[inline]
-pub(super) fn pressed_point(
-    cv: &ContactView<'_>,
-    d: &[f64],
-    n: usize,
-    e: usize,
-    side: f64,
-) -> [f64; 2] {
-    let m = &cv.model;
-    let c = current(m, &cv.dofs, d, n).0;
-    let r = if cv.stands_off {
-        m.contact_distance(n, e)
-    } else {
-        0.0
-    };
-    if r == 0.0 {
-        return c;
-    }
-    let (xi, pi) = current(m, &cv.dofs, d, m.beams[e].i);
-    let (xj, pj) = current(m, &cv.dofs, d, m.beams[e].j);
-    rim_point(&cv.elements[e], (xi, xj), [pi, pj], c, side * r).0
-}
-
 /// The gap of probe `p` (a node's centre from the deformed shape along the chord normal) of
 /// a node that stands off the axis by `r`: its surface's, `g - sign(g) r / cos t`, with t the
 /// surface turn at the node's fraction (the beam's parallel curve at r, measured along the
 /// chord normal). A node whose surface overlaps the beam has the sign of the other side.
-fn rimmed(cv: &ContactView<'_>, d: &[f64], p: Probe, r: f64) -> f64 {
+/// Also the fraction of the point of the axis the node would press on (`rim_point`), where
+/// its contact would hold it.
+fn rimmed(cv: &ContactView<'_>, d: &[f64], (n, p): (usize, Probe), r: f64) -> (f64, f64) {
     let m = &cv.model;
     let beam = &m.beams[p.beam];
     let (xi, pi) = current(m, &cv.dofs, d, beam.i);
     let (xj, pj) = current(m, &cv.dofs, d, beam.j);
     let ch = Chord::new(xi, xj, cv.elements[p.beam].alpha0, 0.5 * (pi + pj));
     let t = surface_turn(pi - ch.beta, pj - ch.beta, p.xi.clamp(0.0, 1.0));
-    p.gap - p.gap.signum() * r / t.cos()
+    let c = current(m, &cv.dofs, d, n).0;
+    let side = p.gap.signum();
+    let (_, pressed, _) = rim_point(&cv.elements[p.beam], (xi, xj), [pi, pj], c, side * r);
+    (p.gap - side * r / t.cos(), pressed)
 }
 
 impl ContactSet {
@@ -312,10 +291,10 @@ impl ContactSet {
             }
         }
         match best {
-            Some(bp) if RIMS && rim > 0.0 => Some(Probe {
-                gap: rimmed(cv, d, bp, rim),
-                ..bp
-            }),
+            Some(bp) if RIMS && rim > 0.0 => {
+                let (gap, xi) = rimmed(cv, d, (n, bp), rim);
+                Some(Probe { gap, xi, ..bp })
+            }
             _ => best,
         }
     }

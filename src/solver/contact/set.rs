@@ -12,7 +12,7 @@ use std::ops::Deref;
 use super::cycle::CycleGuard;
 use crate::solver::assembly::{current, Assembled, ContactLink, ObstacleLink};
 use crate::solver::element::beam::Chord;
-use crate::solver::element::contact_law::surface_turn;
+use crate::solver::element::contact_law::{rim_point, surface_turn};
 use crate::solver::index_map::IndexMap;
 use crate::solver::model::Model;
 use crate::solver::report::{ContactState, Friction};
@@ -198,6 +198,10 @@ impl ContactSet {
                     None => Friction::Frictionless,
                 },
                 stick: a.stick.map(|s| s.at),
+                point: (m.contact_distance(a.node, a.beam) > 0.0).then(|| {
+                    let p = pressed_point(cv, cv.d, a.node, a.beam, a.side);
+                    [p[0] + cv.origin[0], p[1] + cv.origin[1]]
+                }),
             })
             .collect()
     }
@@ -221,4 +225,31 @@ impl Deref for ContactView<'_> {
     fn deref(&self) -> &Structure {
         self.structure
     }
+}
+
+/// Where node `n`, on side `side` of beam `e` and touching it, presses on the beam's axis at
+/// displacements `d`: the node itself, or for a node that stands off the axis
+/// (`Model::contact_distance`), the point of the axis under it along the surface normal
+/// (`rim_point`).
+#[inline]
+pub(super) fn pressed_point(
+    cv: &ContactView<'_>,
+    d: &[f64],
+    n: usize,
+    e: usize,
+    side: f64,
+) -> [f64; 2] {
+    let m = &cv.model;
+    let c = current(m, &cv.dofs, d, n).0;
+    let r = if cv.stands_off {
+        m.contact_distance(n, e)
+    } else {
+        0.0
+    };
+    if r == 0.0 {
+        return c;
+    }
+    let (xi, pi) = current(m, &cv.dofs, d, m.beams[e].i);
+    let (xj, pj) = current(m, &cv.dofs, d, m.beams[e].j);
+    rim_point(&cv.elements[e], (xi, xj), [pi, pj], c, side * r).0
 }

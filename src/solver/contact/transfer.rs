@@ -1,7 +1,8 @@
 //! Contacts that move during the iterations: transfer to the neighbouring element when li/l
 //! leaves (0, 1), and release when the node slides off a free end of the beam.
 
-use super::probe::{chord_fraction_of, pressed_point};
+use super::probe::chord_fraction_of;
+use super::set::pressed_point;
 use super::set::ContactView;
 use super::set::{ActiveContact, ContactSet};
 use crate::solver::assembly::current;

@@ -251,21 +251,14 @@ impl Solver {
     }
 }
 
-/// A frictional contact pair of `model` with a candidate that stands off the axes
-/// (`Model::contact_distance`), named: contact at a distance is frictionless (the friction of
-/// a face off the axis would put a moment on the node and the beam that the contact element
-/// does not carry).
+/// A frictional contact pair of `model` that may not have friction
+/// (`Model::friction_allowed`), named: a pin or a beam that stands off the axes has no rotation
+/// to hold the moment of a friction on its face.
 fn friction_at_a_distance(model: &Model) -> Option<String> {
-    let thick = |b: usize| {
-        (model.bodies[b].elements.iter()).any(|&e| model.beams[e].section.thickness > 0.0)
-    };
-    model.contacts.iter().filter(|c| c.mu != 0.0).find_map(|c| {
-        let own = |n: usize| model.nodes[n].clearance > 0.0;
-        let node = c.nodes.iter().find(|&&n| own(n) || c.bodies.iter().any(|&b| thick(b)))?;
-        Some(format!(
-            "{} has friction (mu {}) on a contact at a distance from the axes (a radius or a thickness): such contacts are frictionless",
-            model.node_label(*node),
-            c.mu
-        ))
-    })
+    let pair = (model.contacts.iter()).find(|c| c.mu != 0.0 && !model.friction_allowed(c))?;
+    Some(format!(
+        "{} has friction (mu {}) on a contact at a distance from the axes (a radius or a thickness): such contacts are frictionless, but for a circle that touches elements",
+        model.node_label(pair.nodes[0]),
+        pair.mu
+    ))
 }

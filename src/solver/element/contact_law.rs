@@ -208,8 +208,9 @@ pub fn rim_point(
 /// `contact_outcome` for contact nodes at `xc` standing off the axis by the signed contact
 /// distances `rims` (side times distance; all 0: none): the element evaluated at the points on
 /// the axis (`rim_point`), its forces on them put on the nodes, its tangent carried over by
-/// the chain rule (see the module's notes). Contacts with rims are frictionless (`Solver::new`
-/// refuses friction on them); `grips` pass on as given. An empty
+/// the chain rule (see the module's notes). A grip acts at the point on the axis, its force put on
+/// the node unchanged: the friction of a rigid circle that does not turn, which holds the
+/// moment about its centre (`Model::friction_allowed`). An empty
 /// `rims` is all 0.
 #[allow(clippy::too_many_arguments)]
 #[inline]

@@ -339,6 +339,20 @@ impl Model {
         self.nodes[n].clearance + 0.5 * self.beams[e].section.thickness
     }
 
+    /// Whether the contacts of `pair` may have friction: on the axes (every contact distance
+    /// 0), or those of a rigid circle that touches elements (its pilot carries it) on bodies
+    /// without a thickness, whose rotation the obstacle holds against the friction's moment
+    /// about its centre. A pin or a beam that stands off the axes has no rotation to hold it.
+    pub fn friction_allowed(&self, pair: &ContactPair) -> bool {
+        let thick = |b: &usize| {
+            (self.bodies[*b].elements.iter()).any(|&e| self.beams[e].section.thickness > 0.0)
+        };
+        let rigid =
+            |n: usize| (self.obstacles.iter()).any(|o| o.touches_elements && o.pilot == Some(n));
+        !pair.bodies.iter().any(thick)
+            && (pair.nodes.iter()).all(|&n| self.nodes[n].clearance == 0.0 || rigid(n))
+    }
+
     /// Initial length of beam `e`.
     pub fn beam_length(&self, e: usize) -> f64 {
         let b = &self.beams[e];
