@@ -100,3 +100,42 @@ pub(crate) fn stacked_cantilevers(n: usize) -> String {
         lower = n + 2
     )
 }
+
+/// A pin of radius 5 cm whose rim starts 1 mm above a cantilever of `n` elements at x = 0.7,
+/// driven 0.4 m down: it touches the beam's parallel curve and slides towards the tip.
+pub(crate) fn pin_with_a_radius(n: usize) -> String {
+    format!(
+        r#"(
+    name: "a pin with a radius",
+    sections: [(name: "s", E: 1.0, A: 1.0e6, I: 1.0, G: 0.4)],
+    nodes: [(id: 100000, x: 0.7, y: 0.051, rotation: false, radius: 0.05)],
+    bodies: [(name: "beam", section: "s", path: [(0.0, 0.0), (1.0, 0.0)], elements: {n}, first_node: 1)],
+    supports: [(node: 1, u: true, v: true, phi: true), (node: 100000, u: true)],
+    prescribed: [(node: 100000, dof: V, per_step: -0.02)],
+    contacts: [(nodes: [100000], bodies: ["beam"])],
+    control: (steps: 20),
+)"#
+    )
+}
+
+/// Two cantilevers 2 cm thick, the upper (0.6 m) 1 mm clear of the lower (1 m), both of `n`
+/// elements: the upper one's tip is driven 0.3 m down, its nodes pressing on the lower one's
+/// face.
+pub(crate) fn thick_strips(n: usize) -> String {
+    format!(
+        r#"(
+    name: "thick strips",
+    sections: [(name: "s", E: 1.0, A: 1.0e6, I: 1.0, G: 0.4, thickness: 0.02)],
+    bodies: [
+        (name: "lower", section: "s", path: [(0.0, 0.0), (1.0, 0.0)], elements: {n}, first_node: 1),
+        (name: "upper", section: "s", path: [(0.0, 0.021), (0.6, 0.021)], elements: {n}, first_node: {upper}),
+    ],
+    supports: [(node: 1, u: true, v: true, phi: true), (node: {upper}, u: true, v: true, phi: true)],
+    prescribed: [(node: {tip}, dof: V, per_step: -0.01)],
+    contacts: [(node_bodies: ["upper"], bodies: ["lower"])],
+    control: (steps: 30),
+)"#,
+        upper = n + 2,
+        tip = 2 * n + 2
+    )
+}

@@ -1,17 +1,19 @@
 //! The robustness campaign (`tsm-contact robust`): seeded random drives of every built-in scene
 //! (the scene's own mesh or, for a one-body scene, half or twice as many elements; either
 //! formulation; steps from 3e-4 to 50 times the scene's; down only, or down and back up; friction
-//! mu in [0, 1] on every contact), and of five families with a plain answer (`FAMILIES`: a pin
-//! pressed onto the midspan node of a pinned-pinned beam, two cantilevers pressed onto each
-//! other, a bar on a rough beam floor and on a rough line, a pin pressing one cantilever far
-//! onto another; on 8 to 128 elements) counted by how they end, with the Newton iterations of every
+//! mu in [0, 1] on every contact the model can carry it on), and of seven families with a plain
+//! answer (`FAMILIES`: a pin pressed onto the midspan node of a pinned-pinned beam, two
+//! cantilevers pressed onto each other, a bar on a rough beam floor and on a rough line, a pin
+//! pressing one cantilever far onto another, a pin with a radius on a cantilever, two thick
+//! strips pressed together; on 8 to 128 elements) counted by how they end, with the Newton iterations of every
 //! increment (its failed attempts and cut-backs included) and what the independent audit
 //! (`crate::audit`) finds in every accepted state. A measurement, not a test: it reports.
 
 use std::collections::BTreeMap;
 
 use super::families::{
-    bar_on_a_beam_floor, bar_on_a_line, pin_on_a_node, pin_on_two_cantilevers, stacked_cantilevers,
+    bar_on_a_beam_floor, bar_on_a_line, pin_on_a_node, pin_on_two_cantilevers, pin_with_a_radius,
+    stacked_cantilevers, thick_strips,
 };
 use crate::audit::{audit, Run};
 use crate::history::Topology;
@@ -63,7 +65,7 @@ pub struct Family {
 }
 
 /// The families of the campaign.
-pub const FAMILIES: [Family; 5] = [
+pub const FAMILIES: [Family; 7] = [
     Family {
         name: "pin on a mesh node",
         steps: 20,
@@ -92,6 +94,18 @@ pub const FAMILIES: [Family; 5] = [
         name: "a pin pressing two cantilevers",
         steps: 24,
         scene: pin_on_two_cantilevers,
+        mu: None,
+    },
+    Family {
+        name: "a pin with a radius",
+        steps: 20,
+        scene: pin_with_a_radius,
+        mu: None,
+    },
+    Family {
+        name: "thick strips",
+        steps: 30,
+        scene: thick_strips,
         mu: None,
     },
 ];

@@ -9,9 +9,8 @@ use super::broad_phase::ElementGrid;
 use super::set::ContactView;
 use super::set::{pressed_point, ContactSet};
 use crate::solver::assembly::current;
-use crate::solver::element::beam::Chord;
 use crate::solver::element::contact_element::{contact_response, deflection};
-use crate::solver::element::contact_law::{rim_point, surface_turn};
+use crate::solver::element::contact_law::rim_point;
 use crate::solver::index_map::IndexMap;
 
 /// Beyond this many element lengths from an element's chord, a node's gap is its distance
@@ -110,25 +109,6 @@ pub(super) fn beside_a_convex_node(
     })
 }
 
-/// The gap of probe `p` (a node's centre from the deformed shape along the chord normal) of
-/// a node that stands off the axis by `r`: its surface's, `g - sign(g) r / cos t`, with t the
-/// surface turn at the node's fraction (the beam's parallel curve at r, measured along the
-/// chord normal). A node whose surface overlaps the beam has the sign of the other side.
-/// Also the fraction of the point of the axis the node would press on (`rim_point`), where
-/// its contact would hold it.
-fn rimmed(cv: &ContactView<'_>, d: &[f64], (n, p): (usize, Probe), r: f64) -> (f64, f64) {
-    let m = &cv.model;
-    let beam = &m.beams[p.beam];
-    let (xi, pi) = current(m, &cv.dofs, d, beam.i);
-    let (xj, pj) = current(m, &cv.dofs, d, beam.j);
-    let ch = Chord::new(xi, xj, cv.elements[p.beam].alpha0, 0.5 * (pi + pj));
-    let t = surface_turn(pi - ch.beta, pj - ch.beta, p.xi.clamp(0.0, 1.0));
-    let c = current(m, &cv.dofs, d, n).0;
-    let side = p.gap.signum();
-    let (_, pressed, _) = rim_point(&cv.elements[p.beam], (xi, xj), [pi, pj], c, side * r);
-    (p.gap - side * r / t.cos(), pressed)
-}
-
 impl ContactSet {
     /// li/l of node `n` on the current chord of beam `e`.
     pub(super) fn chord_fraction(cv: &ContactView<'_>, d: &[f64], n: usize, e: usize) -> f64 {
@@ -219,8 +199,8 @@ impl ContactSet {
     /// The element among `elements` whose deformed shape is closest to node `n`, at `p`, along
     /// the chord normal, among those the node projects onto (the lowest index on a tie). For a
     /// node that stands off the axis (`Model::contact_distance`), the gap is its surface's:
-    /// the distance less the contact distance, measured along the chord normal (`rimmed`),
-    /// with the side of the node's centre.
+    /// that of the point of the axis it would press on (`rimmed`), with the side of the node's
+    /// centre.
     pub(super) fn closest(
         &self,
         cv: &ContactView<'_>,
@@ -292,11 +272,53 @@ impl ContactSet {
         }
         match best {
             Some(bp) if RIMS && rim > 0.0 => {
-                let (gap, xi) = rimmed(cv, d, (n, bp), rim);
+                let (gap, xi) = self.rimmed(cv, d, (n, bp), rim, view);
                 Some(Probe { gap, xi, ..bp })
             }
             _ => best,
         }
+    }
+
+    /// The gap of probe `p` of node `n` that stands off the axis by `r`: its surface's, the
+    /// gap of the point of the axis it would press on (`rim_point`, on the side of its centre)
+    /// from the deformed shape along the chord normal, as the contact element holds that point
+    /// on the shape; negative, against the centre's side, where the node overlaps the beam.
+    /// Also that point's fraction along the chord.
+    fn rimmed(
+        &self,
+        cv: &ContactView<'_>,
+        d: &[f64],
+        (n, p): (usize, Probe),
+        r: f64,
+        view: Option<&StateView>,
+    ) -> (f64, f64) {
+        let m = &cv.model;
+        let e = p.beam;
+        let (xi, pi) = current(m, &cv.dofs, d, m.beams[e].i);
+        let (xj, pj) = current(m, &cv.dofs, d, m.beams[e].j);
+        let c = current(m, &cv.dofs, d, n).0;
+        let side = p.gap.signum();
+        let (q, at, _) = rim_point(&cv.elements[e], (xi, xj), [pi, pj], c, side * r);
+        let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
+        let l = dx.hypot(dy);
+        let off = (-(q[0] - xi[0]) * dy + (q[1] - xi[1]) * dx) / l;
+        if off.abs() > FAR * l {
+            return (off, at);
+        }
+        let sh = match view {
+            Some(v) => Rc::clone(
+                v.shapes
+                    .borrow_mut()
+                    .entry(e)
+                    .or_insert_with(|| Rc::new(self.shape(cv, d, e))),
+            ),
+            None => Rc::new(self.shape(cv, d, e)),
+        };
+        let along = at.clamp(0.0, 1.0);
+        (
+            off - deflection(&cv.elements[e], &sh.bending, &sh.xis, along),
+            at,
+        )
     }
 
     /// Gap of every active contact node from its beam's deformed shape, relative to the element
