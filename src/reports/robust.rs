@@ -264,17 +264,14 @@ fn scene_of(case: &Case) -> Result<Scene, (String, String)> {
     for (pair, ok) in scene.model.contacts.iter_mut().zip(allowed) {
         pair.mu = if ok { case.mu } else { 0.0 };
     }
-    let thin = |bodies: &[usize], m: &crate::solver::Model| {
-        (bodies.iter())
-            .all(|&b| (m.bodies[b].elements.iter()).all(|&e| m.beams[e].section.thickness == 0.0))
-    };
-    let obstacle_mu: Vec<f64> = (scene.model.obstacles.iter())
+    // An obstacle that touches elements: its friction where its pairs may carry it.
+    let m = &scene.model;
+    let obstacle_mu: Vec<f64> = (m.obstacles.iter())
         .map(|ob| {
-            let bodies: Vec<usize> = (scene.model.contacts.iter())
+            let carried = (m.contacts.iter())
                 .filter(|c| ob.touches_elements && c.nodes.iter().any(|&n| Some(n) == ob.pilot))
-                .flat_map(|c| c.bodies.iter().copied())
-                .collect();
-            if thin(&bodies, &scene.model) {
+                .all(|c| m.friction_allowed(c));
+            if carried {
                 case.mu
             } else {
                 0.0

@@ -117,6 +117,22 @@ fn a_strip_folded_shut_touches_itself_as_two_bodies_touch_each_other() {
     assert!(touched > 0, "the fold never shut");
 }
 
+/// No two chords of the one-body chain `x` (node states in order), other than neighbours,
+/// cross beyond their sagittas (`overlap`) by more than 1e-9 m; `at` names the state.
+fn assert_no_chords_cross(x: &[[f64; 3]], at: &str) {
+    for e in 0..x.len() - 1 {
+        for f in e + 2..x.len() - 1 {
+            let o = overlap(x[e], x[e + 1], x[f], x[f + 1]);
+            assert!(
+                o <= 1e-9,
+                "{at}: elements {} and {} cross by {o:e}",
+                e + 1,
+                f + 1
+            );
+        }
+    }
+}
+
 /// How far the chords p0-p1 and q0-q1 (node states x, y, phi) cross, beyond what their
 /// elements' bulges allow: 0 where they do not cross. Where they cross, the overlap is the
 /// least distance of an end from the other chord; an element's curve leaves its chord by its
@@ -162,18 +178,7 @@ fn a_cantilever_rolled_past_a_turn_presses_on_itself_and_never_passes_through() 
         for r in solver.step(&mut Silent).expect("converges") {
             records.push(r.clone());
             let x = &r.nodes;
-            for e in 0..x.len() - 1 {
-                for f in e + 2..x.len() - 1 {
-                    let o = overlap(x[e], x[e + 1], x[f], x[f + 1]);
-                    assert!(
-                        o <= 1e-9,
-                        "increment {}: elements {} and {} cross by {o:e}",
-                        r.increment,
-                        e + 1,
-                        f + 1
-                    );
-                }
-            }
+            assert_no_chords_cross(x, &format!("increment {}", r.increment));
             for c in &r.contacts {
                 assert!(
                     c.pressure >= 0.0,
@@ -301,19 +306,7 @@ fn a_cantilever_rolled_up_two_turns_onto_itself_completes_in_both_formulations()
                     reaction("phi"),
                     -m
                 );
-                let x = &r.nodes;
-                for e in 0..x.len() - 1 {
-                    for f in e + 2..x.len() - 1 {
-                        let o = overlap(x[e], x[e + 1], x[f], x[f + 1]);
-                        assert!(
-                            o <= 1e-9,
-                            "{at}, increment {}: elements {} and {} cross by {o:e}",
-                            r.increment,
-                            e + 1,
-                            f + 1
-                        );
-                    }
-                }
+                assert_no_chords_cross(&r.nodes, &format!("{at}, increment {}", r.increment));
             }
             assert!(touched, "{at}: the beam never touched itself");
             common::assert_audited(&scene, &records);

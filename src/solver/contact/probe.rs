@@ -246,15 +246,7 @@ impl ContactSet {
             let gap = if off.abs() - r > FAR * l {
                 off
             } else {
-                let sh = match view {
-                    Some(v) => Rc::clone(
-                        v.shapes
-                            .borrow_mut()
-                            .entry(e)
-                            .or_insert_with(|| Rc::new(self.shape(cv, d, e))),
-                    ),
-                    None => Rc::new(self.shape(cv, d, e)),
-                };
+                let sh = self.shape_in(cv, d, e, view);
                 off - deflection(&cv.elements[e], &sh.bending, &sh.xis, t)
             };
             if best.is_none_or(|bp| {
@@ -276,6 +268,25 @@ impl ContactSet {
                 Some(Probe { gap, xi, ..bp })
             }
             _ => best,
+        }
+    }
+
+    /// The deformed shape of element `e` at state `d`, kept in `view` (of state `d`) if given.
+    fn shape_in(
+        &self,
+        cv: &ContactView<'_>,
+        d: &[f64],
+        e: usize,
+        view: Option<&StateView>,
+    ) -> Rc<Shape> {
+        match view {
+            Some(v) => Rc::clone(
+                v.shapes
+                    .borrow_mut()
+                    .entry(e)
+                    .or_insert_with(|| Rc::new(self.shape(cv, d, e))),
+            ),
+            None => Rc::new(self.shape(cv, d, e)),
         }
     }
 
@@ -305,15 +316,7 @@ impl ContactSet {
         if off.abs() > FAR * l {
             return (off, at);
         }
-        let sh = match view {
-            Some(v) => Rc::clone(
-                v.shapes
-                    .borrow_mut()
-                    .entry(e)
-                    .or_insert_with(|| Rc::new(self.shape(cv, d, e))),
-            ),
-            None => Rc::new(self.shape(cv, d, e)),
-        };
+        let sh = self.shape_in(cv, d, e, view);
         let along = at.clamp(0.0, 1.0);
         (
             off - deflection(&cv.elements[e], &sh.bending, &sh.xis, along),
