@@ -83,14 +83,16 @@ impl PyHistory {
         self.history.node_ids.clone()
     }
 
-    /// How each increment met the equilibrium test: "converged", or "roundoff" (accepted at
-    /// the round-off floor of the residual).
+    /// How each increment met the equilibrium test: "converged", "roundoff" (accepted at the
+    /// round-off floor of the residual), or "snapping" (a state on the way of a snap, not in
+    /// equilibrium).
     #[getter]
     fn statuses(&self) -> Vec<&'static str> {
         (self.history.increments.iter())
             .map(|r| match r.status {
                 IncrementStatus::Converged => "converged",
                 IncrementStatus::RoundOff { .. } => "roundoff",
+                IncrementStatus::Snapping { .. } => "snapping",
             })
             .collect()
     }

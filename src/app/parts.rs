@@ -57,20 +57,32 @@ impl Study {
         self.history.len().saturating_sub(1)
     }
 
-    /// "K increments accepted at the round-off floor (worst 4.1e-6)" when the history has any
-    /// (they are in equilibrium only to that residual, not to the tolerance).
-    pub fn roundoff_summary(&self) -> Option<String> {
+    /// "K increments accepted at the round-off floor (worst residual 4.1e-6)" and "M states on
+    /// the way of a snap, not in equilibrium" when the history has any: the states that are not
+    /// in equilibrium to the tolerance.
+    pub fn marked_summary(&self) -> Option<String> {
+        use crate::solver::IncrementStatus;
         let at_floor: Vec<f64> = (self.history.iter())
-            .filter(|r| matches!(r.status, crate::solver::IncrementStatus::RoundOff { .. }))
+            .filter(|r| matches!(r.status, IncrementStatus::RoundOff { .. }))
             .map(|r| r.relative_residual)
             .collect();
         let worst = at_floor.iter().copied().fold(0.0f64, f64::max);
-        (!at_floor.is_empty()).then(|| {
-            format!(
+        let snapping = (self.history.iter())
+            .filter(|r| matches!(r.status, IncrementStatus::Snapping { .. }))
+            .count();
+        let mut parts = Vec::new();
+        if !at_floor.is_empty() {
+            parts.push(format!(
                 "{} increments accepted at the round-off floor (worst residual {worst:.1e})",
                 at_floor.len()
-            )
-        })
+            ));
+        }
+        if snapping > 0 {
+            parts.push(format!(
+                "{snapping} states on the way of a snap, not in equilibrium"
+            ));
+        }
+        (!parts.is_empty()).then(|| parts.join("; "))
     }
 
     /// The state at index `selected` (the last one past the end), if a scene is loaded.

@@ -50,6 +50,8 @@ pub fn unbalanced(
     let tol = match r.status {
         IncrementStatus::Converged => params.tolerance,
         IncrementStatus::RoundOff { .. } => params.roundoff_bound.max(params.tolerance),
+        // A state of a snap is out of balance by its viscous force: by no more than it says.
+        IncrementStatus::Snapping { residual } => residual.max(params.tolerance) * (1.0 + 1e-9),
     };
     let f = forces(topology, params, slot, group, r);
     let dofs = 3.0 * r.nodes.len() as f64;

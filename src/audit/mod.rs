@@ -192,6 +192,9 @@ fn status(params: &SolverParams, r: &IncrementRecord) -> Option<String> {
             params.roundoff_bound.max(params.tolerance),
             "accepted at the round-off floor",
         ),
+        IncrementStatus::Snapping { residual } => {
+            (residual.max(params.tolerance) * (1.0 + 1e-9), "snapping")
+        }
     };
     // Within the bound (a NaN residual is not).
     let within = matches!(

@@ -146,6 +146,10 @@ pub(super) enum Command {
         /// ends, writing no report.
         #[arg(long, value_parser = parse_drive)]
         drive: Option<u64>,
+        /// With --drive: write the drive's history (every accepted state) as JSON, for `check`
+        /// and the app.
+        #[arg(long, requires = "drive")]
+        json: Option<PathBuf>,
         /// Output folder.
         #[arg(long, default_value = "docs")]
         out: PathBuf,

@@ -45,9 +45,10 @@ pub fn run() -> i32 {
             per_scene,
             seed,
             drive,
+            json,
             out,
         }) => match drive {
-            Some(drive) => reports::robust_drive(per_scene, seed, drive),
+            Some(drive) => reports::robust_drive(per_scene, seed, drive, json.as_deref()),
             None => reports::robust(per_scene, seed, &out),
         },
         #[cfg(feature = "reports")]

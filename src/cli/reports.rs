@@ -112,16 +112,29 @@ pub(super) fn robust(per_scene: usize, seed: u64, out: &Path) -> i32 {
     0
 }
 
-/// `robust --drive`: the one drive of the campaign with seed `drive`, run and its end printed
-/// (1 where no drive of the campaign has that seed or it stops).
-pub(super) fn robust_drive(per_scene: usize, seed: u64, drive: u64) -> i32 {
+/// `robust --drive`: the one drive of the campaign with seed `drive`, run and its end printed,
+/// its history written to `json` if given (1 where no drive of the campaign has that seed, it
+/// stops, or the history cannot be written).
+pub(super) fn robust_drive(
+    per_scene: usize,
+    seed: u64,
+    drive: u64,
+    json: Option<&std::path::Path>,
+) -> i32 {
     use tsm_contact::reports::robust;
     let cases = robust::cases(per_scene, seed);
     let Some(case) = cases.iter().find(|c| c.seed == drive) else {
         eprintln!("error: no drive of the campaign (--per-scene {per_scene} --seed {seed}) has seed {drive:#x}");
         return 1;
     };
-    let outcome = robust::run(case);
+    let outcome = robust::run_keeping(case, json.is_some());
+    if let Some(path) = json {
+        if let Err(e) = robust::history(case, &outcome).write_json(path) {
+            eprintln!("error: cannot write {}: {e}", path.display());
+            return 1;
+        }
+        out!("wrote {}", path.display());
+    }
     let most = outcome.iterations.iter().max().copied().unwrap_or(0);
     out!(
         "{} {:?} {} elements, step x{:.3e}, {} steps{}, mu {}",

@@ -35,6 +35,8 @@ struct Tally {
     increments: usize,
     iterations: usize,
     roundoff: usize,
+    /// States on the way of a snap (not in equilibrium, so not in `worst`).
+    snapping: usize,
     worst: f64,
 }
 
@@ -81,6 +83,7 @@ impl Observer for Printer {
         let mark = match r.status {
             IncrementStatus::Converged => ' ',
             IncrementStatus::RoundOff { .. } => 'r',
+            IncrementStatus::Snapping { .. } => 's',
         };
         out!(
             "{:>5}  {}  {:>4}  {:>4}  {:>9.2e}{}  {:>3}  {:>3}  {:>8.2}",
@@ -97,9 +100,13 @@ impl Observer for Printer {
         let t = &mut self.tally;
         t.increments += 1;
         t.iterations += r.iterations;
-        t.worst = t.worst.max(r.relative_residual);
-        if matches!(r.status, IncrementStatus::RoundOff { .. }) {
-            t.roundoff += 1;
+        match r.status {
+            IncrementStatus::Converged => t.worst = t.worst.max(r.relative_residual),
+            IncrementStatus::RoundOff { .. } => {
+                t.worst = t.worst.max(r.relative_residual);
+                t.roundoff += 1;
+            }
+            IncrementStatus::Snapping { .. } => t.snapping += 1,
         }
         if let Some(w) = &mut self.history {
             if let Err(e) = w.increment(r) {
@@ -182,7 +189,7 @@ pub(super) fn solve(args: SolveArgs) -> i32 {
         steps,
         scene.params.tolerance
     );
-    out!("# incr  prescribed/load  iter  it8  rel.resid   cut  act   ms   (r: accepted at the round-off floor)");
+    out!("# incr  prescribed/load  iter  it8  rel.resid   cut  act   ms   (r: accepted at the round-off floor; s: on the way of a snap)");
     let header = History {
         every: every.filter(|&n| n > 1).map(|n| n as usize),
         ..History::of_model(
@@ -262,9 +269,14 @@ pub(super) fn solve(args: SolveArgs) -> i32 {
 /// run stopped on a failure.
 fn acceptance_summary(t: &Tally, failed: bool) -> String {
     format!(
-        "{} increments converged, {} accepted at round-off, worst relative residual {:.2e}{}",
-        t.increments - t.roundoff,
+        "{} increments converged, {} accepted at round-off{}, worst relative residual {:.2e}{}",
+        t.increments - t.roundoff - t.snapping,
         t.roundoff,
+        if t.snapping > 0 {
+            format!(", {} on the way of a snap (not in equilibrium)", t.snapping)
+        } else {
+            String::new()
+        },
         t.worst,
         if failed {
             "; the run stopped on a failure"

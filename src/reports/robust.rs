@@ -16,7 +16,7 @@ use super::families::{
     stacked_cantilevers, thick_strips,
 };
 use crate::audit::{audit, Run};
-use crate::history::Topology;
+use crate::history::{History, Topology};
 use crate::scene::builtin::{builtin, with_elements, BUILTIN};
 use crate::scene::Scene;
 use crate::solver::report::Flow;
@@ -126,6 +126,8 @@ pub struct Outcome {
     /// drive's first step and at the last accepted state. One falling towards zero marks a limit
     /// point of the drive (the structure snaps) rather than a failure of the solve.
     pub stiffness: Option<(f64, f64)>,
+    /// The accepted states, where asked for ([`run_keeping`]; else empty).
+    pub records: Vec<IncrementRecord>,
 }
 
 /// Models of more free dofs than this get no eigenvalues in the report (a dense solve).
@@ -307,12 +309,18 @@ impl Observer for Count {
 
 /// Drive `case` and audit what it accepted.
 pub fn run(case: &Case) -> Outcome {
+    run_keeping(case, false)
+}
+
+/// `run`, the accepted states kept in the outcome where `keep`.
+pub fn run_keeping(case: &Case, keep: bool) -> Outcome {
     let mut outcome = Outcome {
         case: case.clone(),
         stop: None,
         iterations: Vec::new(),
         findings: Vec::new(),
         stiffness: None,
+        records: Vec::new(),
     };
     let scene = match scene_of(case) {
         Ok(scene) => scene,
@@ -384,7 +392,27 @@ pub fn run(case: &Case) -> Outcome {
     outcome.findings = (audit(&audit_run, None, &records).iter())
         .map(|f| f.to_string())
         .collect();
+    if keep {
+        outcome.records = records;
+    }
     outcome
+}
+
+/// The history of a drive run with its states kept ([`run_keeping`]): what `check` audits and
+/// the app reads.
+pub fn history(case: &Case, outcome: &Outcome) -> History {
+    let mut h = match scene_of(case) {
+        Ok(scene) => History::of_model(
+            &case.scene,
+            &scene.model,
+            Some(case.formulation),
+            Some(scene.params),
+        ),
+        Err(_) => History::default(),
+    };
+    h.increments = outcome.records.clone();
+    h.error = outcome.stop.as_ref().map(|(_, text)| text.clone());
+    h
 }
 
 /// The kind of an error: its variant's name.

@@ -90,6 +90,11 @@ pub struct SolverParams {
     /// Contact detection skips (node, body) pairs whose bounding boxes are far apart. Off:
     /// every pair is probed (for checks).
     pub broad_phase: bool,
+    /// Where no step of the drive, however short, finds an equilibrium near the last one, the
+    /// structure snaps: the drive is held and it moves to the next stable state along a damped
+    /// path, its states marked `IncrementStatus::Snapping` (`control/snap.rs`). Off, and in
+    /// models where a body may touch itself: the run stops there with the failure.
+    pub snap: bool,
 }
 
 impl Default for SolverParams {
@@ -117,6 +122,7 @@ impl Default for SolverParams {
             friction_penalty: 10.0,
             arc_length: None,
             broad_phase: true,
+            snap: true,
         }
     }
 }

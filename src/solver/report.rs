@@ -24,6 +24,14 @@ pub enum IncrementStatus {
         /// Relative residual reached over the tolerance (> 1).
         ratio: f64,
     },
+    /// A state on the way of a snap (`Event::Snaps`): the structure moves from the last state
+    /// that had an equilibrium to the next stable one along a damped path, and this state is
+    /// in equilibrium with the viscous force of that path, not without it. It has no
+    /// equilibrium to check; its sides, contacts and supports are checked as every state's.
+    Snapping {
+        /// The relative residual of its equilibrium, the viscous force left out.
+        residual: f64,
+    },
 }
 
 impl IncrementStatus {
@@ -83,6 +91,16 @@ pub enum Event {
         /// Increment number being attempted.
         increment: usize,
     },
+    /// No step of the drive, however short, finds an equilibrium near the last one (a limit
+    /// point of the drive, or a contact let go with nothing to hold the structure there): the
+    /// drive is held and the structure moves to the next stable state along a damped path, its
+    /// states marked [`IncrementStatus::Snapping`] up to the first in equilibrium.
+    Snaps {
+        /// Increment number of the first state of the snap.
+        increment: usize,
+        /// Why the last attempt failed.
+        reason: String,
+    },
 }
 
 /// Kinds of contact state change.
@@ -120,9 +138,9 @@ impl Event {
     /// The number of the increment it happened in.
     pub fn increment(&self) -> usize {
         match self {
-            Event::CutBack { increment, .. } | Event::StretchCorrectionOn { increment } => {
-                *increment
-            }
+            Event::CutBack { increment, .. }
+            | Event::StretchCorrectionOn { increment }
+            | Event::Snaps { increment, .. } => *increment,
             Event::Contact(c) => c.increment,
             Event::Obstacle(o) => o.increment,
         }
@@ -141,6 +159,9 @@ impl Event {
             ),
             Event::StretchCorrectionOn { increment } => format!(
                 "stretch correction on from increment {increment} (the run's first cut-back)"
+            ),
+            Event::Snaps { increment, reason } => format!(
+                "the structure snaps from increment {increment}: no step finds an equilibrium near the last one ({reason}); the drive is held while it moves to the next stable state along a damped path (states marked snapping)"
             ),
             // Only a release carries a force: the tensile one that let go.
             Event::Contact(c) if c.change == ContactChange::Released => format!(

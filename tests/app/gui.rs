@@ -41,7 +41,7 @@ fn panel_top(h: &Harness<'static, TsmApp>) -> (bool, f32) {
 }
 
 /// The details panel's residual line for record `r`: "(converged)" within the tolerance, the
-/// round-off acceptance spelled out otherwise.
+/// round-off acceptance or the snap spelled out otherwise.
 fn residual_label(r: &IncrementRecord) -> String {
     match r.status {
         IncrementStatus::Converged => format!("residual {:.1e} (converged)", r.relative_residual),
@@ -49,6 +49,9 @@ fn residual_label(r: &IncrementRecord) -> String {
             "residual {:.1e}: accepted at the round-off floor, {ratio:.0} x the tolerance",
             r.relative_residual
         ),
+        IncrementStatus::Snapping { residual } => {
+            format!("residual {residual:.1e}: on the way of a snap, not in equilibrium")
+        }
     }
 }
 

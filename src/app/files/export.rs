@@ -109,6 +109,7 @@ pub fn csv(loaded: &Loaded, records: &[IncrementRecord], nodes: &[usize]) -> Str
             match r.status {
                 IncrementStatus::Converged => "converged",
                 IncrementStatus::RoundOff { .. } => "roundoff",
+                IncrementStatus::Snapping { .. } => "snapping",
             },
             r.cutbacks,
             r.contacts.len() + r.obstacle_contacts.len()

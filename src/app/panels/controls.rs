@@ -132,7 +132,7 @@ fn status(study: &Study, notices: &Notices, ui: &mut egui::Ui) {
         egui::Spinner::new().paint_at(ui, slot);
         egui::RichText::new("solving...")
     } else {
-        match (&notices.error, study.roundoff_summary()) {
+        match (&notices.error, study.marked_summary()) {
             (Some(_), _) if notices.show_error => {
                 egui::RichText::new("error: see the panel below").color(ui.visuals().error_fg_color)
             }

@@ -6,7 +6,7 @@
 
 use egui::RichText;
 
-use super::plots::ROUNDOFF;
+use super::plots::{ROUNDOFF, SNAPPING};
 use crate::app::canvas::diagrams::extreme;
 use crate::app::canvas::overlays::{SLIP, STICK};
 use crate::app::canvas::query::describe;
@@ -71,6 +71,12 @@ pub fn show(study: &Study, selected: usize, look: &Look, ui: &mut egui::Ui) {
                     r.relative_residual
                 );
                 ui.label(RichText::new(text).color(ROUNDOFF));
+            }
+            // A state of a snap: held by the viscous force of its damped path.
+            IncrementStatus::Snapping { residual } => {
+                let text =
+                    format!("residual {residual:.1e}: on the way of a snap, not in equilibrium");
+                ui.label(RichText::new(text).color(SNAPPING));
             }
         }
         if r.cutbacks > 0 {

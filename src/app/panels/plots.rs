@@ -18,6 +18,8 @@ const CUT: Color32 = Color32::from_rgb(200, 30, 30);
 const CONTACT: Color32 = Color32::from_rgb(20, 150, 70);
 /// Increments accepted at the round-off floor, above the tolerance (also on the timeline).
 pub(crate) const ROUNDOFF: Color32 = Color32::from_rgb(200, 120, 0);
+/// States on the way of a snap, not in equilibrium (on the timeline and in the details).
+pub(crate) const SNAPPING: Color32 = Color32::from_rgb(150, 60, 190);
 
 /// Show both plots side by side.
 pub fn show(

@@ -2,7 +2,8 @@
 //! "Previous", "Next" (the next increment; at the last one, one more scene step solved), "Play" /
 //! "Pause" (replay), "Run" (solve the scene's remaining steps), "Stop" (any run), "Reset" and
 //! "Undo" (bring back what a branch, a change or Reset set aside), "Redo" (what Undo replaced).
-//! Increments accepted at the round-off floor are ticked under the slider, branch points marked
+//! Increments accepted at the round-off floor, and the states of a snap, are ticked under the
+//! slider, branch points marked
 //! over it; along a load path, a line across the slider where each stage begins (the details
 //! panel names the selected increment's stage).
 
@@ -24,7 +25,7 @@ pub fn show(study: &Study, playback: &mut Playback, actions: &mut Vec<Action>, u
         if r.changed() {
             playback.view(sel);
         }
-        roundoff_ticks(study, ui, r.rect, last);
+        marked_ticks(study, ui, r.rect, last);
         branch_marks(study, ui, r.rect, last);
         stage_marks(study, ui, r.rect, last);
         let loaded = study.loaded.is_some();
@@ -152,8 +153,9 @@ fn branch_marks(study: &Study, ui: &egui::Ui, rect: egui::Rect, last: usize) {
 pub const BRANCH: egui::Color32 = egui::Color32::from_rgb(40, 120, 200);
 
 /// A tick under the slider at every increment accepted at the round-off floor (the colour of
-/// their markers in the convergence plot), so that they are seen before they are selected.
-fn roundoff_ticks(study: &Study, ui: &egui::Ui, rect: egui::Rect, last: usize) {
+/// their markers in the convergence plot) and every state on the way of a snap (not in
+/// equilibrium), so that they are seen before they are selected.
+fn marked_ticks(study: &Study, ui: &egui::Ui, rect: egui::Rect, last: usize) {
     if last == 0 {
         return;
     }
@@ -163,12 +165,15 @@ fn roundoff_ticks(study: &Study, ui: &egui::Ui, rect: egui::Rect, last: usize) {
     let span = (track - 12.0).max(1.0);
     let painter = ui.painter();
     for (k, r) in study.history.iter().enumerate() {
-        if matches!(r.status, crate::solver::IncrementStatus::RoundOff { .. }) {
-            let x = x0 + span * k as f32 / last as f32;
-            painter.line_segment(
-                [egui::pos2(x, y - 4.0), egui::pos2(x, y + 1.0)],
-                egui::Stroke::new(2.0, super::plots::ROUNDOFF),
-            );
-        }
+        let colour = match r.status {
+            crate::solver::IncrementStatus::Converged => continue,
+            crate::solver::IncrementStatus::RoundOff { .. } => super::plots::ROUNDOFF,
+            crate::solver::IncrementStatus::Snapping { .. } => super::plots::SNAPPING,
+        };
+        let x = x0 + span * k as f32 / last as f32;
+        painter.line_segment(
+            [egui::pos2(x, y - 4.0), egui::pos2(x, y + 1.0)],
+            egui::Stroke::new(2.0, colour),
+        );
     }
 }

@@ -22,13 +22,21 @@ impl Solver {
         c: &Converged,
     ) -> Result<(IncrementStatus, Vec<NodeState>), AttemptError> {
         let p = &self.params;
-        let rel = (c.assembled.unbalanced_norm2.sqrt() / c.reference).max(c.relative_residual);
-        let status = IncrementStatus::of(rel, p.tolerance, p.roundoff_bound).ok_or(
-            AttemptError::AtFloor {
-                residual: rel,
-                floor: c.roundoff_floor,
-            },
-        )?;
+        let status = match c.equilibrium_residual {
+            // A snap's step: in equilibrium or not, by its residual without the viscous force.
+            Some(residual) if residual <= p.tolerance => IncrementStatus::Converged,
+            Some(residual) => IncrementStatus::Snapping { residual },
+            None => {
+                let rel =
+                    (c.assembled.unbalanced_norm2.sqrt() / c.reference).max(c.relative_residual);
+                IncrementStatus::of(rel, p.tolerance, p.roundoff_bound).ok_or(
+                    AttemptError::AtFloor {
+                        residual: rel,
+                        floor: c.roundoff_floor,
+                    },
+                )?
+            }
+        };
         let states = self.node_states(&c.d);
         let before = self.node_states(&self.state.d);
         if let Some(x) = out_of_range(&self.model, &self.elements, &before, &states) {

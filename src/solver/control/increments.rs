@@ -1,8 +1,8 @@
 //! Displacement and load control: a scene step advances the prescribed displacements and the
 //! load factor, or goes to the next point of the model's load path; a step that finds no
 //! equilibrium is halved (reported as cut-back events) and grows again once Newton has it easy,
-//! with one last attempt that slides contacts off the tips they are about to leave before the
-//! run gives up.
+//! with one last attempt that slides contacts off the tips they are about to leave, then a snap
+//! (`snap.rs`) where no step finds an equilibrium.
 
 use std::time::Instant;
 
@@ -102,7 +102,7 @@ impl Solver {
                 factors: &tl,
             };
             let accepted = (self.newton())
-                .attempt(constraint, number, slide_off, obs)
+                .attempt(constraint, number, slide_off, None, obs)
                 .and_then(|conv| {
                     let checked = self.acceptance(&conv)?;
                     Ok((conv, checked))
@@ -141,7 +141,22 @@ impl Solver {
                             slide_off = Some(TIP_SLIDE_OFF);
                             continue;
                         }
-                        return Err(self.give_up(number, cutbacks, e));
+                        // A body that touches itself keeps its sides through the small steps of
+                        // a drive, not through a snap's long motion: it stops here.
+                        if !self.params.snap || self.model.has_self_contact() {
+                            return Err(self.give_up(number, cutbacks, e));
+                        }
+                        // No step finds an equilibrium near this one: the structure snaps.
+                        slide_off = None;
+                        let why = self.failure_reason(&e);
+                        let snapped = self.snap(&tp, &tl, next < 1.0, why, obs)?;
+                        out.extend(snapped.records);
+                        if snapped.stopped {
+                            return Ok(out);
+                        }
+                        clock = Instant::now();
+                        done = next;
+                        continue;
                     }
                     let reason = self.failure_reason(&e);
                     cutbacks += 1;

@@ -298,6 +298,11 @@ impl Model {
         out
     }
 
+    /// Whether any body may touch itself (a contact pair with `own`).
+    pub fn has_self_contact(&self) -> bool {
+        self.contacts.iter().any(|c| c.own)
+    }
+
     /// For a node `n` of body `b`, the positions in the body (first, last) of the elements its
     /// self-contact leaves out: its own, and `SELF_CONTACT_WINDOW` on either side (`None` for a
     /// node not on the body).

@@ -10,6 +10,7 @@ use super::constraint::{Constraint, Path};
 use super::convergence::{FloorBound, IterationLog, Stall, STAGNATION};
 use super::failure::{AttemptError, Converged};
 use super::iteration::Newton;
+use super::viscous::Viscous;
 use crate::solver::assembly::{assemble_into, Assembled, AssemblyContext};
 use crate::solver::linear::reduce::sum_squares;
 use crate::solver::report::{ContactChange, Event, IterationRecord, Observer};
@@ -30,12 +31,15 @@ impl Newton<'_> {
     /// `slide_off`: first slide off the free ends the contacts within that fraction of their
     /// element of one ([`ContactSet::slide_off_tips`]); the beam then springs back, a large
     /// motion for one Newton solve, so each correction is held to `SPRING_BACK_STEP` of the
-    /// model's size.
+    /// model's size. `viscous`: a pseudo-time step of a snap, the viscous force added to the
+    /// internal forces (the relative residual without it goes to
+    /// [`Converged::equilibrium_residual`]).
     pub(crate) fn attempt(
         &self,
         constraint: Constraint<'_>,
         increment: usize,
         slide_off: Option<f64>,
+        viscous: Option<&Viscous>,
         obs: &mut dyn Observer,
     ) -> Result<Converged, AttemptError> {
         let p = &self.params;
@@ -77,6 +81,7 @@ impl Newton<'_> {
         // coupling K_fp dp).
         let mut reuse = false;
         if ordering.links.is_empty()
+            && viscous.is_none()
             && contacts.obstacles.links.is_empty()
             && path.starts_at_the_converged_state()
             && !self.model.has_followers()
@@ -107,6 +112,9 @@ impl Newton<'_> {
             } else {
                 let dp = path.dp().filter(|_| predictor);
                 assemble_into(&ctx, &d, true, dp, &mut asm);
+            }
+            if let Some(v) = viscous {
+                v.load(&d, &ordering, &mut asm);
             }
             let (norm, reference) = self.residual_norms(&asm, fext);
             if springback && !predictor && !contacts.beams.guard.one_at_a_time() {
@@ -198,6 +206,12 @@ impl Newton<'_> {
                         contacts.obstacle_settle(&view, increment, iterations, &mut events);
                         contacts.settle_friction(&view, &asm, increment, iterations, &mut events);
                         let max_penetration = contacts.max_penetration(&self.view(), &d);
+                        // A snap's step: its state's own assembly, and how far that is from
+                        // equilibrium.
+                        let equilibrium_residual = viscous.map(|v| {
+                            v.unload(&d, &ordering, &mut asm);
+                            asm.unbalanced_norm2.sqrt() / reference
+                        });
                         // Unfactored: the next increment's predictor may start from it.
                         asm.tangent = Some(tangent);
                         self.work.spare.borrow_mut().rhs = rhs;
@@ -212,6 +226,7 @@ impl Newton<'_> {
                             relative_residual: rel,
                             reference,
                             roundoff_floor: floor,
+                            equilibrium_residual,
                             residuals: log.residuals,
                             events,
                         });
@@ -241,6 +256,9 @@ impl Newton<'_> {
             // The unbalanced force is the right-hand side, which the solve overwrites; the next
             // assembly gets the last right-hand side's storage.
             std::mem::swap(&mut rhs, &mut asm.unbalanced);
+            if let Some(v) = viscous {
+                v.stiffen(&ordering, &mut tangent);
+            }
             self.factor_and_solve(&mut tangent, &ordering, &mut rhs)?;
             if correcting {
                 before.clear();

@@ -235,6 +235,9 @@ pub struct Converged {
     pub reference: f64,
     /// Round-off floor estimate of the relative residual.
     pub roundoff_floor: f64,
+    /// A snap's pseudo-time step: the relative residual of the state's equilibrium, the
+    /// viscous force left out (`None`: an attempt without one, in equilibrium).
+    pub equilibrium_residual: Option<f64>,
     /// Iteration records.
     pub residuals: Vec<crate::solver::report::IterationRecord>,
     /// Contact events.

@@ -1,7 +1,8 @@
 //! Newton-Raphson for one increment attempt, the same iteration for every increment control:
 //! `attempt.rs` runs it, on what `iteration.rs` gives it to read; `constraint.rs` closes the equations (prescribed displacements and
 //! load factor, or an arc length); `convergence.rs` tells convergence, stall and failure;
-//! `stretch.rs` corrects the chords of an update; `failure.rs` types what goes wrong;
+//! `stretch.rs` corrects the chords of an update; `viscous.rs` damps the
+//! pseudo-time steps of a snap; `failure.rs` types what goes wrong;
 //! `workspace.rs` holds the scratch space the attempts share.
 
 mod attempt;
@@ -12,9 +13,11 @@ mod iteration;
 mod stretch;
 #[cfg(test)]
 mod tests;
+mod viscous;
 mod workspace;
 
 pub use constraint::Constraint;
 pub use failure::{AttemptError, Converged};
 pub use iteration::Newton;
+pub use viscous::Viscous;
 pub use workspace::Workspace;

@@ -1,0 +1,156 @@
+//! Snap-through: where no step of the drive, however short, finds an equilibrium near the
+//! last one (a limit point of the drive, past which the structure jumps), the drive is held
+//! and the structure moves to the next stable state along a damped path, in pseudo-time
+//! steps (`newton/viscous.rs`): each a backward-Euler step of `c w v + f_int(d) = f_ext` from
+//! the last, found by the same Newton iteration and contact passes as any increment, checked
+//! by the same acceptance rule and committed as a state marked
+//! [`IncrementStatus::Snapping`], so that the history shows the snap and every state of it is
+//! checked for pass-through. The viscosity c follows the motion: a step that moves a node
+//! more than [`MAX_MOTION`] shortest element lengths is taken again with a stiffer one, and
+//! one that moves less than [`MIN_MOTION`] lets the next go faster. The snap ends at the first
+//! state in equilibrium without the viscous force: a step's own, or an attempt without it
+//! from a state that hardly moves.
+
+use std::time::Instant;
+
+use super::solver::Solver;
+use crate::solver::newton::{AttemptError, Constraint, Viscous};
+use crate::solver::report::{Event, Flow, IncrementRecord, IncrementStatus, Observer, SolveError};
+
+/// The most pseudo-time steps (committed or taken again) one snap may take.
+const MAX_SNAP_STEPS: usize = 2000;
+/// The most a node may move in one pseudo-time step, in shortest element lengths: well within
+/// the depth at which a node found through a body cuts the step back
+/// (`SolverParams::max_penetration`).
+const MAX_MOTION: f64 = 0.2;
+/// A step that moves no node further than this (in shortest element lengths) lets the next go
+/// faster.
+const MIN_MOTION: f64 = 0.05;
+/// Below this motion (in shortest element lengths) the snap also tries the equilibrium itself,
+/// without the viscous force, from the state it has reached.
+const SETTLING: f64 = 0.01;
+
+/// How a snap ended.
+pub(super) struct Snapped {
+    /// The states committed, the last in equilibrium unless the observer stopped the run.
+    pub records: Vec<IncrementRecord>,
+    /// The observer asked to stop.
+    pub stopped: bool,
+}
+
+impl Solver {
+    /// Hold the drive at `targets` and `factors` (reached where the snap starts) and let the
+    /// structure move to the next stable state. `why` is the reason the last attempt of the
+    /// drive failed; `partial`: the targets are short of the scene step's.
+    pub(super) fn snap(
+        &mut self,
+        targets: &[f64],
+        factors: &[f64],
+        partial: bool,
+        why: String,
+        obs: &mut dyn Observer,
+    ) -> Result<Snapped, SolveError> {
+        let shortest = (0..self.model.beams.len())
+            .map(|e| self.model.beam_length(e))
+            .fold(f64::INFINITY, f64::min);
+        let weight: Vec<f64> = (0..self.dofs.kind.len())
+            .map(|g| match self.dofs.owner(g).1 {
+                2 => shortest * shortest,
+                _ => 1.0,
+            })
+            .collect();
+        // Stiff enough at first that the first step hardly moves: the axial stiffness.
+        let mut c = self.obstacle_penalty / self.params.obstacle_penalty.max(f64::MIN_POSITIVE);
+        let mut out = Vec::new();
+        let mut clock = Instant::now();
+        let mut settle = false;
+        let mut last_error = None;
+        // How far the snap has gone (in shortest element lengths), and the viscosity of its
+        // last failed step, which the next ones stay clear of.
+        let mut travelled = 0.0;
+        let mut failed_at = 0.0f64;
+        for _ in 0..MAX_SNAP_STEPS {
+            let number = self.state.increment + 1;
+            let viscous = Viscous {
+                c,
+                anchor: self.state.d.clone(),
+                weight: weight.clone(),
+            };
+            let constraint = Constraint::Prescribed { targets, factors };
+            let damped = (!settle).then_some(&viscous);
+            let attempt = (self.newton())
+                .attempt(constraint, number, None, damped, obs)
+                .and_then(|conv| {
+                    let checked = self.acceptance(&conv)?;
+                    Ok((conv, checked))
+                });
+            let (mut conv, checked) = match attempt {
+                Ok(accepted) => accepted,
+                Err(AttemptError::Stopped) => return Err(SolveError::Stopped),
+                Err(e) => {
+                    last_error = Some(e);
+                    if !std::mem::take(&mut settle) {
+                        failed_at = failed_at.max(c);
+                        c *= 4.0;
+                    }
+                    continue;
+                }
+            };
+            let motion = self.largest_motion(&conv.d) / shortest;
+            if motion > MAX_MOTION {
+                if !std::mem::take(&mut settle) {
+                    c *= 4.0;
+                }
+                continue;
+            }
+            if let Some(residual) = conv.equilibrium_residual {
+                conv.relative_residual = residual;
+            }
+            if out.is_empty() {
+                obs.event(&Event::Snaps {
+                    increment: number,
+                    reason: why.clone(),
+                });
+            }
+            let done = !matches!(checked.0, IncrementStatus::Snapping { .. });
+            let secs = clock.elapsed().as_secs_f64();
+            let rec = self.commit(conv, checked, (targets.to_vec(), partial), 0, secs);
+            clock = Instant::now();
+            self.keep_checkpoint();
+            for e in &rec.events {
+                obs.event(e);
+            }
+            let flow = obs.increment(&rec);
+            out.push(rec);
+            if flow == Flow::Stop || done {
+                return Ok(Snapped {
+                    records: out,
+                    stopped: flow == Flow::Stop,
+                });
+            }
+            travelled += motion;
+            if motion < MIN_MOTION {
+                c = (c * (motion / MIN_MOTION).max(1.0 / 16.0)).max(2.0 * failed_at);
+            }
+            failed_at *= 0.5;
+            settle = motion < SETTLING && travelled > MAX_MOTION;
+        }
+        let number = self.state.increment + 1;
+        let e = last_error.unwrap_or(AttemptError::NoConvergence {
+            iterations: MAX_SNAP_STEPS,
+            residual: f64::NAN,
+            floor: 0.0,
+        });
+        Err(self.give_up(number, 0, e))
+    }
+
+    /// The largest distance a node moves from the converged state to displacements `d`.
+    fn largest_motion(&self, d: &[f64]) -> f64 {
+        (0..self.model.nodes.len())
+            .map(|n| {
+                let g = self.dofs.first[n];
+                (d[g] - self.state.d[g]).hypot(d[g + 1] - self.state.d[g + 1])
+            })
+            .fold(0.0, f64::max)
+    }
+}
