@@ -1,5 +1,63 @@
-//! The scenes of the robustness campaign's families (`robust.rs`, `FAMILIES`): scenes with a
-//! plain answer, as scene text on `n` elements per body.
+//! The robustness campaign's families (`FAMILIES`, drawn by `robust.rs`): scenes with a plain
+//! answer, as scene text on `n` elements per body.
+
+/// A family of scenes with a plain answer.
+pub struct Family {
+    /// Its name in the report.
+    pub name: &'static str,
+    /// Its own number of steps.
+    pub steps: usize,
+    /// The scene on `n` elements per body.
+    pub scene: fn(usize) -> String,
+    /// Its friction coefficient, where it is the point of the family (else drawn).
+    pub mu: Option<f64>,
+}
+
+/// The families of the campaign.
+pub const FAMILIES: [Family; 7] = [
+    Family {
+        name: "pin on a mesh node",
+        steps: 20,
+        scene: pin_on_a_node,
+        mu: None,
+    },
+    Family {
+        name: "stacked cantilevers",
+        steps: 30,
+        scene: stacked_cantilevers,
+        mu: None,
+    },
+    Family {
+        name: "bar on a rough beam floor",
+        steps: 10,
+        scene: bar_on_a_beam_floor,
+        mu: Some(0.3),
+    },
+    Family {
+        name: "bar on a rough line",
+        steps: 10,
+        scene: bar_on_a_line,
+        mu: Some(0.3),
+    },
+    Family {
+        name: "a pin pressing two cantilevers",
+        steps: 24,
+        scene: pin_on_two_cantilevers,
+        mu: None,
+    },
+    Family {
+        name: "a pin with a radius",
+        steps: 20,
+        scene: pin_with_a_radius,
+        mu: None,
+    },
+    Family {
+        name: "thick strips",
+        steps: 30,
+        scene: thick_strips,
+        mu: None,
+    },
+];
 
 /// A steel bar of `n` elements lying on a clamped floor beam (zero gap, declared above it),
 /// its left end held along the floor, under its own weight.

@@ -11,10 +11,7 @@
 
 use std::collections::BTreeMap;
 
-use super::families::{
-    bar_on_a_beam_floor, bar_on_a_line, pin_on_a_node, pin_on_two_cantilevers, pin_with_a_radius,
-    stacked_cantilevers, thick_strips,
-};
+pub use super::families::{Family, FAMILIES};
 use crate::audit::{audit, Run};
 use crate::history::{History, Topology};
 use crate::scene::builtin::{builtin, with_elements, BUILTIN};
@@ -51,64 +48,6 @@ pub struct Case {
     /// The scene's text, for a family that is no built-in scene.
     pub text: Option<String>,
 }
-
-/// A family of scenes with a plain answer.
-pub struct Family {
-    /// Its name in the report.
-    pub name: &'static str,
-    /// Its own number of steps.
-    pub steps: usize,
-    /// The scene on `n` elements per body.
-    pub scene: fn(usize) -> String,
-    /// Its friction coefficient, where it is the point of the family (else drawn).
-    pub mu: Option<f64>,
-}
-
-/// The families of the campaign.
-pub const FAMILIES: [Family; 7] = [
-    Family {
-        name: "pin on a mesh node",
-        steps: 20,
-        scene: pin_on_a_node,
-        mu: None,
-    },
-    Family {
-        name: "stacked cantilevers",
-        steps: 30,
-        scene: stacked_cantilevers,
-        mu: None,
-    },
-    Family {
-        name: "bar on a rough beam floor",
-        steps: 10,
-        scene: bar_on_a_beam_floor,
-        mu: Some(0.3),
-    },
-    Family {
-        name: "bar on a rough line",
-        steps: 10,
-        scene: bar_on_a_line,
-        mu: Some(0.3),
-    },
-    Family {
-        name: "a pin pressing two cantilevers",
-        steps: 24,
-        scene: pin_on_two_cantilevers,
-        mu: None,
-    },
-    Family {
-        name: "a pin with a radius",
-        steps: 20,
-        scene: pin_with_a_radius,
-        mu: None,
-    },
-    Family {
-        name: "thick strips",
-        steps: 30,
-        scene: thick_strips,
-        mu: None,
-    },
-];
 
 /// How one drive ended.
 #[derive(Clone, Debug)]
@@ -483,7 +422,7 @@ pub fn report(outcomes: &[Outcome], per_scene: usize, seed: u64) -> String {
             of.iter().map(|o| o.findings.len()).sum::<usize>()
         );
     }
-    text += "\nEvery stop, with its drive (seed, formulation, elements per segment, step factor, steps, down and up, mu; `tsm-contact robust --drive SEED` runs one again). A stop without convergence also gives the least real part of the eigenvalues of the tangent over the free dofs (the drive held, models of up to 1500 free dofs): one that falls towards zero, or below, from the drive's first step to the last accepted state marks a limit point of the drive, a snap that no quasi-static step follows; one that does not, a failure of the solve:\n\n";
+    text += "\nEvery stop, with its drive (seed, formulation, elements per segment, step factor, steps, down and up, mu; `tsm-contact robust --drive SEED` runs one again). A stop without convergence also gives the least real part of the eigenvalues of the tangent over the free dofs (the drive held, models of up to 1500 free dofs): one that falls towards zero, or below, from the drive's first step to the last accepted state marks a limit point of the drive (where the structure snaps, a snap that found no stable state, or a model with self-contact, which does not snap); one that does not, a failure of the solve. States on the way of a snap are counted among the accepted increments and audited like every state:\n\n";
     for o in outcomes
         .iter()
         .filter(|o| o.stop.is_some() || !o.findings.is_empty())

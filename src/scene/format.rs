@@ -379,6 +379,10 @@ pub struct ControlDef {
     /// normal to the beam's surface at the contact point, continuous from one element to the
     /// next; `Chord`, normal to the element's chord, as the paper's element.
     pub contact_normal: ContactNormal,
+    /// Where every cut-back of a step has failed, the structure snaps: the drive held, it
+    /// moves to the next stable state along a damped path (default true; false: the run stops
+    /// there).
+    pub snap: bool,
 }
 
 /// The direction of a frictionless node-to-beam contact force ([`ControlDef::contact_normal`]).
@@ -406,6 +410,7 @@ impl Default for ControlDef {
             arc_length: None,
             gravity: None,
             obstacle_gap: None,
+            snap: true,
         }
     }
 }

@@ -3,7 +3,8 @@
 //! which shares no code with the solver): every accepted state in equilibrium, on the right
 //! side of every beam, within the friction law.
 
-use tsm_contact::reports::robust::{cases, run, Case, Outcome};
+use tsm_contact::reports::robust::{cases, run, run_keeping, Case, Outcome};
+use tsm_contact::solver::IncrementStatus;
 
 /// Panics unless `outcome` accepted at least `least` increments and the oracle found nothing
 /// in any of them.
@@ -58,17 +59,20 @@ fn a_tip_resting_on_the_mesh_node_of_a_frictional_beam_under_it_completes() {
     completes_audited(0xfa8c_fc36_711c_2db8); // Timoshenko, mu 0.16, down and back up
 }
 
-/// The campaign's two kinds of stop of a pin pressing one cantilever onto another, told apart
-/// by the tangent's least eigenvalue (the drive held) that the report gives. With 8 and 8
+/// The campaign's two hard places of a pin pressing one cantilever onto another. With 8 and 8
 /// elements and 0.1 m a step, the upper tip races along the lower beam and the pin's force
-/// falls: a limit point of the drive, where the tangent tends to singular. The eigenvalue at the
-/// last accepted state is below a twentieth of the one after the first step. With 128 and
-/// 128 elements and friction (mu 0.2), flat contact node over node stops without a limit
-/// point: the eigenvalue does not fall.
+/// falls: a limit point of the drive, where the tangent tends to singular. Without the snap
+/// (`control: (snap: false)`) the drive stops there, and the tangent's least eigenvalue (the
+/// drive held) at the last accepted state is below a twentieth of the one after the first
+/// step. With 128 and 128 elements and friction (mu 0.2), flat contact node over node stops
+/// without a limit point: the eigenvalue does not fall. With the snap both complete, through
+/// states marked snapping, and the oracle finds nothing in any state.
 #[test]
-fn a_snap_under_the_drive_shows_in_the_tangent_and_flat_contact_does_not() {
+fn a_snap_under_the_drive_shows_in_the_tangent_and_both_hard_places_complete_through_a_snap() {
     let stop = |seed: u64| {
-        let case = drawn(24, 1, seed);
+        let mut case = drawn(24, 1, seed);
+        let text = case.text.take().expect("a family's scene");
+        case.text = Some(text.replace("control: (steps: 24)", "control: (steps: 24, snap: false)"));
         let outcome = run(&case);
         assert_eq!(
             outcome.stop.as_ref().map(|s| s.0.as_str()),
@@ -81,6 +85,16 @@ fn a_snap_under_the_drive_shows_in_the_tangent_and_flat_contact_does_not() {
     assert!(first > 0.0 && last < first / 20.0, "{first} {last}");
     let (first, last) = stop(0x98c4_7599_f066_a9cf);
     assert!(first > 0.0 && last > first / 2.0, "{first} {last}");
+    for seed in [0x08d1_2e02_76c8_4d10, 0x98c4_7599_f066_a9cf] {
+        let case = drawn(24, 1, seed);
+        let outcome = run_keeping(&case, true);
+        assert_eq!(outcome.stop, None, "{case:?} stops");
+        audited_at_least(&outcome, case.steps);
+        assert!(
+            (outcome.records.iter()).any(|r| matches!(r.status, IncrementStatus::Snapping { .. })),
+            "{seed:#x}: no snap"
+        );
+    }
 }
 
 /// A drive that stops part way through its one step has accepted states of its own, and the

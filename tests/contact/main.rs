@@ -19,5 +19,6 @@ mod obstacles;
 mod oracle;
 mod rims;
 mod self_contact;
+mod snap;
 mod thickness;
 mod tip_on_node;

@@ -105,6 +105,7 @@ fn parameters(ctx: &Ctx, sf: &SceneFile) -> Result<SolverParams, SceneError> {
     }
     params.stretch_correction = c.stretch_correction;
     params.surface_normal = c.contact_normal == ContactNormal::Surface;
+    params.snap = c.snap;
     Ok(params)
 }
 

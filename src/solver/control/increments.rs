@@ -142,14 +142,16 @@ impl Solver {
                             continue;
                         }
                         // A body that touches itself keeps its sides through the small steps of
-                        // a drive, not through a snap's long motion: it stops here.
-                        if !self.params.snap || self.model.has_self_contact() {
+                        // a drive, not through a snap's long motion: it stops here, as does a
+                        // step refused for what it found (a crossing, a feature through a body).
+                        if !self.params.snap || self.model.has_self_contact() || !e.finds_no_state()
+                        {
                             return Err(self.give_up(number, cutbacks, e));
                         }
                         // No step finds an equilibrium near this one: the structure snaps.
                         slide_off = None;
                         let why = self.failure_reason(&e);
-                        let snapped = self.snap(&tp, &tl, next < 1.0, why, obs)?;
+                        let snapped = self.snap(&tp, &tl, next < 1.0, (why, cutbacks), obs)?;
                         out.extend(snapped.records);
                         if snapped.stopped {
                             return Ok(out);

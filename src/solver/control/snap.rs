@@ -6,7 +6,8 @@
 //! by the same acceptance rule and committed as a state marked
 //! [`IncrementStatus::Snapping`], so that the history shows the snap and every state of it is
 //! checked for pass-through. The viscosity c follows the motion: a step that moves a node
-//! more than [`MAX_MOTION`] shortest element lengths is taken again with a stiffer one, and
+//! more than [`MAX_MOTION`] shortest element lengths, or leaves a contact off its element, is
+//! taken again with a stiffer one, and
 //! one that moves less than [`MIN_MOTION`] lets the next go faster. The snap ends at the first
 //! state in equilibrium without the viscous force: a step's own, or an attempt without it
 //! from a state that hardly moves.
@@ -30,6 +31,22 @@ const MIN_MOTION: f64 = 0.05;
 /// without the viscous force, from the state it has reached.
 const SETTLING: f64 = 0.01;
 
+/// A contact of a snap's step that lies further than this fraction of its element beyond an
+/// end of it (held there in the hollow of a kinked body) makes the step be taken again with a
+/// stiffer viscosity: the contact element's shape is the element's own only over its length.
+const OFF_ELEMENT: f64 = 0.05;
+
+/// Whether a contact of attempt `c` lies beyond an end of its element by more than
+/// [`OFF_ELEMENT`].
+fn off_its_element(c: &crate::solver::newton::Converged) -> bool {
+    (c.assembled.elements.contact_forces.iter())
+        .any(|&(_, xi)| !(-OFF_ELEMENT..=1.0 + OFF_ELEMENT).contains(&xi))
+}
+
+/// Steps of a snap that fail one after the other before it gives up: each is taken again with
+/// four times the viscosity, so the last ones hardly move.
+const MAX_FAILED_STEPS: usize = 12;
+
 /// How a snap ended.
 pub(super) struct Snapped {
     /// The states committed, the last in equilibrium unless the observer stopped the run.
@@ -41,15 +58,17 @@ pub(super) struct Snapped {
 impl Solver {
     /// Hold the drive at `targets` and `factors` (reached where the snap starts) and let the
     /// structure move to the next stable state. `why` is the reason the last attempt of the
-    /// drive failed; `partial`: the targets are short of the scene step's.
+    /// drive failed, after `cutbacks` cut-backs; `partial`: the targets are short of the scene
+    /// step's.
     pub(super) fn snap(
         &mut self,
         targets: &[f64],
         factors: &[f64],
         partial: bool,
-        why: String,
+        (why, cutbacks): (String, usize),
         obs: &mut dyn Observer,
     ) -> Result<Snapped, SolveError> {
+        let start = self.state.increment + 1;
         let shortest = (0..self.model.beams.len())
             .map(|e| self.model.beam_length(e))
             .fold(f64::INFINITY, f64::min);
@@ -69,7 +88,11 @@ impl Solver {
         // last failed step, which the next ones stay clear of.
         let mut travelled = 0.0;
         let mut failed_at = 0.0f64;
+        let mut failed = 0;
         for _ in 0..MAX_SNAP_STEPS {
+            if failed >= MAX_FAILED_STEPS {
+                break;
+            }
             let number = self.state.increment + 1;
             let viscous = Viscous {
                 c,
@@ -92,12 +115,14 @@ impl Solver {
                     if !std::mem::take(&mut settle) {
                         failed_at = failed_at.max(c);
                         c *= 4.0;
+                        failed += 1;
                     }
                     continue;
                 }
             };
+            failed = 0;
             let motion = self.largest_motion(&conv.d) / shortest;
-            if motion > MAX_MOTION {
+            if motion > MAX_MOTION || off_its_element(&conv) {
                 if !std::mem::take(&mut settle) {
                     c *= 4.0;
                 }
@@ -136,12 +161,19 @@ impl Solver {
             settle = motion < SETTLING && travelled > MAX_MOTION;
         }
         let number = self.state.increment + 1;
-        let e = last_error.unwrap_or(AttemptError::NoConvergence {
-            iterations: MAX_SNAP_STEPS,
-            residual: f64::NAN,
-            floor: 0.0,
-        });
-        Err(self.give_up(number, 0, e))
+        Err(match last_error {
+            // A state refused for what it is stops the run as it would without the snap.
+            Some(e) if !e.finds_no_state() => self.give_up(number, cutbacks, e),
+            last => SolveError::NoConvergence {
+                increment: number,
+                cutbacks,
+                reason: format!(
+                    "the structure snaps from increment {start} and finds no stable state in {} steps{}",
+                    number - start,
+                    last.map_or(String::new(), |e| format!(": {}", self.failure_reason(&e)))
+                ),
+            },
+        })
     }
 
     /// The largest distance a node moves from the converged state to displacements `d`.

@@ -110,6 +110,28 @@ pub enum AttemptError {
 }
 
 impl AttemptError {
+    /// Whether the attempt found no acceptable state near the last one for want of an
+    /// equilibrium there (Newton diverged, stalled, cycled through contact sets, or reached a
+    /// state far from the path: turned, strained, or with a node deep through a body or an
+    /// obstacle however short the step), rather than a state refused for what it is (a
+    /// crossing, a feature through a body, a node inside an obstacle, the friction law, gaps
+    /// held open): where no step finds one, the structure snaps (`control/snap.rs`).
+    pub fn finds_no_state(&self) -> bool {
+        matches!(
+            self,
+            AttemptError::Diverged { .. }
+                | AttemptError::NoConvergence { .. }
+                | AttemptError::NonFinite { .. }
+                | AttemptError::Singular { .. }
+                | AttemptError::Chattering { .. }
+                | AttemptError::AtFloor { .. }
+                | AttemptError::OutOfRange(_)
+                | AttemptError::Spun(..)
+                | AttemptError::TooDeep { .. }
+                | AttemptError::ObstacleTooDeep { .. }
+        )
+    }
+
     /// The failure in words, with nodes and bodies named from `model`; `bound` is
     /// `SolverParams::roundoff_bound`.
     pub fn describe(&self, model: &Model, bound: f64) -> String {
