@@ -29,5 +29,7 @@ pub use crossing::{Crossing, CrossingCheck, CrossingMemory};
 pub use feature::{feature_through, FeatureCrossing};
 pub use friction::{friction_law, FrictionRecord, FrictionViolation, FRICTION_LAW_TOLERANCE};
 pub use obstacle::{inside_obstacle, ObstacleCrossing};
-pub use range::{out_of_range, spun, OutOfRange, MAX_SPIN_STEP, MAX_STRAIN_STEP, MAX_TURN_STEP};
+pub use range::{
+    most_bent, out_of_range, spun, OutOfRange, MAX_SPIN_STEP, MAX_STRAIN_STEP, MAX_TURN_STEP,
+};
 pub use rim::rim_overlap;

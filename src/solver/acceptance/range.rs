@@ -7,6 +7,7 @@
 //! path is followed in steps each element can take. Nor does any node turn by a half turn or
 //! more (`MAX_SPIN_STEP`): a beam that comes back to its place turned whole turns is a rigid
 //! motion to its elements, and no straight-line sweep between the two states can follow it.
+//! How far an element is bent at one state (`most_bent`) bounds a snap's path.
 
 use super::chord::{wrapped, Chord};
 use crate::solver::element::beam::BeamElement;
@@ -31,6 +32,17 @@ pub fn spun(model: &Model, before: &[NodeState], after: &[NodeState]) -> Option<
         .map(|n| (n, after[n][2] - before[n][2]))
         .filter(|(_, t)| t.abs() >= MAX_SPIN_STEP)
         .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
+}
+
+/// The largest end rotation of an element of `model` against its chord at node states `s`
+/// (rad; `elements`: the beams' initial geometry).
+pub fn most_bent(model: &Model, elements: &[BeamElement], s: &[NodeState]) -> f64 {
+    (elements.iter().enumerate())
+        .map(|(e, el)| {
+            let t = Chord::at(model, el.alpha0, e, s).turns();
+            wrapped(t[0]).abs().max(wrapped(t[1]).abs())
+        })
+        .fold(0.0, f64::max)
 }
 
 /// An element that moves too far within one increment.

@@ -6,8 +6,8 @@
 //! by the same acceptance rule and committed as a state marked
 //! [`IncrementStatus::Snapping`], so that the history shows the snap and every state of it is
 //! checked for pass-through. The viscosity c follows the motion: a step that moves a node
-//! more than [`MAX_MOTION`] shortest element lengths, or leaves a contact off its element, is
-//! taken again with a stiffer one, and
+//! more than [`MAX_MOTION`] shortest element lengths, leaves a contact off its element or
+//! bends an element beyond [`MAX_BEND`], is taken again with a stiffer one, and
 //! one that moves less than [`MIN_MOTION`] lets the next go faster. The snap ends at the first
 //! state in equilibrium without the viscous force: a step's own, or an attempt without it
 //! from a state that hardly moves.
@@ -15,6 +15,7 @@
 use std::time::Instant;
 
 use super::solver::Solver;
+use crate::solver::acceptance::most_bent;
 use crate::solver::newton::{AttemptError, Constraint, Viscous};
 use crate::solver::report::{Event, Flow, IncrementRecord, IncrementStatus, Observer, SolveError};
 
@@ -42,6 +43,10 @@ fn off_its_element(c: &crate::solver::newton::Converged) -> bool {
     (c.assembled.elements.contact_forces.iter())
         .any(|&(_, xi)| !(-OFF_ELEMENT..=1.0 + OFF_ELEMENT).contains(&xi))
 }
+
+/// The most an element's end may turn against its chord in a state of a snap (rad): a snap
+/// that bends an element further goes where its mesh cannot follow, and stops.
+const MAX_BEND: f64 = 0.5;
 
 /// Steps of a snap that fail one after the other before it gives up: each is taken again with
 /// four times the viscosity, so the last ones hardly move.
@@ -122,7 +127,8 @@ impl Solver {
             };
             failed = 0;
             let motion = self.largest_motion(&conv.d) / shortest;
-            if motion > MAX_MOTION || off_its_element(&conv) {
+            let bent = most_bent(&self.model, &self.elements, &checked.1) > MAX_BEND;
+            if motion > MAX_MOTION || bent || off_its_element(&conv) {
                 if !std::mem::take(&mut settle) {
                     c *= 4.0;
                 }
