@@ -460,6 +460,12 @@ fn reaction(study: &Study, selected: usize, look: &Look, ui: &mut egui::Ui) -> O
         }
     });
     let sel = pts.get(selected).copied();
+    // The curve through the states in equilibrium: a snap is the jump between its ends, not
+    // the damped path's states (held by a viscous force the reaction does not include).
+    let pts: Vec<[f64; 2]> = (pts.into_iter().zip(study.history.iter()))
+        .filter(|(_, r)| !matches!(r.status, IncrementStatus::Snapping { .. }))
+        .map(|(p, _)| p)
+        .collect();
     let pts = thin(pts, MAX_POINTS);
     Plot::new("reaction")
         .x_axis_label(x_label)
