@@ -136,6 +136,12 @@ fn a_pin_pressing_two_cantilevers_snaps_past_its_limit_point_to_a_state_of_less_
         );
     }
     let (start, end) = (energy[0], energy[energy.len() - 1]);
+    println!(
+        "snap: increments {} to {} ({} states), strain energy {start:.4} J to {end:.4} J",
+        records[first].increment,
+        records[after].increment,
+        after - first,
+    );
     assert!(
         end < 0.8 * start,
         "the snap releases energy: {start} J to {end} J"
