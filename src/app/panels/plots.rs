@@ -6,11 +6,10 @@
 use egui::Color32;
 use egui_plot::{GridInput, GridMark, HLine, HoverPosition, Line, MarkerShape, Plot, Points};
 
-use crate::solver::{Dof, Event, IncrementRecord, IncrementStatus, IterationRecord};
-
 use crate::app::display::Picked;
 use crate::app::files::screenshot::Layout;
 use crate::app::parts::{Look, Study};
+use crate::solver::{Dof, Event, IncrementRecord, IncrementStatus, IterationRecord};
 
 const RESIDUAL: Color32 = Color32::from_rgb(40, 90, 170);
 const SELECTED: Color32 = Color32::from_rgb(230, 120, 0);
@@ -460,13 +459,10 @@ fn reaction(study: &Study, selected: usize, look: &Look, ui: &mut egui::Ui) -> O
         }
     });
     let sel = pts.get(selected).copied();
-    // The curve through the states in equilibrium: a snap is the jump between its ends, not
-    // the damped path's states (held by a viscous force the reaction does not include).
-    let pts: Vec<[f64; 2]> = (pts.into_iter().zip(study.history.iter()))
-        .filter(|(_, r)| !matches!(r.status, IncrementStatus::Snapping { .. }))
-        .map(|(p, _)| p)
-        .collect();
-    let pts = thin(pts, MAX_POINTS);
+    // A snap is the jump between its ends: the states of its damped path are not in equilibrium.
+    let held = (pts.into_iter().zip(study.history.iter()))
+        .filter_map(|(p, r)| (!matches!(r.status, IncrementStatus::Snapping { .. })).then_some(p));
+    let pts = thin(held.collect(), MAX_POINTS);
     Plot::new("reaction")
         .x_axis_label(x_label)
         .y_axis_label(y_label)

@@ -48,8 +48,9 @@ fn off_its_element(c: &crate::solver::newton::Converged) -> bool {
 /// that bends an element further goes where its mesh cannot follow, and stops.
 const MAX_BEND: f64 = 0.5;
 
-/// Steps of a snap that fail one after the other before it gives up: each is taken again with
-/// four times the viscosity, so the last ones hardly move.
+/// Steps of a snap that fail, or are refused (too long, a contact off its element, an element
+/// bent too far), one after the other before it gives up: each is taken again with four times
+/// the viscosity, so the last ones hardly move.
 const MAX_FAILED_STEPS: usize = 12;
 
 /// How a snap ended.
@@ -125,15 +126,16 @@ impl Solver {
                     continue;
                 }
             };
-            failed = 0;
             let motion = self.largest_motion(&conv.d) / shortest;
             let bent = most_bent(&self.model, &self.elements, &checked.1) > MAX_BEND;
             if motion > MAX_MOTION || bent || off_its_element(&conv) {
                 if !std::mem::take(&mut settle) {
                     c *= 4.0;
+                    failed += 1;
                 }
                 continue;
             }
+            failed = 0;
             if let Some(residual) = conv.equilibrium_residual {
                 conv.relative_residual = residual;
             }
