@@ -63,8 +63,10 @@ pub struct Structure {
     pub(crate) place: Vec<usize>,
     /// The (node, obstacle) pairs that may touch.
     pub(crate) obstacle_candidates: Vec<(usize, usize)>,
-    /// The penalty of the obstacle contacts (N/m): [`SolverParams::obstacle_penalty`] times the
-    /// largest EA/l.
+    /// The largest axial stiffness EA/l of the model's elements (N/m).
+    pub(crate) axial_stiffness: f64,
+    /// The penalty of the obstacle contacts (N/m): [`SolverParams::obstacle_penalty`] times
+    /// `axial_stiffness`.
     pub(crate) obstacle_penalty: f64,
     /// The friction coefficient of every frictional candidate pair (node, body); empty where
     /// every contact is frictionless.
@@ -170,6 +172,7 @@ impl Structure {
             self_windows,
             place,
             obstacle_candidates: model.obstacle_candidates(),
+            axial_stiffness: axial,
             obstacle_penalty: params.obstacle_penalty * axial,
             force_floor: params.force_floor * max_ea.max(f64::MIN_POSITIVE),
             candidates,

@@ -6,9 +6,31 @@ use super::solver::Solver;
 use crate::solver::assembly::Assembled;
 use crate::solver::model::Dof;
 use crate::solver::newton::Converged;
-use crate::solver::report::{IncrementRecord, IncrementStatus, NodeState, Reaction};
+use crate::solver::report::{
+    Flow, IncrementRecord, IncrementStatus, NodeState, Observer, Reaction,
+};
 
 impl Solver {
+    /// Commit an accepted attempt (`commit`), keep its checkpoint, and give its events and
+    /// record to `obs`: the record and whether `obs` asks to stop.
+    pub(crate) fn publish(
+        &mut self,
+        c: Converged,
+        checked: (IncrementStatus, Vec<NodeState>),
+        targets: (Vec<f64>, bool),
+        cutbacks: usize,
+        seconds: f64,
+        obs: &mut dyn Observer,
+    ) -> (IncrementRecord, Flow) {
+        let rec = self.commit(c, checked, targets, cutbacks, seconds);
+        self.keep_checkpoint();
+        for e in &rec.events {
+            obs.event(e);
+        }
+        let flow = obs.increment(&rec);
+        (rec, flow)
+    }
+
     /// Make an accepted attempt (`acceptance` gave `checked`) the converged state, and its
     /// record.
     pub(crate) fn commit(

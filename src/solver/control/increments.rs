@@ -117,14 +117,10 @@ impl Solver {
                         h *= 2.0;
                     }
                     let secs = clock.elapsed().as_secs_f64();
-                    let rec = self.commit(conv, checked, (tp, next < 1.0), cutbacks, secs);
+                    let targets = (tp, next < 1.0);
+                    let (rec, flow) = self.publish(conv, checked, targets, cutbacks, secs, obs);
                     clock = Instant::now();
                     done = next;
-                    self.keep_checkpoint();
-                    for e in &rec.events {
-                        obs.event(e);
-                    }
-                    let flow = obs.increment(&rec);
                     out.push(rec);
                     if flow == Flow::Stop {
                         return Ok(out);

@@ -16,6 +16,7 @@ use std::time::Instant;
 
 use super::solver::Solver;
 use crate::solver::acceptance::most_bent;
+use crate::solver::model::Dof;
 use crate::solver::newton::{AttemptError, Constraint, Viscous};
 use crate::solver::report::{Event, Flow, IncrementRecord, IncrementStatus, Observer, SolveError};
 
@@ -79,13 +80,13 @@ impl Solver {
             .map(|e| self.model.beam_length(e))
             .fold(f64::INFINITY, f64::min);
         let weight: Vec<f64> = (0..self.dofs.kind.len())
-            .map(|g| match self.dofs.owner(g).1 {
-                2 => shortest * shortest,
-                _ => 1.0,
+            .map(|g| match Dof::ALL[self.dofs.owner(g).1] {
+                Dof::Phi => shortest * shortest,
+                Dof::U | Dof::V => 1.0,
             })
             .collect();
         // Stiff enough at first that the first step hardly moves: the axial stiffness.
-        let mut c = self.obstacle_penalty / self.params.obstacle_penalty.max(f64::MIN_POSITIVE);
+        let mut c = self.axial_stiffness;
         let mut out = Vec::new();
         let mut clock = Instant::now();
         let mut settle = false;
@@ -102,8 +103,8 @@ impl Solver {
             let number = self.state.increment + 1;
             let viscous = Viscous {
                 c,
-                anchor: self.state.d.clone(),
-                weight: weight.clone(),
+                anchor: &self.state.d,
+                weight: &weight,
             };
             let constraint = Constraint::Prescribed { targets, factors };
             let damped = (!settle).then_some(&viscous);
@@ -147,13 +148,9 @@ impl Solver {
             }
             let done = !matches!(checked.0, IncrementStatus::Snapping { .. });
             let secs = clock.elapsed().as_secs_f64();
-            let rec = self.commit(conv, checked, (targets.to_vec(), partial), 0, secs);
+            let held = (targets.to_vec(), partial);
+            let (rec, flow) = self.publish(conv, checked, held, 0, secs, obs);
             clock = Instant::now();
-            self.keep_checkpoint();
-            for e in &rec.events {
-                obs.event(e);
-            }
-            let flow = obs.increment(&rec);
             out.push(rec);
             if flow == Flow::Stop || done {
                 return Ok(Snapped {

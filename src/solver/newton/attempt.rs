@@ -39,7 +39,7 @@ impl Newton<'_> {
         constraint: Constraint<'_>,
         increment: usize,
         slide_off: Option<f64>,
-        viscous: Option<&Viscous>,
+        viscous: Option<&Viscous<'_>>,
         obs: &mut dyn Observer,
     ) -> Result<Converged, AttemptError> {
         let p = &self.params;

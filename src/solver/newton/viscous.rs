@@ -11,17 +11,17 @@ use crate::solver::linear::reduce::sum_squares;
 use crate::solver::linear::BandMatrix;
 
 /// A viscous force `c w (d - anchor)` over the free dofs.
-#[derive(Clone, Debug)]
-pub struct Viscous {
+#[derive(Clone, Copy, Debug)]
+pub struct Viscous<'a> {
     /// The viscosity over the pseudo-time step (N/m).
     pub c: f64,
     /// The state the step starts from (all dofs).
-    pub anchor: Vec<f64>,
+    pub anchor: &'a [f64],
     /// The weight of every dof: 1 for a translation, the square of a length for a rotation.
-    pub weight: Vec<f64>,
+    pub weight: &'a [f64],
 }
 
-impl Viscous {
+impl Viscous<'_> {
     /// The viscous force on dof g at displacements `d`.
     fn force(&self, d: &[f64], g: usize) -> f64 {
         self.c * self.weight[g] * (d[g] - self.anchor[g])
