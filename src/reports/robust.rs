@@ -290,7 +290,7 @@ pub fn run_keeping(case: &Case, keep: bool) -> Outcome {
                 .map(|(v, s)| v + sign * s)
                 .collect();
             let lambda = solver.load_factor() + sign * load_step;
-            let factors = solver.model.uniform_factors(lambda);
+            let factors = solver.structure.model.uniform_factors(lambda);
             match solver.advance_to(&targets, &factors, &mut count) {
                 Ok(_) => {
                     if first.is_none() && !count.accepted.is_empty() {

@@ -108,7 +108,7 @@ impl Loaded {
         Loaded {
             checkpoint: Arc::new(solver.checkpoint()),
             initial: super::targets::initial_record(solver),
-            elements: solver.elements().to_vec(),
+            elements: solver.structure.elements().to_vec(),
             prescribed_labels: (scene.model.prescribed.iter())
                 .map(|p| scene.model.dof_label(p.node, p.dof.offset()))
                 .collect(),

@@ -9,7 +9,14 @@ use crate::solver::{IncrementRecord, Solver};
 pub fn next_target(solver: &Solver, targets: &[f64]) -> Vec<f64> {
     let cur = solver.prescribed_values();
     let mut f = 1.0f64;
-    for ((p, c), t) in solver.model.prescribed.iter().zip(cur).zip(targets) {
+    for ((p, c), t) in solver
+        .structure
+        .model
+        .prescribed
+        .iter()
+        .zip(cur)
+        .zip(targets)
+    {
         let d = (t - c).abs();
         let h = p.per_step.abs();
         if d > h && h > 0.0 {
@@ -28,6 +35,7 @@ pub fn next_target(solver: &Solver, targets: &[f64]) -> Vec<f64> {
 /// Whether the prescribed values are at the targets (to a negligible fraction of a step).
 pub(super) fn reached(solver: &Solver, targets: &[f64]) -> bool {
     solver
+        .structure
         .model
         .prescribed
         .iter()
@@ -41,14 +49,15 @@ pub(super) fn reached(solver: &Solver, targets: &[f64]) -> bool {
 /// factor, in whole steps (for an arc-length run, its increments). What "Run" counts the remaining steps from after a
 /// restore.
 pub(super) fn steps_along(solver: &Solver, steps: usize) -> usize {
-    if solver.params.arc_length.is_some() {
+    if solver.structure.params.arc_length.is_some() {
         return solver.increment().min(steps);
     }
-    if solver.model.path.is_some() {
+    if solver.structure.model.path.is_some() {
         return solver.path_step().min(steps);
     }
     let mut along = 0.0f64;
     for (p, v) in solver
+        .structure
         .model
         .prescribed
         .iter()
@@ -58,8 +67,8 @@ pub(super) fn steps_along(solver: &Solver, steps: usize) -> usize {
             along = along.max(v / p.per_step);
         }
     }
-    if solver.model.load_per_step != 0.0 {
-        along = along.max(solver.load_factor() / solver.model.load_per_step);
+    if solver.structure.model.load_per_step != 0.0 {
+        along = along.max(solver.load_factor() / solver.structure.model.load_per_step);
     }
     // Reached to round-off counts as reached.
     ((along + 1e-9).floor().max(0.0) as usize).min(steps)
@@ -67,7 +76,7 @@ pub(super) fn steps_along(solver: &Solver, steps: usize) -> usize {
 
 /// The undeformed state of a fresh solver as increment 0.
 pub fn initial_record(solver: &Solver) -> IncrementRecord {
-    let model = &solver.model;
+    let model = &solver.structure.model;
     IncrementRecord {
         increment: 0,
         prescribed: solver.prescribed_values().to_vec(),
@@ -87,7 +96,7 @@ pub fn initial_record(solver: &Solver) -> IncrementRecord {
         status: Default::default(),
         cutbacks: 0,
         residuals: Vec::new(),
-        nodes: solver.node_states(solver.displacements()),
+        nodes: solver.structure.node_states(solver.displacements()),
         element_forces: vec![[0.0; 3]; model.beams.len()],
         reactions: Vec::new(),
         contacts: Vec::new(),

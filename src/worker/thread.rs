@@ -218,8 +218,8 @@ impl Thread {
         // Scene steps of an arc-length scene are arcs (the solver picks the load factor), and
         // those of a load path are its points, each in its stage: the solver takes them whole.
         let running = matches!(self.mode, Mode::Running(_));
-        let staged = running && solver.model.path.is_some();
-        let by_step = staged || (running && solver.params.arc_length.is_some());
+        let staged = running && solver.structure.model.path.is_some();
+        let by_step = staged || (running && solver.structure.params.arc_length.is_some());
         let path_before = solver.path_step();
         let next = next_target(&solver, &goal);
         let mut obs = Relay {

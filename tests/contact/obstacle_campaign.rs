@@ -172,7 +172,7 @@ fn random_obstacle_scenes_keep_every_node_out_and_every_record_in_balance() {
         let parsed = parse(&text, "campaign.ron").expect("a valid scene");
         let load = (parsed.model.loads.first()).map_or([0.0; 2], |l| [l.force[0], l.force[1]]);
         let mut solver = parsed.solver().expect("a stable scene");
-        let tol = solver.obstacle_tolerance();
+        let tol = solver.structure().obstacle_tolerance();
         let mut failed = false;
         let mut all = Vec::new();
         for _ in 0..8 {

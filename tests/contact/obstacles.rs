@@ -338,7 +338,7 @@ fn a_roller_driven_by_its_pilot_never_lets_a_node_inside_and_feels_the_contact_f
     let pilot_id = scene.model.nodes[pilot].id;
     let steps = scene.steps;
     let mut solver = scene.solver().unwrap();
-    let tol = solver.obstacle_tolerance();
+    let tol = solver.structure().obstacle_tolerance();
     let mut touched = 0;
     for _ in 0..steps {
         for r in solver.step(&mut Silent).expect("converges") {

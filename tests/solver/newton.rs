@@ -51,7 +51,10 @@ fn lee_frame() -> Solver {
 #[test]
 fn an_arc_length_run_stops_on_stop_within_50_ms() {
     let mut solver = lee_frame();
-    assert!(solver.params.arc_length.is_some(), "an arc-length scene");
+    assert!(
+        solver.structure().params.arc_length.is_some(),
+        "an arc-length scene"
+    );
     for _ in 0..5 {
         solver.step(&mut Silent).expect("converges");
     }
@@ -81,8 +84,9 @@ fn an_arc_length_run_stops_on_stop_within_50_ms() {
 #[test]
 fn the_last_correction_of_an_arc_length_increment_is_small() {
     let mut solver = lee_frame();
-    let ds = solver.params.arc_length.expect("arc length");
+    let ds = solver.structure().params.arc_length.expect("arc length");
     let free = solver
+        .structure()
         .dofs()
         .kind
         .iter()

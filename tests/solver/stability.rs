@@ -343,7 +343,7 @@ fn a_cantilever_of_a_million_elements_is_no_mechanism_and_bends_as_theory_says()
     let scene = parse(text, "long cantilever").expect("accepted: no mechanism");
     let mut solver = scene.solver().expect("a stable structure");
     solver.step(&mut Silent).expect("the step converges");
-    let (tip, _) = solver.node_state(solver.model.nodes.len() - 1);
+    let (tip, _) = solver.node_state(solver.structure().model.nodes.len() - 1);
     let exact = -1e-3 / 3.0;
     assert!(
         (tip[1] - exact).abs() < 1e-3 * exact.abs(),

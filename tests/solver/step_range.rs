@@ -26,7 +26,13 @@ const PIN_NEAR_A_PINNED_END: &str = r#"(
 fn an_equilibrium_far_from_the_path_is_cut_back_and_the_path_followed() {
     let scene = parse(PIN_NEAR_A_PINNED_END, "pin.ron").unwrap();
     let mut solver = scene.solver().unwrap();
-    let ids: Vec<u32> = solver.model.nodes.iter().map(|n| n.id).collect();
+    let ids: Vec<u32> = solver
+        .structure()
+        .model
+        .nodes
+        .iter()
+        .map(|n| n.id)
+        .collect();
     for _ in 0..scene.steps {
         let records = solver.step(&mut Silent).expect("the run follows the path");
         for rec in records {

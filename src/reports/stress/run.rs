@@ -119,7 +119,7 @@ pub fn run_scene(case: &str, sc: &Scene, path: &Path) -> Run {
         let result = if l.is_nan() {
             solver.step(&mut tally)
         } else {
-            solver.advance_to(&p, &solver.model.uniform_factors(l), &mut tally)
+            solver.advance_to(&p, &solver.structure.model.uniform_factors(l), &mut tally)
         };
         match result {
             Ok(recs) => records.extend(recs),

@@ -78,7 +78,7 @@ mod tests {
     #[test]
     fn loads_on_one_dof_are_summed_and_looked_up() {
         let mut s = crate::test_support::solver_after("mattiasson", 0);
-        let tip = s.model.loads[0].node;
+        let tip = s.structure.model.loads[0].node;
         s.structure.model.loads.push(crate::solver::Load {
             node: tip,
             force: [2.0, -0.5, 0.25],
@@ -90,18 +90,18 @@ mod tests {
             group: 0,
         });
         let lambda = 0.7;
-        let mut dense = vec![0.0; s.dofs.len()];
-        for l in &s.model.loads {
+        let mut dense = vec![0.0; s.structure.dofs.len()];
+        for l in &s.structure.model.loads {
             for o in 0..3 {
-                dense[s.dofs.dof(l.node, o)] += lambda * l.force[o];
+                dense[s.structure.dofs.dof(l.node, o)] += lambda * l.force[o];
             }
         }
-        let f = s.external_force(&[lambda]);
+        let f = s.structure.external_force(&[lambda]);
         assert!(f.0.windows(2).all(|w| w[0].0 < w[1].0), "ascending, once");
         for (g, &v) in dense.iter().enumerate() {
             assert_eq!(f.at(g), v, "dof {g}");
         }
-        assert_eq!(f.dense(s.dofs.len()), dense);
+        assert_eq!(f.dense(s.structure.dofs.len()), dense);
         let squares: f64 = dense.iter().map(|v| v * v).sum();
         assert!((f.sum_squares() - squares).abs() <= 1e-15 * squares);
     }
@@ -123,8 +123,11 @@ mod tests {
                 follower: false,
                 group: 0,
             });
-        let (l, b) = (s.model.beam_length(2), s.model.beams[2].clone());
-        let f = s.external_force(&[1.0]);
+        let (l, b) = (
+            s.structure.model.beam_length(2),
+            s.structure.model.beams[2].clone(),
+        );
+        let f = s.structure.external_force(&[1.0]);
         let pieces = 10_000;
         for (node, weight) in [
             (b.i, (|t: f64| 1.0 - t) as fn(f64) -> f64),
@@ -137,13 +140,13 @@ mod tests {
                         weight(t) * (qi + t * (qj - qi)) * l / pieces as f64
                     })
                     .sum();
-                let got = f.at(s.dofs.dof(node, o));
+                let got = f.at(s.structure.dofs.dof(node, o));
                 assert!(
                     (got - integral).abs() < 1e-8,
                     "node {node} dof {o}: {got} vs {integral}"
                 );
             }
-            assert_eq!(f.at(s.dofs.dof(node, 2)), 0.0);
+            assert_eq!(f.at(s.structure.dofs.dof(node, 2)), 0.0);
         }
     }
 }

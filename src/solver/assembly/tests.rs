@@ -15,7 +15,9 @@ fn a_scaled_correction_lands_on_the_dofs_of_its_equations() {
         let ord = s.newton().ordering_for(&s.state.contacts);
         assert_eq!(ord.dofs_in_a_row.is_some(), in_a_row, "{scene}");
         let x: Vec<f64> = (0..ord.n_eq).map(|e| 0.37 * e as f64 - 1.1).collect();
-        let d0: Vec<f64> = (0..s.dofs.len()).map(|g| (g as f64).sin()).collect();
+        let d0: Vec<f64> = (0..s.structure.dofs.len())
+            .map(|g| (g as f64).sin())
+            .collect();
         let mut expected = d0.clone();
         for (e, &g) in ord.dof_of.iter().enumerate() {
             expected[g as usize] += 0.7 * x[e];
@@ -42,11 +44,17 @@ fn an_assembly_over_old_buffers_is_a_fresh_one() {
     let bent: Vec<f64> = (0..long.state.d.len())
         .map(|g| 1e-3 * (g as f64).sin())
         .collect();
-    assemble_into(&long.context(&ord), &bent, true, None, &mut larger);
+    assemble_into(
+        &long.structure.context(&ord),
+        &bent,
+        true,
+        None,
+        &mut larger,
+    );
     let contact = crate::test_support::solver_after("example_3_2", 30);
     for (s, reuse_larger) in [(&long, false), (&contact, false), (&contact, true)] {
         let ord = s.newton().ordering_for(&s.state.contacts);
-        let ctx = s.context(&ord);
+        let ctx = s.structure.context(&ord);
         let mut out = if reuse_larger {
             larger.clone()
         } else {
@@ -106,14 +114,16 @@ fn the_unbalanced_force_settled_during_assembly_is_the_separate_pass() {
         let now: Vec<f64> = (s.state.d.iter().enumerate())
             .map(|(g, v)| v + 1e-4 * (0.3 * g as f64).cos())
             .collect();
-        let bare = assemble(&s.context(&ord), &now, true, None);
+        let bare = assemble(&s.structure.context(&ord), &now, true, None);
         let internal: Vec<f64> = bare.unbalanced.iter().map(|u| -u).collect();
         assert_eq!(
             bare.unbalanced_norm2.to_bits(),
             sum_squares(&bare.unbalanced).to_bits()
         );
-        let scene =
-            crate::solver::newton::Newton::loads_at_equations(&s.external_force(&[1.0]), &ord);
+        let scene = crate::solver::newton::Newton::loads_at_equations(
+            &s.structure.external_force(&[1.0]),
+            &ord,
+        );
         let mut spread: Vec<(usize, f64)> = [0, 3, 4, n / 2, n - 2, n - 1]
             .iter()
             .map(|&k| (k, 0.25 + k as f64))
@@ -121,11 +131,11 @@ fn the_unbalanced_force_settled_during_assembly_is_the_separate_pass() {
         spread.dedup_by_key(|l| l.0);
         let mut last: Option<Assembled> = None;
         // The long beam is loaded; Example 3.2 is driven by a prescribed displacement.
-        assert_eq!(scene.is_empty(), s.model.beams.len() != 1002);
+        assert_eq!(scene.is_empty(), s.structure.model.beams.len() != 1002);
         for loads in [&scene, &spread] {
             let ctx = AssemblyContext {
                 loads,
-                ..s.context(&ord)
+                ..s.structure.context(&ord)
             };
             let asm = assemble(&ctx, &now, true, None);
             let mut expected: Vec<f64> = internal.iter().map(|i| -i).collect();
@@ -156,16 +166,16 @@ fn no_beam_reaches_below_its_final_equation() {
         let ord = s.newton().ordering_for(&s.state.contacts);
         assert!(!ord.links.is_empty() || scene == "mattiasson");
         let reach = |e: usize| -> Vec<u32> {
-            let b = &s.model.beams[e];
+            let b = &s.structure.model.beams[e];
             let mut nodes = vec![b.i, b.j];
             nodes.extend(ord.on_beam[e].iter().map(|&k| ord.links[k].node));
             (nodes.iter())
-                .flat_map(|&n| (0..s.model.node_dofs(n)).map(move |o| (n, o)))
-                .map(|(n, o)| ord.eq[s.dofs.dof(n, o)])
+                .flat_map(|&n| (0..s.structure.model.node_dofs(n)).map(move |o| (n, o)))
+                .map(|(n, o)| ord.eq[s.structure.dofs.dof(n, o)])
                 .filter(|&q| q != NOT_FREE)
                 .collect()
         };
-        let nb = s.model.beams.len();
+        let nb = s.structure.model.beams.len();
         assert_eq!(ord.final_before.len(), nb + 1);
         assert_eq!(ord.final_before[nb] as usize, ord.n_eq);
         for e in 0..nb {
@@ -198,17 +208,18 @@ fn avx2_build_assembles_bit_for_bit_like_the_baseline() {
                 // Nodes 8 to 11 turned a whole turn more: their elements' chord rotations
                 // are unwrapped by the scalar path (the lanes hand their groups back).
                 for n in 8..12 {
-                    let at = s.dofs.first[n] + 2;
+                    let at = s.structure.dofs.first[n] + 2;
                     s.state.d[at] += std::f64::consts::TAU;
                 }
-                let ends: [_; 4] = std::array::from_fn(|k| s.packed[8 + k].ends(&s.state.d));
-                let c = std::array::from_fn(|k| &s.packed[8 + k].constants);
+                let ends: [_; 4] =
+                    std::array::from_fn(|k| s.structure.packed[8 + k].ends(&s.state.d));
+                let c = std::array::from_fn(|k| &s.structure.packed[8 + k].constants);
                 let lanes = crate::solver::element::beam_lanes::evaluate4(cpu, c, ends);
                 assert!(lanes.is_none(), "handed back");
             }
             let ord = s.newton().ordering_for(&s.state.contacts);
-            let ctx = s.context(&ord);
-            let dp: Vec<f64> = (0..s.model.prescribed.len())
+            let ctx = s.structure.context(&ord);
+            let dp: Vec<f64> = (0..s.structure.model.prescribed.len())
                 .map(|p| 1e-3 * (p + 1) as f64)
                 .collect();
             let dp = (!dp.is_empty()).then_some(dp.as_slice());

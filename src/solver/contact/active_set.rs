@@ -53,7 +53,7 @@ impl ContactSet {
         let views = PassViews::default();
         for (n, b) in near {
             if let Some((p, side)) = self.crossing(cv, d, n, b, &views) {
-                if -p.gap * side > cv.params.max_penetration * p.length {
+                if -p.gap * side > cv.structure.params.max_penetration * p.length {
                     self.beams.too_deep = Some((n, b, -p.gap * side / p.length));
                 }
                 crossings.push((n, b, p, side));
@@ -94,11 +94,11 @@ impl ContactSet {
     /// touch tip on node, and the tip's contact holds them apart. A contact of `n` there would
     /// slide off the tip at the next converged pass and be found through it again, without end.
     fn met_by_a_tip(&self, cv: &ContactView<'_>, n: usize, b: usize, p: &Probe) -> bool {
-        let m = &cv.model;
+        let m = &cv.structure.model;
         let beam = &m.beams[p.beam];
-        let margin = cv.params.free_end_margin;
+        let margin = cv.structure.params.free_end_margin;
         let continues = |node: usize| {
-            cv.node_beams[node]
+            cv.structure.node_beams[node]
                 .iter()
                 .filter(|&&e| m.beams[e].body == b)
                 .count()
@@ -224,7 +224,7 @@ impl ContactSet {
     /// pass.
     pub(crate) fn beams_at_rest(&mut self, cv: &ContactView<'_>) {
         for &(n, b) in Self::candidates(cv) {
-            let Some(&side) = cv.declared_sides.get(&(n, b)) else {
+            let Some(&side) = cv.structure.declared_sides.get(&(n, b)) else {
                 continue;
             };
             if self.is_active(n, b) {
@@ -233,7 +233,7 @@ impl ContactSet {
             let Some(p) = self.probe_near(cv, cv.d, n, b, None) else {
                 continue;
             };
-            if p.gap.abs() > cv.touching(SIDE, p.length) {
+            if p.gap.abs() > cv.structure.touching(SIDE, p.length) {
                 continue;
             }
             let stick = Self::stick_at(cv, n, b, p.beam, p.xi);
@@ -251,12 +251,12 @@ impl ContactSet {
     /// up before it is loaded): the chord's normal, and its direction too where the contact has
     /// friction (it sticks).
     pub(crate) fn resting_on_beams(&self, cv: &ContactView<'_>) -> Vec<(usize, [f64; 2])> {
-        let m = &cv.model;
+        let m = &cv.structure.model;
         let mut out = Vec::new();
         for a in &self.beams.active {
             let beam = &m.beams[a.beam];
-            let (xi, _) = current(m, &cv.dofs, cv.d, beam.i);
-            let (xj, _) = current(m, &cv.dofs, cv.d, beam.j);
+            let (xi, _) = current(m, &cv.structure.dofs, cv.d, beam.i);
+            let (xj, _) = current(m, &cv.structure.dofs, cv.d, beam.j);
             let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
             let l = dx.hypot(dy);
             out.push((a.node, [-dy / l, dx / l]));

@@ -15,7 +15,7 @@ pub(crate) struct BodyBoxes(Vec<[f64; 4]>);
 impl BodyBoxes {
     /// Boxes over every state in `states`.
     pub(crate) fn new(cv: &ContactView<'_>, states: &[&[f64]], margin: f64) -> BodyBoxes {
-        let m = &cv.model;
+        let m = &cv.structure.model;
         let pins = cv.structure.max_clearance;
         let boxes = m
             .bodies
@@ -26,12 +26,12 @@ impl BodyBoxes {
                 let mut stand_off = pins;
                 for &e in &body.elements {
                     longest = longest.max(m.beam_length(e));
-                    if cv.stands_off {
+                    if cv.structure.stands_off {
                         stand_off = stand_off.max(pins + 0.5 * m.beams[e].section.thickness);
                     }
                     for n in [m.beams[e].i, m.beams[e].j] {
                         for d in states {
-                            grow(&mut bx, current(m, &cv.dofs, d, n).0);
+                            grow(&mut bx, current(m, &cv.structure.dofs, d, n).0);
                         }
                     }
                 }
@@ -47,13 +47,16 @@ impl BodyBoxes {
     /// Whether node `n`, over every state in `states`, comes within body `b`'s box (always true
     /// with the broad phase switched off).
     pub(crate) fn near(&self, cv: &ContactView<'_>, states: &[&[f64]], n: usize, b: usize) -> bool {
-        if !cv.params.broad_phase {
+        if !cv.structure.params.broad_phase {
             return true;
         }
         let bx = self.0[b];
         let mut nb = [f64::MAX, f64::MAX, f64::MIN, f64::MIN];
         for d in states {
-            grow(&mut nb, current(&cv.model, &cv.dofs, d, n).0);
+            grow(
+                &mut nb,
+                current(&cv.structure.model, &cv.structure.dofs, d, n).0,
+            );
         }
         nb[0] <= bx[2] && nb[2] >= bx[0] && nb[1] <= bx[3] && nb[3] >= bx[1]
     }
@@ -80,17 +83,17 @@ pub(crate) struct ElementGrid {
 impl ElementGrid {
     /// The grid over every element at displacements `d`; None with the broad phase off.
     pub(crate) fn new(cv: &ContactView<'_>, d: &[f64], margin: f64) -> Option<ElementGrid> {
-        if !cv.params.broad_phase {
+        if !cv.structure.params.broad_phase {
             return None;
         }
-        let m = &cv.model;
+        let m = &cv.structure.model;
         let ends: Vec<([f64; 2], [f64; 2])> = m
             .beams
             .iter()
             .map(|b| {
                 (
-                    current(m, &cv.dofs, d, b.i).0,
-                    current(m, &cv.dofs, d, b.j).0,
+                    current(m, &cv.structure.dofs, d, b.i).0,
+                    current(m, &cv.structure.dofs, d, b.j).0,
                 )
             })
             .collect();

@@ -18,17 +18,17 @@ use crate::solver::report::{ContactChange, Event, ObstacleEvent};
 /// times the smallest axial stiffness EA / L0 of that element and the node's own elements, so
 /// that a stiff floor does not make the spring stiffer than what rests on it.
 fn stick_stiffness(cv: &ContactView<'_>, node: usize, beam: usize) -> f64 {
-    cv.params.friction_penalty * least_axial(cv, node, axial(cv, beam))
+    cv.structure.params.friction_penalty * least_axial(cv, node, axial(cv, beam))
 }
 
 /// The axial stiffness EA / L0 of element `e` (N/m).
 fn axial(cv: &ContactView<'_>, e: usize) -> f64 {
-    cv.elements[e].section.ea / cv.elements[e].length
+    cv.structure.elements[e].section.ea / cv.structure.elements[e].length
 }
 
 /// The least of `start` and the axial stiffnesses of node `node`'s own elements (N/m).
 fn least_axial(cv: &ContactView<'_>, node: usize, start: f64) -> f64 {
-    let own = cv.node_beams[node].iter().map(|&e| axial(cv, e));
+    let own = cv.structure.node_beams[node].iter().map(|&e| axial(cv, e));
     own.fold(start, f64::min)
 }
 
@@ -51,10 +51,10 @@ impl ContactSet {
         beam: usize,
         xi: f64,
     ) -> Option<Stick> {
-        if cv.friction.is_empty() || !cv.friction.contains_key(&(n, body)) {
+        if cv.structure.friction.is_empty() || !cv.structure.friction.contains_key(&(n, body)) {
             return None;
         }
-        let [si, sj] = cv.body_length_at[beam];
+        let [si, sj] = cv.structure.body_length_at[beam];
         Some(Stick {
             at: si + xi * (sj - si),
             slip: None,
@@ -71,21 +71,21 @@ impl ContactSet {
         n: usize,
         o: usize,
     ) -> Option<ObstacleGrip> {
-        let obstacle = &cv.model.obstacles[o];
+        let obstacle = &cv.structure.model.obstacles[o];
         if obstacle.mu <= 0.0 {
             return None;
         }
-        let gap = obstacle_gap(&cv.model, &cv.dofs, d, n, o)?;
-        let t = obstacle_offset(&cv.model, &cv.dofs, d, o);
+        let gap = obstacle_gap(&cv.structure.model, &cv.structure.dofs, d, n, o)?;
+        let t = obstacle_offset(&cv.structure.model, &cv.structure.dofs, d, o);
         let stiffness = least_axial(cv, n, f64::INFINITY);
         let stiffness = if stiffness.is_finite() {
             stiffness
         } else {
-            cv.obstacle_penalty
+            cv.structure.obstacle_penalty
         };
         Some(ObstacleGrip {
             mu: obstacle.mu,
-            stiffness: cv.params.friction_penalty * stiffness,
+            stiffness: cv.structure.params.friction_penalty * stiffness,
             stick: (obstacle.shape).place([gap.point[0] - t[0], gap.point[1] - t[1]]),
             slip: None,
             period: obstacle.shape.period(),
@@ -95,7 +95,7 @@ impl ContactSet {
     /// The grip of every active contact, in their order, for the assembly: empty where no
     /// contact has friction.
     pub fn grips(&self, cv: &ContactView<'_>) -> Vec<Option<Grip>> {
-        if cv.friction.is_empty() || self.beams.active.iter().all(|a| a.stick.is_none()) {
+        if cv.structure.friction.is_empty() || self.beams.active.iter().all(|a| a.stick.is_none()) {
             return Vec::new();
         }
         self.beams
@@ -107,8 +107,8 @@ impl ContactSet {
 
     fn grip(cv: &ContactView<'_>, a: &ActiveContact) -> Option<Grip> {
         let stick = a.stick?;
-        let mu = *cv.friction.get(&(a.node, a.body))?;
-        let [si, sj] = cv.body_length_at[a.beam];
+        let mu = *cv.structure.friction.get(&(a.node, a.body))?;
+        let [si, sj] = cv.structure.body_length_at[a.beam];
         let span = sj - si;
         Some(Grip {
             mu,
@@ -249,7 +249,7 @@ impl ContactSet {
             let before = cv.contacts.obstacles.links.get(k).and_then(|b| b.grip);
             let slipped = before.is_some_and(|b| b.slip.is_some());
             if t.slipping != slipped {
-                let m = &cv.model;
+                let m = &cv.structure.model;
                 events.push(Event::Obstacle(ObstacleEvent {
                     change: if t.slipping {
                         ContactChange::Slips

@@ -20,11 +20,15 @@ impl ContactSet {
     /// table) starts in contact, its multiplier taking up a gap of round-off so that it presses
     /// from the start.
     pub(crate) fn obstacles_at_rest(&mut self, cv: &ContactView<'_>) {
-        let (m, k, tol) = (&cv.model, cv.obstacle_penalty, cv.obstacle_tolerance());
+        let (m, k, tol) = (
+            &cv.structure.model,
+            cv.structure.obstacle_penalty,
+            cv.structure.obstacle_tolerance(),
+        );
         self.obstacles.links.clear();
         self.obstacles.resting.clear();
-        for &(node, obstacle) in &cv.obstacle_candidates {
-            let gap = obstacle_gap(m, &cv.dofs, cv.d, node, obstacle);
+        for &(node, obstacle) in &cv.structure.obstacle_candidates {
+            let gap = obstacle_gap(m, &cv.structure.dofs, cv.d, node, obstacle);
             let resting = gap.is_some_and(|g| g.g.abs() <= tol);
             let multiplier = gap.filter(|_| resting).map_or(0.0, |g| k * g.g.max(0.0));
             let grip = resting
@@ -48,7 +52,13 @@ impl ContactSet {
         (self.obstacles.links.iter().zip(&self.obstacles.resting))
             .filter(|(_, &r)| r)
             .filter_map(|(l, _)| {
-                let gap = obstacle_gap(&cv.model, &cv.dofs, cv.d, l.node, l.obstacle)?;
+                let gap = obstacle_gap(
+                    &cv.structure.model,
+                    &cv.structure.dofs,
+                    cv.d,
+                    l.node,
+                    l.obstacle,
+                )?;
                 let n = gap.n;
                 let tangent = l.grip.map(|_| (l.node, [n[1], -n[0]]));
                 Some(std::iter::once((l.node, n)).chain(tangent))
@@ -61,14 +71,14 @@ impl ContactSet {
     /// contact with the body) slid off in this attempt: the body's end springs onto the
     /// obstacle there, and its node touches it at once, however deep it is found.
     fn handed_over(&self, cv: &ContactView<'_>, node: usize, obstacle: usize) -> bool {
-        let m = &cv.model;
+        let m = &cv.structure.model;
         let Some(pilot) = m.obstacles[obstacle]
             .pilot
             .filter(|_| m.obstacles[obstacle].touches_elements)
         else {
             return false;
         };
-        (cv.node_beams[node].iter())
+        (cv.structure.node_beams[node].iter())
             .any(|&e| self.beams.slid_off.contains(&(pilot, m.beams[e].body)))
     }
 
@@ -89,7 +99,7 @@ impl ContactSet {
         if changed > 0 {
             return (changed, 0);
         }
-        let tol = cv.obstacle_tolerance();
+        let tol = cv.structure.obstacle_tolerance();
         let forces = &asm.elements.obstacle_forces;
         let mut updated = 0;
         self.obstacles.widest_gap = None;
@@ -97,7 +107,13 @@ impl ContactSet {
             if !link.active {
                 continue;
             }
-            let Some(gap) = obstacle_gap(&cv.model, &cv.dofs, d, link.node, link.obstacle) else {
+            let Some(gap) = obstacle_gap(
+                &cv.structure.model,
+                &cv.structure.dofs,
+                d,
+                link.node,
+                link.obstacle,
+            ) else {
                 continue;
             };
             if gap.g.abs() > tol {
@@ -128,7 +144,7 @@ impl ContactSet {
         asm: &Assembled,
         releases_only: bool,
     ) -> usize {
-        let tol = cv.obstacle_tolerance();
+        let tol = cv.structure.obstacle_tolerance();
         let forces = &asm.elements.obstacle_forces;
         // The violations, in the order of the pairs: (pair, activate).
         let mut violations = Vec::new();
@@ -142,12 +158,18 @@ impl ContactSet {
             if releases_only {
                 continue;
             }
-            let Some(gap) = obstacle_gap(&cv.model, &cv.dofs, d, link.node, link.obstacle) else {
+            let Some(gap) = obstacle_gap(
+                &cv.structure.model,
+                &cv.structure.dofs,
+                d,
+                link.node,
+                link.obstacle,
+            ) else {
                 continue;
             };
             if gap.g < -tol {
                 violations.push((k, true));
-                let reach = cv.params.max_penetration * node_length(cv, link.node);
+                let reach = cv.structure.params.max_penetration * node_length(cv, link.node);
                 if !self.obstacles.resting[k]
                     && -gap.g > reach
                     && self.obstacles.too_deep.is_none()
@@ -196,7 +218,7 @@ impl ContactSet {
         iteration: usize,
         events: &mut Vec<Event>,
     ) {
-        let m = &cv.model;
+        let m = &cv.structure.model;
         for (k, link) in self.obstacles.links.iter().enumerate() {
             let now = link.active;
             if now == self.obstacles.resting[k] {
@@ -229,8 +251,8 @@ impl ContactSet {
         d: &[f64],
         asm: &Assembled,
     ) -> Vec<ObstacleState> {
-        let m = &cv.model;
-        let o = cv.origin;
+        let m = &cv.structure.model;
+        let o = cv.structure.origin;
         let friction = |k: usize| asm.elements.obstacle_friction.get(k).copied().flatten();
         (self
             .obstacles
@@ -240,7 +262,7 @@ impl ContactSet {
         .enumerate()
         .filter(|(_, (link, _))| link.active)
         .filter_map(|(k, (link, &force))| {
-            let gap = obstacle_gap(m, &cv.dofs, d, link.node, link.obstacle)?;
+            let gap = obstacle_gap(m, &cv.structure.dofs, d, link.node, link.obstacle)?;
             Some(ObstacleState {
                 node: m.nodes[link.node].id,
                 obstacle: m.obstacles[link.obstacle].name.clone(),
@@ -264,9 +286,13 @@ impl ContactSet {
 /// The length a node's penetration is measured in: the mean length of its elements (the
 /// model's size for a node with none).
 fn node_length(cv: &ContactView<'_>, n: usize) -> f64 {
-    let beams = &cv.node_beams[n];
+    let beams = &cv.structure.node_beams[n];
     if beams.is_empty() {
-        return cv.size;
+        return cv.structure.size;
     }
-    beams.iter().map(|&e| cv.model.beam_length(e)).sum::<f64>() / beams.len() as f64
+    beams
+        .iter()
+        .map(|&e| cv.structure.model.beam_length(e))
+        .sum::<f64>()
+        / beams.len() as f64
 }

@@ -88,7 +88,7 @@ pub(super) fn beside_a_convex_node(
     b: usize,
     was: usize,
 ) -> bool {
-    let els = &cv.model.bodies[b].elements;
+    let els = &cv.structure.model.bodies[b].elements;
     let Some(k) = els.iter().position(|&e| e == was) else {
         return false;
     };
@@ -104,7 +104,7 @@ pub(super) fn beside_a_convex_node(
     };
     // The neighbour must share the mesh node (a body's elements follow one another).
     next.is_some_and(|(e, beyond)| {
-        let (w, o) = (&cv.model.beams[was], &cv.model.beams[e]);
+        let (w, o) = (&cv.structure.model.beams[was], &cv.structure.model.beams[e]);
         beyond && (w.j == o.i || w.i == o.j)
     })
 }
@@ -112,18 +112,18 @@ pub(super) fn beside_a_convex_node(
 impl ContactSet {
     /// li/l of node `n` on the current chord of beam `e`.
     pub(super) fn chord_fraction(cv: &ContactView<'_>, d: &[f64], n: usize, e: usize) -> f64 {
-        let m = &cv.model;
-        let (xi, _) = current(m, &cv.dofs, d, m.beams[e].i);
-        let (xj, _) = current(m, &cv.dofs, d, m.beams[e].j);
-        chord_fraction_of(current(m, &cv.dofs, d, n).0, xi, xj)
+        let m = &cv.structure.model;
+        let (xi, _) = current(m, &cv.structure.dofs, d, m.beams[e].i);
+        let (xj, _) = current(m, &cv.structure.dofs, d, m.beams[e].j);
+        chord_fraction_of(current(m, &cv.structure.dofs, d, n).0, xi, xj)
     }
 
     pub(super) fn shape(&self, cv: &ContactView<'_>, d: &[f64], e: usize) -> Shape {
-        let m = &cv.model;
+        let m = &cv.structure.model;
         let beam = &m.beams[e];
-        let el = &cv.elements[e];
-        let (xi, pi) = current(m, &cv.dofs, d, beam.i);
-        let (xj, pj) = current(m, &cv.dofs, d, beam.j);
+        let el = &cv.structure.elements[e];
+        let (xi, pi) = current(m, &cv.structure.dofs, d, beam.i);
+        let (xj, pj) = current(m, &cv.structure.dofs, d, beam.j);
         let on: Vec<[f64; 2]> = self
             .beams
             .active
@@ -131,7 +131,7 @@ impl ContactSet {
             .filter(|a| a.beam == e)
             .map(|a| pressed_point(cv, d, a.node, e, a.side))
             .collect();
-        let opts = cv.params.contact_options(usize::MAX);
+        let opts = cv.structure.params.contact_options(usize::MAX);
         let r = contact_response(el, xi, xj, [pi, pj], &on, opts, false);
         let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
         let l = dx.hypot(dy);
@@ -163,8 +163,8 @@ impl ContactSet {
         b: usize,
         view: Option<&StateView>,
     ) -> Option<Probe> {
-        let m = &cv.model;
-        let p = current(m, &cv.dofs, d, n).0;
+        let m = &cv.structure.model;
+        let p = current(m, &cv.structure.dofs, d, n).0;
         // A short body is probed element by element: cheaper than building and asking a grid.
         let long = m.bodies[b].elements.len() > GRID_MIN_ELEMENTS;
         let grid = view.filter(|_| long).and_then(|v| {
@@ -175,8 +175,8 @@ impl ContactSet {
         });
         // A node on its own body (self-contact) never probes its own window; the other pairs
         // (all of them in most scenes) take the unfiltered path.
-        let window = cv.self_window_of(n, b);
-        let place = &cv.place;
+        let window = cv.structure.self_window_of(n, b);
+        let place = &cv.structure.place;
         let reaches =
             move |e: &usize| window.is_none_or(|(lo, hi)| !(lo..=hi).contains(&place[*e]));
         if let Some((g, v)) = grid {
@@ -210,7 +210,7 @@ impl ContactSet {
         view: Option<&StateView>,
     ) -> Option<Probe> {
         // Most models have no contact distances: their probes skip them (`RIMS` false).
-        match cv.stands_off {
+        match cv.structure.stands_off {
             true => self.closest_with::<true>(cv, d, at, elements, view),
             false => self.closest_with::<false>(cv, d, at, elements, view),
         }
@@ -225,12 +225,12 @@ impl ContactSet {
         elements: impl Iterator<Item = usize>,
         view: Option<&StateView>,
     ) -> Option<Probe> {
-        let m = &cv.model;
+        let m = &cv.structure.model;
         let mut best: Option<Probe> = None;
         let mut rim = 0.0;
         for e in elements {
-            let (xi, _) = current(m, &cv.dofs, d, m.beams[e].i);
-            let (xj, _) = current(m, &cv.dofs, d, m.beams[e].j);
+            let (xi, _) = current(m, &cv.structure.dofs, d, m.beams[e].i);
+            let (xj, _) = current(m, &cv.structure.dofs, d, m.beams[e].j);
             let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
             let l = dx.hypot(dy);
             let a = [p[0] - xi[0], p[1] - xi[1]];
@@ -247,7 +247,7 @@ impl ContactSet {
                 off
             } else {
                 let sh = self.shape_in(cv, d, e, view);
-                off - deflection(&cv.elements[e], &sh.bending, &sh.xis, t)
+                off - deflection(&cv.structure.elements[e], &sh.bending, &sh.xis, t)
             };
             if best.is_none_or(|bp| {
                 gap.abs() < bp.gap.abs() || (gap.abs() == bp.gap.abs() && e < bp.beam)
@@ -303,13 +303,13 @@ impl ContactSet {
         r: f64,
         view: Option<&StateView>,
     ) -> (f64, f64) {
-        let m = &cv.model;
+        let m = &cv.structure.model;
         let e = p.beam;
-        let (xi, pi) = current(m, &cv.dofs, d, m.beams[e].i);
-        let (xj, pj) = current(m, &cv.dofs, d, m.beams[e].j);
-        let c = current(m, &cv.dofs, d, n).0;
+        let (xi, pi) = current(m, &cv.structure.dofs, d, m.beams[e].i);
+        let (xj, pj) = current(m, &cv.structure.dofs, d, m.beams[e].j);
+        let c = current(m, &cv.structure.dofs, d, n).0;
         let side = p.gap.signum();
-        let (q, at, _) = rim_point(&cv.elements[e], (xi, xj), [pi, pj], c, side * r);
+        let (q, at, _) = rim_point(&cv.structure.elements[e], (xi, xj), [pi, pj], c, side * r);
         let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
         let l = dx.hypot(dy);
         let off = (-(q[0] - xi[0]) * dy + (q[1] - xi[1]) * dx) / l;
@@ -319,7 +319,7 @@ impl ContactSet {
         let sh = self.shape_in(cv, d, e, view);
         let along = at.clamp(0.0, 1.0);
         (
-            off - deflection(&cv.elements[e], &sh.bending, &sh.xis, along),
+            off - deflection(&cv.structure.elements[e], &sh.bending, &sh.xis, along),
             at,
         )
     }
@@ -336,7 +336,7 @@ impl ContactSet {
                 let q = [p[0] - sh.origin[0], p[1] - sh.origin[1]];
                 let t = (q[0] * sh.c + q[1] * sh.s) / sh.l;
                 let off = -q[0] * sh.s + q[1] * sh.c;
-                (off - deflection(&cv.elements[a.beam], &sh.bending, &sh.xis, t)) / sh.l
+                (off - deflection(&cv.structure.elements[a.beam], &sh.bending, &sh.xis, t)) / sh.l
             })
             .collect()
     }
@@ -352,13 +352,13 @@ impl ContactSet {
         e: usize,
         view: &StateView,
     ) -> Option<Probe> {
-        let els = &cv.model.bodies[b].elements;
+        let els = &cv.structure.model.bodies[b].elements;
         let k = els.iter().position(|&x| x == e)?;
         let near = (els[k.saturating_sub(1)..(k + 2).min(els.len())]
             .iter()
             .copied())
-        .filter(|&f| cv.outside_window(n, b, f));
-        let at = current(&cv.model, &cv.dofs, d, n).0;
+        .filter(|&f| cv.structure.outside_window(n, b, f));
+        let at = current(&cv.structure.model, &cv.structure.dofs, d, n).0;
         self.closest(cv, d, (n, at), near, Some(view))
     }
 
@@ -373,7 +373,7 @@ impl ContactSet {
         reach: f64,
         view: &StateView,
     ) -> Vec<usize> {
-        let m = &cv.model;
+        let m = &cv.structure.model;
         let els = &m.bodies[b].elements;
         let grid = (els.len() > GRID_MIN_ELEMENTS)
             .then(|| {
@@ -387,14 +387,14 @@ impl ContactSet {
             None => els.clone(),
         };
         near.retain(|&e| {
-            let (xi, _) = current(m, &cv.dofs, d, m.beams[e].i);
-            let (xj, _) = current(m, &cv.dofs, d, m.beams[e].j);
+            let (xi, _) = current(m, &cv.structure.dofs, d, m.beams[e].i);
+            let (xj, _) = current(m, &cv.structure.dofs, d, m.beams[e].j);
             let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
             let l = dx.hypot(dy);
             let t = chord_fraction_of(c, xi, xj);
             let off = ((c[1] - xi[1]) * dx - (c[0] - xi[0]) * dy).abs() / l;
             let r = m.contact_distance(n, e);
-            (0.0..=1.0).contains(&t) && off <= reach * l + r && cv.outside_window(n, b, e)
+            (0.0..=1.0).contains(&t) && off <= reach * l + r && cv.structure.outside_window(n, b, e)
         });
         near
     }
@@ -414,16 +414,17 @@ impl ContactSet {
         through: f64,
     ) -> Option<(Probe, f64)> {
         // Only a body's own nodes: a body coils round its own nodes in the scenes that coil.
-        cv.self_window_of(n, b)?;
-        let c = current(&cv.model, &cv.dofs, d, n).0;
+        cv.structure.self_window_of(n, b)?;
+        let c = current(&cv.structure.model, &cv.structure.dofs, d, n).0;
         let near = Self::elements_near(cv, d, (n, b), c, ANOTHER_PART, &views.now);
         let far_from_skip = |e: &usize| {
-            let place = cv.place[*e];
-            skip.iter().all(|&s| cv.place[s].abs_diff(place) > 1)
+            let place = cv.structure.place[*e];
+            skip.iter()
+                .all(|&s| cv.structure.place[s].abs_diff(place) > 1)
         };
         near.into_iter().filter(far_from_skip).find_map(|e| {
             let q = self.closest(cv, d, (n, c), std::iter::once(e), Some(&views.now))?;
-            let beyond = q.gap.abs() > cv.touching(through, q.length);
+            let beyond = q.gap.abs() > cv.structure.touching(through, q.length);
             let (side, _) = beyond.then(|| self.local_side(cv, (n, b), e, views))??;
             (q.gap * side < 0.0).then_some((q, side))
         })
@@ -443,7 +444,8 @@ impl ContactSet {
         views: &PassViews,
     ) -> Option<(f64, usize)> {
         let q = self.probe_around(cv, cv.d, (n, b), e, &views.before)?;
-        let clear = q.centre.abs() > cv.touching(SIDE, q.length) && q.gap.abs() <= FAR * q.length;
+        let clear =
+            q.centre.abs() > cv.structure.touching(SIDE, q.length) && q.gap.abs() <= FAR * q.length;
         clear.then(|| (q.centre.signum(), q.beam))
     }
 }

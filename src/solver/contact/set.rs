@@ -7,7 +7,6 @@
 //! converged displacements and contact set, nothing more.
 
 use std::collections::HashMap;
-use std::ops::Deref;
 
 use super::cycle::CycleGuard;
 use crate::solver::assembly::{current, Assembled, ContactLink, ObstacleLink};
@@ -121,9 +120,9 @@ pub(crate) struct FrictionModes {
 
 /// Whether node `n` is a node of body `body`.
 pub(super) fn on_body(cv: &ContactView<'_>, n: usize, body: usize) -> bool {
-    cv.node_beams[n]
+    cv.structure.node_beams[n]
         .iter()
-        .any(|&e| cv.model.beams[e].body == body)
+        .any(|&e| cv.structure.model.beams[e].body == body)
 }
 
 impl ContactSet {
@@ -162,17 +161,22 @@ impl ContactSet {
 
     /// Report states of the active contacts from a converged assembly.
     pub fn states(&self, cv: &ContactView<'_>, asm: &Assembled) -> Vec<ContactState> {
-        let m = &cv.model;
+        let m = &cv.structure.model;
         let friction = |k: usize| asm.elements.contact_friction.get(k).copied().flatten();
         // The surface's turn from the chord at the contact point, from the state recorded.
         let turn = |a: &ActiveContact, xi: f64| {
-            if !cv.params.surface_normal {
+            if !cv.structure.params.surface_normal {
                 return 0.0;
             }
             let beam = &m.beams[a.beam];
-            let (pi, fi) = current(m, &cv.dofs, cv.d, beam.i);
-            let (pj, fj) = current(m, &cv.dofs, cv.d, beam.j);
-            let ch = Chord::new(pi, pj, cv.elements[a.beam].alpha0, 0.5 * (fi + fj));
+            let (pi, fi) = current(m, &cv.structure.dofs, cv.d, beam.i);
+            let (pj, fj) = current(m, &cv.structure.dofs, cv.d, beam.j);
+            let ch = Chord::new(
+                pi,
+                pj,
+                cv.structure.elements[a.beam].alpha0,
+                0.5 * (fi + fj),
+            );
             surface_turn(fi - ch.beta, fj - ch.beta, xi)
         };
         self.beams
@@ -200,14 +204,14 @@ impl ContactSet {
                 stick: a.stick.map(|s| s.at),
                 point: (m.contact_distance(a.node, a.beam) > 0.0).then(|| {
                     let p = pressed_point(cv, cv.d, a.node, a.beam, a.side);
-                    [p[0] + cv.origin[0], p[1] + cv.origin[1]]
+                    [p[0] + cv.structure.origin[0], p[1] + cv.structure.origin[1]]
                 }),
             })
             .collect()
     }
 }
 
-/// What the contact stage reads of the solver: the structure (through `Deref`), and the last
+/// What the contact stage reads of the solver: the structure, and the last
 /// converged displacements and contact set that every test of a pass is measured from.
 #[derive(Clone, Copy)]
 pub struct ContactView<'a> {
@@ -217,14 +221,6 @@ pub struct ContactView<'a> {
     pub d: &'a [f64],
     /// Contact set at the last converged state.
     pub contacts: &'a ContactSet,
-}
-
-impl Deref for ContactView<'_> {
-    type Target = Structure;
-
-    fn deref(&self) -> &Structure {
-        self.structure
-    }
 }
 
 /// Where node `n`, on side `side` of beam `e` and touching it, presses on the beam's axis at
@@ -239,9 +235,9 @@ pub(super) fn pressed_point(
     e: usize,
     side: f64,
 ) -> [f64; 2] {
-    let m = &cv.model;
-    let c = current(m, &cv.dofs, d, n).0;
-    let r = if cv.stands_off {
+    let m = &cv.structure.model;
+    let c = current(m, &cv.structure.dofs, d, n).0;
+    let r = if cv.structure.stands_off {
         m.contact_distance(n, e)
     } else {
         0.0
@@ -249,7 +245,7 @@ pub(super) fn pressed_point(
     if r == 0.0 {
         return c;
     }
-    let (xi, pi) = current(m, &cv.dofs, d, m.beams[e].i);
-    let (xj, pj) = current(m, &cv.dofs, d, m.beams[e].j);
-    rim_point(&cv.elements[e], (xi, xj), [pi, pj], c, side * r).0
+    let (xi, pi) = current(m, &cv.structure.dofs, d, m.beams[e].i);
+    let (xj, pj) = current(m, &cv.structure.dofs, d, m.beams[e].j);
+    rim_point(&cv.structure.elements[e], (xi, xj), [pi, pj], c, side * r).0
 }

@@ -42,16 +42,16 @@ impl ContactSet {
         b: usize,
         t_min: f64,
     ) -> Option<usize> {
-        let m = &cv.model;
-        let at = |dd: &[f64], k: usize| current(m, &cv.dofs, dd, k).0;
+        let m = &cv.structure.model;
+        let at = |dd: &[f64], k: usize| current(m, &cv.structure.dofs, dd, k).0;
         let (c0, c1) = (at(cv.d, n), at(d, n));
-        let window = cv.self_window_of(n, b);
+        let window = cv.structure.self_window_of(n, b);
         // A node resting on the body at the last converged state touches its chord there
         // without being about to cross it.
         let resting = cv.contacts.is_active(n, b);
         let mut elements = m.bodies[b].elements.iter().copied();
         elements.find(|&e| {
-            if window.is_some_and(|(lo, hi)| (lo..=hi).contains(&cv.place[e])) {
+            if window.is_some_and(|(lo, hi)| (lo..=hi).contains(&cv.structure.place[e])) {
                 return false;
             }
             let (i, j) = (m.beams[e].i, m.beams[e].j);
@@ -68,7 +68,7 @@ impl ContactSet {
             let s0 = (u0[0] * v0[0] + u0[1] * v0[1]) / (l0 * l0);
             if t_min == 0.0
                 && !resting
-                && qc.abs() <= cv.touching(THROUGH, l0) * l0
+                && qc.abs() <= cv.structure.touching(THROUGH, l0) * l0
                 && (0.0..=1.0).contains(&s0)
             {
                 return true;
@@ -102,7 +102,7 @@ impl ContactSet {
     /// of body `b` where `e` is an end element of the body: from there it can go round the
     /// body's end within one increment.
     pub(super) fn over_an_end_half(cv: &ContactView<'_>, n: usize, b: usize, e: usize) -> bool {
-        let els = &cv.model.bodies[b].elements;
+        let els = &cv.structure.model.bodies[b].elements;
         let (first, last) = (els.first() == Some(&e), els.last() == Some(&e));
         if !first && !last {
             return false;
@@ -115,7 +115,7 @@ impl ContactSet {
     /// within one increment does so near one element; a side measured against a distant element
     /// of a curled beam says nothing about a crossing.
     pub(super) fn adjacent(cv: &ContactView<'_>, b: usize, e: usize, f: usize) -> bool {
-        let els = &cv.model.bodies[b].elements;
+        let els = &cv.structure.model.bodies[b].elements;
         match (
             els.iter().position(|&x| x == e),
             els.iter().position(|&x| x == f),
@@ -154,7 +154,7 @@ impl ContactSet {
                 continue;
             }
             match self.probe_near(cv, d, n, b, Some(&view)) {
-                Some(p) if p.centre.abs() > cv.touching(SIDE, p.length) => {
+                Some(p) if p.centre.abs() > cv.structure.touching(SIDE, p.length) => {
                     // Every crossing since the last converged state was caught by
                     // `after_convergence`, so the side now is the side to keep.
                     self.beams.sides.insert((n, b), (p.centre.signum(), p.beam));
@@ -164,14 +164,14 @@ impl ContactSet {
                 // beam lies on: take the side of its neighbouring nodes (a pin has none and
                 // must start with a gap).
                 Some(p) if !self.beams.sides.contains_key(&(n, b)) => {
-                    let declared = cv.declared_sides.get(&(n, b)).copied();
+                    let declared = cv.structure.declared_sides.get(&(n, b)).copied();
                     match declared.or_else(|| self.neighbour_side(cv, d, n, b, Some(&view))) {
                         Some(side) => {
                             self.beams.sides.insert((n, b), (side, p.beam));
                         }
                         // A node of a beam whose neighbours do not all lie clear on one side:
                         // no rule gives its side.
-                        None if !cv.node_beams[n].is_empty() => {
+                        None if !cv.structure.node_beams[n].is_empty() => {
                             self.beams.ambiguous.get_or_insert((n, b));
                         }
                         None => {}
@@ -228,7 +228,8 @@ impl ContactSet {
             return Some(s);
         }
         let p = self.probe_near(cv, cv.d, n, b, view)?;
-        (p.centre.abs() > cv.touching(SIDE, p.length)).then(|| (p.centre.signum(), p.beam))
+        (p.centre.abs() > cv.structure.touching(SIDE, p.length))
+            .then(|| (p.centre.signum(), p.beam))
     }
 
     /// The side of body `b` on which the beam neighbours of node `n` lie, if they agree and are
@@ -241,16 +242,16 @@ impl ContactSet {
         b: usize,
         view: Option<&StateView>,
     ) -> Option<f64> {
-        let m = &cv.model;
+        let m = &cv.structure.model;
         let mut side = None;
-        for beam in cv.node_beams[n]
+        for beam in cv.structure.node_beams[n]
             .iter()
             .map(|&e| &m.beams[e])
             .filter(|e| e.body != b)
         {
             let other = if beam.i == n { beam.j } else { beam.i };
             let p = self.probe_near(cv, d, other, b, view)?;
-            if p.centre.abs() <= cv.touching(SIDE, p.length) {
+            if p.centre.abs() <= cv.structure.touching(SIDE, p.length) {
                 return None;
             }
             match side {
@@ -301,7 +302,7 @@ impl ContactSet {
             // chords cannot tell: there, only shallow or with a swept path; and if its contact
             // slid off that end in this attempt, its side is open again. A contact let go there
             // as tensile did not go round the end: it keeps its side.
-            let wrong_side = p.gap * side < -cv.touching(THROUGH, p.length);
+            let wrong_side = p.gap * side < -cv.structure.touching(THROUGH, p.length);
             let round_an_end = Self::over_an_end_half(cv, n, b, was);
             if round_an_end && self.beams.slid_off.contains(&(n, b)) {
                 return None;
@@ -331,9 +332,9 @@ impl ContactSet {
             // A node that stands off the axis has its side from its centre: with no side
             // remembered, an overlap on that side is a touch.
             let side = p.centre.signum();
-            return (p.gap * side < -cv.touching(THROUGH, p.length)).then_some((p, side));
+            return (p.gap * side < -cv.structure.touching(THROUGH, p.length)).then_some((p, side));
         }
-        if p.gap.abs() <= cv.touching(THROUGH, p.length) {
+        if p.gap.abs() <= cv.structure.touching(THROUGH, p.length) {
             return None;
         }
         if let Some(q) = self.probe_near(cv, cv.d, n, b, Some(&views.before)) {
@@ -341,12 +342,12 @@ impl ContactSet {
             // or was in contact and slid off a tip in this increment. A node that touched with
             // no side comes from the side opposite to its motion (the zero-gap rule): it is
             // activated, and released again at the next pass if the contact pulls.
-            let touched = q.gap.abs() <= cv.touching(SIDE, q.length);
+            let touched = q.gap.abs() <= cv.structure.touching(SIDE, q.length);
             let was_active = cv.contacts.is_active(n, b);
             return (touched && !was_active).then_some((p, -p.gap.signum()));
         }
         let e = Self::swept_crossing(cv, d, n, b, 0.0)?;
-        let m = &cv.model;
+        let m = &cv.structure.model;
         // A node of the crossed element resting on the node's own beam: the two chords meet at
         // that contact (e.g. a tip resting on a beam as one of the beam's nodes passes under
         // it), and the contact there is what keeps the bodies apart.
@@ -360,13 +361,13 @@ impl ContactSet {
             return None;
         }
         // It must have started clear of the chord it passed through (not exactly on its end).
-        let at = |k: usize| current(m, &cv.dofs, cv.d, k).0;
+        let at = |k: usize| current(m, &cv.structure.dofs, cv.d, k).0;
         let (c, xi, xj) = (at(n), at(m.beams[e].i), at(m.beams[e].j));
         let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
         let t = chord_fraction_of(c, xi, xj).clamp(0.0, 1.0);
         let clear = (c[0] - xi[0] - t * dx).hypot(c[1] - xi[1] - t * dy);
         let l = (dx * dx + dy * dy).sqrt();
-        (clear > cv.touching(THROUGH, l) && Self::adjacent(cv, b, e, p.beam))
+        (clear > cv.structure.touching(THROUGH, l) && Self::adjacent(cv, b, e, p.beam))
             .then_some((p, -p.centre.signum()))
     }
 
@@ -406,7 +407,7 @@ impl ContactSet {
                 (at, local) = (near.then_some(p.beam), p.centre.signum());
                 continue;
             };
-            if p.gap * local < -cv.touching(THROUGH, p.length)
+            if p.gap * local < -cv.structure.touching(THROUGH, p.length)
                 && !Self::over_an_end_half(cv, n, b, from)
             {
                 return true;
@@ -430,7 +431,7 @@ impl ContactSet {
         views: &PassViews,
         held: &[(usize, usize)],
     ) -> Option<(usize, usize, f64)> {
-        let m = &cv.model;
+        let m = &cv.structure.model;
         for (n, b) in self.near_inactive(cv, d) {
             if held.binary_search(&(n, b)).is_ok() {
                 continue;
@@ -454,8 +455,11 @@ impl ContactSet {
             if explained || !Self::adjacent(cv, b, was, e) {
                 continue;
             }
-            let p = current(m, &cv.dofs, d, n).0;
-            let (xi, xj) = (current(m, &cv.dofs, d, ei).0, current(m, &cv.dofs, d, ej).0);
+            let p = current(m, &cv.structure.dofs, d, n).0;
+            let (xi, xj) = (
+                current(m, &cv.structure.dofs, d, ei).0,
+                current(m, &cv.structure.dofs, d, ej).0,
+            );
             let l = (xj[0] - xi[0]).hypot(xj[1] - xi[1]);
             let dist = (p[0] - xi[0])
                 .hypot(p[1] - xi[1])

@@ -18,7 +18,7 @@ impl ContactSet {
         xi: f64,
         force: f64,
     ) -> Event {
-        let m = &cv.model;
+        let m = &cv.structure.model;
         Event::Contact(ContactEvent {
             change,
             increment,
@@ -45,9 +45,9 @@ impl ContactSet {
         events: &mut Vec<Event>,
     ) -> usize {
         let margin = if converged {
-            cv.params.free_end_margin
+            cv.structure.params.free_end_margin
         } else {
-            -cv.params.transfer_tolerance
+            -cv.structure.params.transfer_tolerance
         };
         self.transfer_within(cv, d, (increment, iteration), converged, margin, events)
     }
@@ -71,11 +71,11 @@ impl ContactSet {
     /// Whether node `n` may touch element `beam` of body `b`: `(n, b)` is a candidate pair and,
     /// for a node of `b` itself, the element lies outside the node's own window.
     fn may_touch(cv: &ContactView<'_>, n: usize, b: usize, beam: usize) -> bool {
-        let own = &cv.model.beams[beam];
+        let own = &cv.structure.model.beams[beam];
         if own.i == n || own.j == n || !Self::candidates(cv).contains(&(n, b)) {
             return false;
         }
-        cv.outside_window(n, b, beam)
+        cv.structure.outside_window(n, b, beam)
     }
 
     /// Whether the side of a contact handed over to node `h.node` on body `h.body` (what the
@@ -104,8 +104,8 @@ impl ContactSet {
         a: &ActiveContact,
         tip: usize,
     ) -> Option<ActiveContact> {
-        let m = &cv.model;
-        let &[e1, e2] = cv.node_beams[a.node].as_slice() else {
+        let m = &cv.structure.model;
+        let &[e1, e2] = cv.structure.node_beams[a.node].as_slice() else {
             return None;
         };
         let body = m.beams[e1].body;
@@ -121,8 +121,8 @@ impl ContactSet {
             return None;
         }
         let normal = |e: usize| {
-            let (xi, _) = current(m, &cv.dofs, d, m.beams[e].i);
-            let (xj, _) = current(m, &cv.dofs, d, m.beams[e].j);
+            let (xi, _) = current(m, &cv.structure.dofs, d, m.beams[e].i);
+            let (xj, _) = current(m, &cv.structure.dofs, d, m.beams[e].j);
             let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
             let l = dx.hypot(dy);
             [-dy / l, dx / l]
@@ -153,8 +153,8 @@ impl ContactSet {
         margin: f64,
         events: &mut Vec<Event>,
     ) -> usize {
-        let m = &cv.model;
-        let tol = cv.params.transfer_tolerance;
+        let m = &cv.structure.model;
+        let tol = cv.structure.params.transfer_tolerance;
         let mut changes = 0;
         let mut k = 0;
         while k < self.beams.active.len() {
@@ -169,16 +169,16 @@ impl ContactSet {
             };
             for _ in 0..walk {
                 let beam = &m.beams[a.beam];
-                let (xi, _) = current(m, &cv.dofs, d, beam.i);
-                let (xj, _) = current(m, &cv.dofs, d, beam.j);
+                let (xi, _) = current(m, &cv.structure.dofs, d, beam.i);
+                let (xj, _) = current(m, &cv.structure.dofs, d, beam.j);
                 let p = pressed_point(cv, d, a.node, a.beam, a.side);
                 let t = chord_fraction_of(p, xi, xj);
                 xi_now = t;
-                let before = cv.node_beams[beam.i]
+                let before = cv.structure.node_beams[beam.i]
                     .iter()
                     .copied()
                     .find(|&e| m.beams[e].body == a.body && m.beams[e].j == beam.i);
-                let after = cv.node_beams[beam.j]
+                let after = cv.structure.node_beams[beam.j]
                     .iter()
                     .copied()
                     .find(|&e| m.beams[e].body == a.body && m.beams[e].i == beam.j);
@@ -194,8 +194,8 @@ impl ContactSet {
                 // it rests on the node, and stays on its element rather than hop between them.
                 if let Some(e) = next {
                     let other = &m.beams[e];
-                    let (oi, _) = current(m, &cv.dofs, d, other.i);
-                    let (oj, _) = current(m, &cv.dofs, d, other.j);
+                    let (oi, _) = current(m, &cv.structure.dofs, d, other.i);
+                    let (oj, _) = current(m, &cv.structure.dofs, d, other.j);
                     let there = chord_fraction_of(p, oi, oj);
                     let hollow = if t > 1.0 {
                         there < -tol

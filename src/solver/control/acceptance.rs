@@ -21,7 +21,7 @@ impl Solver {
         &self,
         c: &Converged,
     ) -> Result<(IncrementStatus, Vec<NodeState>), AttemptError> {
-        let p = &self.params;
+        let p = &self.structure.params;
         let status = match c.equilibrium_residual {
             // A snap's step: in equilibrium or not, by its residual without the viscous force.
             Some(residual) if residual <= p.tolerance => IncrementStatus::Converged,
@@ -37,34 +37,56 @@ impl Solver {
                 )?
             }
         };
-        let states = self.node_states(&c.d);
-        let before = self.node_states(&self.state.d);
-        if let Some(x) = out_of_range(&self.model, &self.elements, &before, &states) {
+        let states = self.structure.node_states(&c.d);
+        let before = self.structure.node_states(&self.state.d);
+        if let Some(x) = out_of_range(
+            &self.structure.model,
+            &self.structure.elements,
+            &before,
+            &states,
+        ) {
             return Err(AttemptError::OutOfRange(x));
         }
-        if let Some((node, turn)) = spun(&self.model, &before, &states) {
+        if let Some((node, turn)) = spun(&self.structure.model, &before, &states) {
             return Err(AttemptError::Spun(node, turn));
         }
-        let tol = self.obstacle_tolerance();
-        if let Some(x) = inside_obstacle(&self.model, self.origin, (&before, &states), tol) {
+        let tol = self.structure.obstacle_tolerance();
+        if let Some(x) = inside_obstacle(
+            &self.structure.model,
+            self.structure.origin,
+            (&before, &states),
+            tol,
+        ) {
             return Err(AttemptError::InsideObstacle(x));
         }
-        if let Some(x) = feature_through(&self.model, self.origin, (&before, &states)) {
+        if let Some(x) = feature_through(
+            &self.structure.model,
+            self.structure.origin,
+            (&before, &states),
+        ) {
             return Err(AttemptError::FeatureThrough(x));
         }
         if let Some(x) = friction_law(&self.friction_records(c)) {
             return Err(AttemptError::FrictionLaw(x));
         }
         let active = c.contacts.pairs();
-        if let Some(x) = self.crossing.find(&self.model, &states, &active) {
+        if let Some(x) = self.crossing.find(&self.structure.model, &states, &active) {
             return Err(AttemptError::Crossed(x));
         }
-        let window = |n, b| self.self_window_of(n, b);
+        let window = |n, b| self.structure.self_window_of(n, b);
         let touching: Vec<(usize, usize, usize)> = (c.contacts.beams.active.iter())
             .map(|a| (a.node, a.body, a.beam))
             .collect();
-        let overlap = (self.stands_off)
-            .then(|| rim_overlap(&self.model, &self.candidates, window, &states, &touching))
+        let overlap = (self.structure.stands_off)
+            .then(|| {
+                rim_overlap(
+                    &self.structure.model,
+                    &self.structure.candidates,
+                    window,
+                    &states,
+                    &touching,
+                )
+            })
             .flatten();
         match overlap {
             Some(x) => Err(AttemptError::Overlap(x)),
@@ -80,15 +102,15 @@ impl Solver {
         let began = |node: usize, body: usize| {
             c.events.iter().any(|e| {
                 matches!(e, Event::Contact(x) if x.change == ContactChange::Activated
-                    && x.node == self.model.nodes[node].id
-                    && x.body == self.model.bodies[body].name)
+                    && x.node == self.structure.model.nodes[node].id
+                    && x.body == self.structure.model.bodies[body].name)
             })
         };
         (c.contacts.beams.active.iter().enumerate())
             .filter_map(|(k, a)| {
                 let stick = a.stick?;
                 let t = tractions.get(k).copied().flatten()?;
-                let [si, sj] = self.body_length_at[a.beam];
+                let [si, sj] = self.structure.body_length_at[a.beam];
                 let before = (self.state.contacts.beams.active.iter())
                     .find(|b| b.node == a.node && b.body == a.body && !began(a.node, a.body))
                     .and_then(|b| b.stick);
@@ -96,7 +118,7 @@ impl Solver {
                     node: a.node,
                     body: a.body,
                     obstacle: false,
-                    mu: *self.friction.get(&(a.node, a.body))?,
+                    mu: *self.structure.friction.get(&(a.node, a.body))?,
                     pressure: t.normal,
                     tangential: t.tangential * (sj - si).signum(),
                     stick_before: before.map(|b| b.at),
@@ -134,7 +156,7 @@ impl Solver {
 
     /// The text of a failed attempt, for cut-back events.
     pub(crate) fn failure_reason(&self, e: &AttemptError) -> String {
-        e.describe(&self.model, self.params.roundoff_bound)
+        e.describe(&self.structure.model, self.structure.params.roundoff_bound)
     }
 
     /// The error of increment `increment` when its last attempt failed with `e` after
@@ -147,14 +169,14 @@ impl Solver {
                 cutbacks,
                 residual,
                 floor,
-                bound: self.params.roundoff_bound,
+                bound: self.structure.params.roundoff_bound,
             },
             AttemptError::Crossed(x) | AttemptError::Overlap(x) => SolveError::Crossing {
                 increment,
                 cutbacks,
-                node: self.model.nodes[x.node].id,
-                body: self.model.bodies[x.body].name.clone(),
-                element: (self.model.bodies[x.body].elements.iter())
+                node: self.structure.model.nodes[x.node].id,
+                body: self.structure.model.bodies[x.body].name.clone(),
+                element: (self.structure.model.bodies[x.body].elements.iter())
                     .position(|&e| e == x.element)
                     .map_or(x.element, |k| k + 1),
                 depth: x.depth,
@@ -162,18 +184,18 @@ impl Solver {
             AttemptError::InsideObstacle(x) => SolveError::ObstacleCrossing {
                 increment,
                 cutbacks,
-                node: self.model.nodes[x.node].id,
-                obstacle: self.model.obstacles[x.obstacle].name.clone(),
+                node: self.structure.model.nodes[x.node].id,
+                obstacle: self.structure.model.obstacles[x.obstacle].name.clone(),
                 depth: x.depth,
             },
             AttemptError::FeatureThrough(x) => {
-                let body = self.model.beams[x.element].body;
+                let body = self.structure.model.beams[x.element].body;
                 SolveError::ObstacleThrough {
                     increment,
                     cutbacks,
-                    obstacle: self.model.obstacles[x.obstacle].name.clone(),
-                    body: self.model.bodies[body].name.clone(),
-                    element: (self.model.bodies[body].elements.iter())
+                    obstacle: self.structure.model.obstacles[x.obstacle].name.clone(),
+                    body: self.structure.model.bodies[body].name.clone(),
+                    element: (self.structure.model.bodies[body].elements.iter())
                         .position(|&e| e == x.element)
                         .map_or(x.element, |k| k + 1),
                     depth: x.depth,
@@ -182,18 +204,18 @@ impl Solver {
             AttemptError::FrictionLaw(x) => SolveError::FrictionLaw {
                 increment,
                 cutbacks,
-                node: self.model.nodes[x.node].id,
-                body: x.surface(&self.model),
+                node: self.structure.model.nodes[x.node].id,
+                body: x.surface(&self.structure.model),
                 ratio: x.ratio,
                 slipped: x.slipped,
             },
             AttemptError::OutOfRange(x) => {
-                let body = self.model.beams[x.element].body;
+                let body = self.structure.model.beams[x.element].body;
                 SolveError::OutOfRange {
                     increment,
                     cutbacks,
-                    body: self.model.bodies[body].name.clone(),
-                    element: (self.model.bodies[body].elements.iter())
+                    body: self.structure.model.bodies[body].name.clone(),
+                    element: (self.structure.model.bodies[body].elements.iter())
                         .position(|&e| e == x.element)
                         .map_or(x.element, |k| k + 1),
                     turn: x.turn,

@@ -20,15 +20,19 @@ impl Solver {
         &mut self,
         obs: &mut dyn Observer,
     ) -> Result<Vec<IncrementRecord>, SolveError> {
-        let nominal = self.params.arc_length.ok_or_else(|| SolveError::Invalid {
-            reason: "arc-length control needs control.arc_length".into(),
-        })?;
-        if self.model.has_followers() {
+        let nominal = self
+            .structure
+            .params
+            .arc_length
+            .ok_or_else(|| SolveError::Invalid {
+                reason: "arc-length control needs control.arc_length".into(),
+            })?;
+        if self.structure.model.has_followers() {
             return Err(SolveError::Invalid {
                 reason: "follower loads cannot be traced by arc length: use load control".into(),
             });
         }
-        if !self.model.has_loads() {
+        if !self.structure.model.has_loads() {
             return Err(SolveError::Invalid {
                 reason: "arc-length control needs at least one load".into(),
             });
@@ -67,7 +71,7 @@ impl Solver {
                 Err(AttemptError::Stopped) => return Err(SolveError::Stopped),
                 Err(e) => {
                     cutbacks += 1;
-                    if cutbacks > self.params.max_cutbacks {
+                    if cutbacks > self.structure.params.max_cutbacks {
                         return Err(self.give_up(number, cutbacks - 1, e));
                     }
                     let reason = self.failure_reason(&e);
@@ -79,7 +83,8 @@ impl Solver {
                         fraction: ds / nominal,
                     });
                     if !std::mem::replace(&mut self.state.cut_back, true)
-                        && self.params.stretch_correction == StretchCorrection::AfterCutBack
+                        && self.structure.params.stretch_correction
+                            == StretchCorrection::AfterCutBack
                     {
                         obs.event(&Event::StretchCorrectionOn { increment: number });
                     }

@@ -56,16 +56,17 @@ impl Solver {
             self.crossing
                 .accept(&self.structure.model, nodes.clone(), &active);
         }
-        let fext = self.external_force(&self.state.load_factors);
+        let fext = self.structure.external_force(&self.state.load_factors);
         let reactions = self
+            .structure
             .dofs
             .held
             .iter()
             .zip(&c.assembled.held_internal)
             .map(|(&g, i)| {
-                let (n, o) = self.dofs.owner(g);
+                let (n, o) = self.structure.dofs.owner(g);
                 Reaction {
-                    node: self.model.nodes[n].id,
+                    node: self.structure.model.nodes[n].id,
                     dof: Dof::ALL[o].name().to_string(),
                     value: i - fext.at(g),
                 }
@@ -99,7 +100,7 @@ impl Solver {
             increment: self.state.increment,
             prescribed: self.state.prescribed.clone(),
             load_factor: self.state.load_factors[0],
-            load_factors: if self.model.load_groups.len() > 1 {
+            load_factors: if self.structure.model.load_groups.len() > 1 {
                 self.state.load_factors.clone()
             } else {
                 Vec::new()

@@ -23,13 +23,14 @@ impl Solver {
     /// (nothing past its end), else prescribed values += per_step and load factor +=
     /// load_per_step; or by one arc length if `params.arc_length` is set.
     pub fn step(&mut self, obs: &mut dyn Observer) -> Result<Vec<IncrementRecord>, SolveError> {
-        if self.params.arc_length.is_some() {
+        if self.structure.params.arc_length.is_some() {
             return self.arc_length_step(obs);
         }
         let Some((targets, factors)) = self.step_targets() else {
             return Ok(Vec::new());
         };
-        let stage = (self.model.path.as_ref()).and_then(|p| p.locate(self.state.path_step));
+        let stage =
+            (self.structure.model.path.as_ref()).and_then(|p| p.locate(self.state.path_step));
         self.marching = stage.map(|(s, _)| s);
         let out = self.advance_to(&targets, &factors, obs);
         self.marching = None;
@@ -45,16 +46,16 @@ impl Solver {
     /// or every prescribed value moved by its `per_step` and the load factor by
     /// `load_per_step`. None past the end of the path.
     pub fn step_targets(&self) -> Option<(Vec<f64>, Vec<f64>)> {
-        if let Some(path) = &self.model.path {
+        if let Some(path) = &self.structure.model.path {
             let point = path.point(self.state.path_step)?;
             return Some((point.prescribed, point.factors));
         }
-        let targets = (self.model.prescribed.iter())
+        let targets = (self.structure.model.prescribed.iter())
             .zip(&self.state.prescribed)
             .map(|(p, v)| v + p.per_step)
             .collect();
         let factors = (self.state.load_factors.iter())
-            .map(|l| l + self.model.load_per_step)
+            .map(|l| l + self.structure.model.load_per_step)
             .collect();
         Some((targets, factors))
     }
@@ -132,7 +133,7 @@ impl Solver {
                     // up, one attempt with the contacts near a free tip slid off it: past the
                     // limit point where a tip slips under a node there is no equilibrium with
                     // the contact on the tip.
-                    if h <= 0.5f64.powi(self.params.max_cutbacks as i32) {
+                    if h <= 0.5f64.powi(self.structure.params.max_cutbacks as i32) {
                         if slide_off.is_none() && self.has_contact_near_a_tip(number) {
                             slide_off = Some(TIP_SLIDE_OFF);
                             continue;
@@ -140,7 +141,9 @@ impl Solver {
                         // A body that touches itself keeps its sides through the small steps of
                         // a drive, not through a snap's long motion: it stops here, as does a
                         // step refused for what it found (a crossing, a feature through a body).
-                        if !self.params.snap || self.model.has_self_contact() || !e.finds_no_state()
+                        if !self.structure.params.snap
+                            || self.structure.model.has_self_contact()
+                            || !e.finds_no_state()
                         {
                             return Err(self.give_up(number, cutbacks, e));
                         }
@@ -165,7 +168,8 @@ impl Solver {
                         fraction: h,
                     });
                     if !std::mem::replace(&mut self.state.cut_back, true)
-                        && self.params.stretch_correction == StretchCorrection::AfterCutBack
+                        && self.structure.params.stretch_correction
+                            == StretchCorrection::AfterCutBack
                     {
                         obs.event(&Event::StretchCorrectionOn { increment: number });
                     }

@@ -76,17 +76,17 @@ impl Solver {
         obs: &mut dyn Observer,
     ) -> Result<Snapped, SolveError> {
         let start = self.state.increment + 1;
-        let shortest = (0..self.model.beams.len())
-            .map(|e| self.model.beam_length(e))
+        let shortest = (0..self.structure.model.beams.len())
+            .map(|e| self.structure.model.beam_length(e))
             .fold(f64::INFINITY, f64::min);
-        let weight: Vec<f64> = (0..self.dofs.kind.len())
-            .map(|g| match Dof::ALL[self.dofs.owner(g).1] {
+        let weight: Vec<f64> = (0..self.structure.dofs.kind.len())
+            .map(|g| match Dof::ALL[self.structure.dofs.owner(g).1] {
                 Dof::Phi => shortest * shortest,
                 Dof::U | Dof::V => 1.0,
             })
             .collect();
         // Stiff enough at first that the first step hardly moves: the axial stiffness.
-        let mut c = self.axial_stiffness;
+        let mut c = self.structure.axial_stiffness;
         let mut out = Vec::new();
         let mut clock = Instant::now();
         let mut settle = false;
@@ -128,7 +128,8 @@ impl Solver {
                 }
             };
             let motion = self.largest_motion(&conv.d) / shortest;
-            let bent = most_bent(&self.model, &self.elements, &checked.1) > MAX_BEND;
+            let bent =
+                most_bent(&self.structure.model, &self.structure.elements, &checked.1) > MAX_BEND;
             if motion > MAX_MOTION || bent || off_its_element(&conv) {
                 if !std::mem::take(&mut settle) {
                     c *= 4.0;
@@ -183,9 +184,9 @@ impl Solver {
 
     /// The largest distance a node moves from the converged state to displacements `d`.
     fn largest_motion(&self, d: &[f64]) -> f64 {
-        (0..self.model.nodes.len())
+        (0..self.structure.model.nodes.len())
             .map(|n| {
-                let g = self.dofs.first[n];
+                let g = self.structure.dofs.first[n];
                 (d[g] - self.state.d[g]).hypot(d[g + 1] - self.state.d[g + 1])
             })
             .fold(0.0, f64::max)

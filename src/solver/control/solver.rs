@@ -1,8 +1,6 @@
 //! The `Solver`: the structure, its converged state and the Newton workspace of one run, set
 //! up at the undeformed state, with what callers read of it.
 
-use std::ops::Deref;
-
 use crate::solver::acceptance::CrossingCheck;
 use crate::solver::assembly::{assemble, AssemblyContext};
 use crate::solver::contact::{ContactSet, ContactView};
@@ -16,7 +14,7 @@ use crate::solver::state::State;
 use super::Checkpoint;
 use crate::solver::structure::Structure;
 
-/// The TSM solver for one model: the structure (read through `Deref`), the converged state, and
+/// The TSM solver for one model: the structure, the converged state, and
 /// everything needed to advance it.
 #[derive(Clone, Debug)]
 pub struct Solver {
@@ -34,15 +32,12 @@ pub struct Solver {
     pub(crate) marching: Option<usize>,
 }
 
-impl Deref for Solver {
-    type Target = Structure;
-
-    fn deref(&self) -> &Structure {
+impl Solver {
+    /// The structure: the model prepared for the solver, its parameters, elements and dofs.
+    pub fn structure(&self) -> &Structure {
         &self.structure
     }
-}
 
-impl Solver {
     /// Set up a solver at the undeformed state; fails if the structure is a mechanism or a
     /// contact candidate node starts on a body with no side to tell.
     pub fn new(model: Model, params: SolverParams) -> Result<Solver, SolveError> {
@@ -97,15 +92,15 @@ impl Solver {
         contacts.remember_sides(&solver.view(), &solver.state.d);
         if let Some((n, b)) = contacts.beams.ambiguous {
             return Err(SolveError::AmbiguousSide {
-                node: solver.model.nodes[n].id,
-                body: solver.model.bodies[b].name.clone(),
+                node: solver.structure.model.nodes[n].id,
+                body: solver.structure.model.bodies[b].name.clone(),
             });
         }
         solver.state.contacts = contacts;
-        if !solver.candidates.is_empty() {
-            let start = solver.node_states(&solver.state.d);
-            let pairs = solver.candidates.clone();
-            solver.crossing = CrossingCheck::new(&solver.model, pairs, start);
+        if !solver.structure.candidates.is_empty() {
+            let start = solver.structure.node_states(&solver.state.d);
+            let pairs = solver.structure.candidates.clone();
+            solver.crossing = CrossingCheck::new(&solver.structure.model, pairs, start);
         }
         Ok(solver)
     }
@@ -145,13 +140,14 @@ impl Solver {
             .ordering_for(&self.structure, &self.state.contacts);
         let grips = self.state.contacts.grips(&self.view());
         let ctx = AssemblyContext {
-            follower: (self.model.has_followers()).then_some(&self.state.load_factors[..]),
+            follower: (self.structure.model.has_followers())
+                .then_some(&self.state.load_factors[..]),
             obstacles: &self.state.contacts.obstacles.links,
             grips: &grips,
-            ..self.context(&ord)
+            ..self.structure.context(&ord)
         };
         let asm = assemble(&ctx, d, true, None);
-        let fext = self.external_force(&self.state.load_factors);
+        let fext = self.structure.external_force(&self.state.load_factors);
         let free: Vec<usize> = ord.dof_of.iter().map(|&g| g as usize).collect();
         // Assembled with no loads: the unbalanced force is -sum J S.
         let r = (free.iter().zip(&asm.unbalanced))
@@ -199,7 +195,7 @@ impl Solver {
 
     /// Current position (in the scene's coordinates) and rotation of node `n`.
     pub fn node_state(&self, n: usize) -> ([f64; 2], f64) {
-        self.node_state_at(&self.state.d, n)
+        self.structure.node_state_at(&self.state.d, n)
     }
 
     /// Whether the next attempt's Newton updates take the chords' stretch out

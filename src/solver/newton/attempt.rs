@@ -42,7 +42,7 @@ impl Newton<'_> {
         viscous: Option<&Viscous<'_>>,
         obs: &mut dyn Observer,
     ) -> Result<Converged, AttemptError> {
-        let p = &self.params;
+        let p = &self.structure.params;
         // The buffers of the last attempt (fresh memory would cost page faults).
         let (mut d, mut rhs) = {
             let mut spare = self.work.spare.borrow_mut();
@@ -56,7 +56,7 @@ impl Newton<'_> {
         let mut max_step = p.max_step;
         if let Some(margin) = slide_off {
             contacts.slide_off_tips(&self.view(), &self.state.d, margin, increment, &mut events);
-            max_step = max_step.min(SPRING_BACK_STEP * self.model_size());
+            max_step = max_step.min(SPRING_BACK_STEP * self.structure.model_size());
         }
         let mut path = Path::new(constraint, self);
         let mut ordering = self.ordering_for(&contacts);
@@ -68,7 +68,7 @@ impl Newton<'_> {
         let mut last_step = 0.0;
         let mut springback = false;
         let mut stall = Stall::new();
-        let mut bound = FloorBound::new(self.coordinate_scale(&d));
+        let mut bound = FloorBound::new(self.structure.coordinate_scale(&d));
         // The stretch correction (`take_out_stretch`), and the displacements before each
         // update that it starts from.
         let correcting = self.stretch_correcting();
@@ -84,7 +84,7 @@ impl Newton<'_> {
             && viscous.is_none()
             && contacts.obstacles.links.is_empty()
             && path.starts_at_the_converged_state()
-            && !self.model.has_followers()
+            && !self.structure.model.has_followers()
         {
             if let Some(kept) = self.work.converged_assembly.take(self.state.increment) {
                 asm = kept;
@@ -102,10 +102,14 @@ impl Newton<'_> {
             let ctx = AssemblyContext {
                 contact: p.contact_options(pass_iter + 1),
                 loads: &loads,
-                follower: self.model.has_followers().then(|| path.load_factors()),
+                follower: self
+                    .structure
+                    .model
+                    .has_followers()
+                    .then(|| path.load_factors()),
                 obstacles: &contacts.obstacles.links,
                 grips: &grips,
-                ..self.context(&ordering)
+                ..self.structure.context(&ordering)
             };
             if std::mem::take(&mut reuse) {
                 asm.reload(&loads);

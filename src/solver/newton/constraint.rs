@@ -66,17 +66,17 @@ impl Path {
     pub(super) fn new(c: Constraint<'_>, n: &Newton<'_>) -> Path {
         match c {
             Constraint::Prescribed { targets, factors } => {
-                let dp = (n.model.prescribed.iter().enumerate())
+                let dp = (n.structure.model.prescribed.iter().enumerate())
                     .map(|(k, pr)| {
-                        let g = n.dofs.dof(pr.node, pr.dof.offset());
-                        if n.dofs.kind[g] == DofKind::Prescribed(k) {
+                        let g = n.structure.dofs.dof(pr.node, pr.dof.offset());
+                        if n.structure.dofs.kind[g] == DofKind::Prescribed(k) {
                             targets[k] - n.state.prescribed[k]
                         } else {
                             0.0
                         }
                     })
                     .collect();
-                let fext = n.external_force(factors);
+                let fext = n.structure.external_force(factors);
                 Path::Prescribed {
                     dp,
                     factors: factors.to_vec(),
@@ -84,17 +84,20 @@ impl Path {
                 }
             }
             Constraint::Arc { ds } => {
-                let n_free = (n.dofs.kind.iter())
+                let n_free = (n.structure.dofs.kind.iter())
                     .filter(|k| **k == DofKind::Free)
                     .count();
                 let lambda = n.state.load_factors[0];
-                let factors = n.model.uniform_factors(lambda);
+                let factors = n.structure.model.uniform_factors(lambda);
                 Path::Arc {
                     ds: ds * (n_free.max(1) as f64).sqrt(),
                     lambda,
-                    fref: (n.external_force(&n.model.uniform_factors(1.0))).dense(n.dofs.len()),
+                    fref: (n
+                        .structure
+                        .external_force(&n.structure.model.uniform_factors(1.0)))
+                    .dense(n.structure.dofs.len()),
                     dd: vec![0.0; n.state.d.len()],
-                    fext: n.external_force(&factors),
+                    fext: n.structure.external_force(&factors),
                     factors,
                 }
             }
@@ -165,8 +168,8 @@ impl Path {
                 // prescribed part, which is not scaled, by at most as much again.
                 bound.moved(if predictor { 2.0 * step } else { scale * step });
                 if predictor {
-                    for (pr, v) in n.model.prescribed.iter().zip(dp.iter()) {
-                        d[n.dofs.dof(pr.node, pr.dof.offset())] += v;
+                    for (pr, v) in n.structure.model.prescribed.iter().zip(dp.iter()) {
+                        d[n.structure.dofs.dof(pr.node, pr.dof.offset())] += v;
                     }
                 }
                 Ok(scale * step)
@@ -184,13 +187,13 @@ impl Path {
                 // over all dofs.
                 let mut qf = vec![0.0; ordering.n_eq];
                 for (g, e) in ordering.free_dofs() {
-                    if n.dofs.kind[g] == DofKind::Free {
+                    if n.structure.dofs.kind[g] == DofKind::Free {
                         qf[e] = fref[g];
                     }
                 }
                 tangent.solve(&mut qf);
                 let scatter = |v: &[f64]| {
-                    let mut out = vec![0.0; n.dofs.len()];
+                    let mut out = vec![0.0; n.structure.dofs.len()];
                     for (g, e) in ordering.free_dofs() {
                         out[g] = v[e];
                     }
@@ -229,7 +232,7 @@ impl Path {
                 }
                 *lambda += delta;
                 factors.fill(*lambda);
-                *fext = n.external_force(factors);
+                *fext = n.structure.external_force(factors);
                 let step = step2.sqrt();
                 bound.moved(step);
                 Ok(step)

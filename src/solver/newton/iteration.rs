@@ -3,7 +3,6 @@
 //! and its reference force, equilibrium, divergence, chattering, a node too deep, the
 //! round-off floor, and the factor-and-solve that names a singular dof.
 
-use std::ops::Deref;
 use std::sync::Arc;
 
 use super::failure::AttemptError;
@@ -21,7 +20,7 @@ use crate::solver::structure::Structure;
 /// held there (a prescribed displacement driving a node into an obstacle).
 const MAX_MULTIPLIER_UPDATES: usize = 50;
 
-/// What a Newton attempt reads: the structure (through `Deref`), the last converged state, and
+/// What a Newton attempt reads: the structure, the last converged state, and
 /// the scratch space it borrows buffers from.
 #[derive(Clone, Copy)]
 pub struct Newton<'a> {
@@ -31,14 +30,6 @@ pub struct Newton<'a> {
     pub state: &'a State,
     /// Scratch space.
     pub work: &'a Workspace,
-}
-
-impl Deref for Newton<'_> {
-    type Target = Structure;
-
-    fn deref(&self) -> &Structure {
-        self.structure
-    }
 }
 
 impl<'a> Newton<'a> {
@@ -59,7 +50,7 @@ impl<'a> Newton<'a> {
     /// Whether this attempt's Newton updates take the chords' stretch out
     /// (`SolverParams::stretch_correction`).
     pub fn stretch_correcting(&self) -> bool {
-        match self.params.stretch_correction {
+        match self.structure.params.stretch_correction {
             StretchCorrection::Never => false,
             StretchCorrection::AfterCutBack => self.state.cut_back,
             StretchCorrection::Always => true,
@@ -84,11 +75,14 @@ impl<'a> Newton<'a> {
     /// would loosen the test of every other dof.
     pub(crate) fn residual_norms(&self, asm: &Assembled, fext: &ExternalForce) -> (f64, f64) {
         let ext2: f64 = (fext.0.iter())
-            .filter(|&&(g, _)| self.dofs.kind[g] == DofKind::Free)
+            .filter(|&&(g, _)| self.structure.dofs.kind[g] == DofKind::Free)
             .map(|&(_, f)| f * f)
             .sum();
         let reac2: f64 = asm.held_internal.iter().map(|i| i * i).sum();
-        let reference = ext2.sqrt().max(reac2.sqrt()).max(self.force_floor);
+        let reference = ext2
+            .sqrt()
+            .max(reac2.sqrt())
+            .max(self.structure.force_floor);
         (asm.unbalanced_norm2.sqrt(), reference)
     }
 
@@ -135,7 +129,7 @@ impl<'a> Newton<'a> {
         floor: f64,
         at_floor: bool,
     ) -> Result<bool, AttemptError> {
-        let p = &self.params;
+        let p = &self.structure.params;
         let bound = p.roundoff_bound.max(p.tolerance);
         if at_floor && rel > bound {
             return Err(AttemptError::AtFloor {
@@ -156,7 +150,7 @@ impl<'a> Newton<'a> {
         pass_iter: usize,
         iterations: usize,
     ) -> Result<(), AttemptError> {
-        let p = &self.params;
+        let p = &self.structure.params;
         if rel > p.divergence && pass_iter > 0 {
             return Err(AttemptError::Diverged {
                 iteration: iterations,
@@ -178,8 +172,8 @@ impl<'a> Newton<'a> {
         let total = so_far + more;
         // Every candidate node may touch, let go and touch again (one change per pass once an
         // active set repeats); beyond that, the allowance is for chattering.
-        let candidates = self.candidate_nodes + self.obstacle_candidates.len();
-        if total > self.params.max_active_set_changes + 4 * candidates {
+        let candidates = self.structure.candidate_nodes + self.structure.obstacle_candidates.len();
+        if total > self.structure.params.max_active_set_changes + 4 * candidates {
             return Err(AttemptError::Chattering { changes: total });
         }
         Ok(total)
@@ -193,7 +187,7 @@ impl<'a> Newton<'a> {
         d: &[f64],
         reference: f64,
     ) -> (f64, f64) {
-        let scale = self.coordinate_scale(d);
+        let scale = self.structure.coordinate_scale(d);
         (
             scale,
             f64::EPSILON * tangent.max_diagonal() * scale / reference,
@@ -212,7 +206,7 @@ impl<'a> Newton<'a> {
         tangent
             .factor_and_solve(0.0, rhs)
             .map_err(|sp| AttemptError::Singular {
-                dof: self.equation_label(ord, sp.equation),
+                dof: self.structure.equation_label(ord, sp.equation),
             })
     }
 }

@@ -30,13 +30,18 @@ impl Newton<'_> {
         factors: &BandMatrix,
         buf: &mut Vec<f64>,
     ) -> f64 {
-        let first = &self.dofs.first;
-        let nodes = &self.model.nodes;
+        let first = &self.structure.dofs.first;
+        let nodes = &self.structure.model.nodes;
         let at = |d: &[f64], n: usize| [nodes[n].x + d[first[n]], nodes[n].y + d[first[n] + 1]];
         buf.clear();
         buf.resize(ordering.n_eq, 0.0);
         let mut any = false;
-        let beams = self.model.beams.iter().zip(&self.elements);
+        let beams = self
+            .structure
+            .model
+            .beams
+            .iter()
+            .zip(&self.structure.elements);
         for ((beam, el), eqs) in beams.zip(&ordering.beam_eqs) {
             let (pi, pj) = (at(before, beam.i), at(before, beam.j));
             let (qi, qj) = (at(d, beam.i), at(d, beam.j));

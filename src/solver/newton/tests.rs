@@ -52,21 +52,21 @@ fn stretch_correction_turns_the_chords_of_a_tree_exactly() {
         let s = crate::test_support::solver_after(scene, 0);
         let ord = s.newton().ordering_for(&s.state.contacts);
         let rest = s.state.d.clone();
-        let mut tangent = assemble(&s.context(&ord), &rest, true, None)
+        let mut tangent = assemble(&s.structure.context(&ord), &rest, true, None)
             .tangent
             .expect("tangent");
         tangent.factor(0.0).expect("regular");
-        let first = &s.dofs.first;
+        let first = &s.structure.dofs.first;
         let at = |d: &[f64], n: usize| {
-            let node = &s.model.nodes[n];
+            let node = &s.structure.model.nodes[n];
             [node.x + d[first[n]], node.y + d[first[n] + 1]]
         };
-        let turns: Vec<f64> = (0..s.model.beams.len())
+        let turns: Vec<f64> = (0..s.structure.model.beams.len())
             .map(|e| 0.3 * (((e * 7) % 11) as f64 / 5.0 - 1.0))
             .collect();
         let mut d = rest.clone();
         let mut offset = [0.0, 0.0];
-        for (b, t) in s.model.beams.iter().zip(&turns) {
+        for (b, t) in s.structure.model.beams.iter().zip(&turns) {
             let (pi, pj) = (at(&rest, b.i), at(&rest, b.j));
             offset[0] -= t * (pj[1] - pi[1]);
             offset[1] += t * (pj[0] - pi[0]);
@@ -78,7 +78,7 @@ fn stretch_correction_turns_the_chords_of_a_tree_exactly() {
             [j[0] - i[0], j[1] - i[1]]
         };
         let chords = |d: &[f64]| -> Vec<(f64, f64)> {
-            let beams = s.model.beams.iter();
+            let beams = s.structure.model.beams.iter();
             beams
                 .map(|b| {
                     let (c0, c1) = (chord(&rest, b), chord(d, b));
@@ -117,10 +117,10 @@ fn the_floor_bound_never_falls_below_the_floor() {
     let s = crate::test_support::solver_after("mattiasson", 3);
     let ord = s.newton().ordering_for(&s.state.contacts);
     let mut d = s.state.d.clone();
-    let mut bound = FloorBound::new(s.coordinate_scale(&d));
+    let mut bound = FloorBound::new(s.structure.coordinate_scale(&d));
     let mut rng = crate::test_support::Rng(0x5eed_f100);
     for step in 0..20 {
-        let asm = assemble(&s.context(&ord), &d, true, None);
+        let asm = assemble(&s.structure.context(&ord), &d, true, None);
         let tangent = asm.tangent.expect("tangent");
         let reference = 3.0;
         let (scale, floor) = s.newton().roundoff_floor(&tangent, &d, reference);
