@@ -2,17 +2,34 @@
 //! the last converged state, a predictor and corrections with the exact tangent under the
 //! increment's constraint (`constraint.rs`), the stretch correction of an update
 //! (`stretch.rs`), the convergence, stall and divergence tests (`convergence.rs`), and the
-//! contact active-set passes (transfers during the iterations; activation and release between
-//! converged passes; release of contacts that turn tensile while the structure springs back,
-//! and of obstacle contacts that do so near convergence).
+//! contact stages between the iterations.
+//!
+//! Each turn of an attempt runs its stages in this order:
+//! 1. assemble the internal forces and tangent at the iterate (and a snap's viscous force);
+//! 2. while the structure springs back from a contact let go, release the node-on-beam
+//!    contacts that turn tensile (`ContactSet::release_tensile`);
+//! 3. judge the iterate: equilibrium, the round-off floor, a stall; near equilibrium, obstacle
+//!    contacts that turned tensile let go (`ContactSet::obstacle_changes`);
+//! 4. at a converged pass, the contact stages one after the other, each only once the one
+//!    before has nothing to change: node-on-beam activation and release
+//!    (`ContactSet::after_convergence`), obstacle contacts and their multipliers
+//!    (`ContactSet::obstacle_pass`), the friction modes (`ContactSet::friction_pass`); with
+//!    none left to change the state is accepted, otherwise a new pass starts;
+//! 5. solve for the correction and update the iterate under the constraint, the stretch
+//!    correction after it;
+//! 6. follow the contacts across element ends (`ContactSet::transfer`).
+
+use std::sync::Arc;
 
 use super::constraint::{Constraint, Path};
 use super::convergence::{FloorBound, IterationLog, Stall, STAGNATION};
 use super::failure::{AttemptError, Converged};
 use super::iteration::Newton;
 use super::viscous::Viscous;
-use crate::solver::assembly::{assemble_into, Assembled, AssemblyContext};
+use crate::solver::assembly::{assemble_into, Assembled, AssemblyContext, Ordering};
+use crate::solver::contact::ContactSet;
 use crate::solver::linear::reduce::sum_squares;
+use crate::solver::linear::BandMatrix;
 use crate::solver::report::{ContactChange, Event, IterationRecord, Observer};
 
 /// The largest correction of an attempt that starts by sliding contacts off tips, as a fraction
@@ -25,6 +42,64 @@ const SPRING_BACK_STEP: f64 = 0.2;
 /// at 1e-2 and above, faster still on those, some random drives of the robustness campaign
 /// take more passes or stop (`tsm-contact robust`, seed 1).
 const EARLY_RELEASE: f64 = 1e-3;
+
+/// What an attempt carries from one iteration to the next.
+struct Iterate {
+    /// The displacements.
+    d: Vec<f64>,
+    /// The right-hand side of the last solve (the correction).
+    rhs: Vec<f64>,
+    /// The contact set the iterate is assembled with.
+    contacts: ContactSet,
+    /// The contact events so far.
+    events: Vec<Event>,
+    /// The equation ordering of `contacts`.
+    ordering: Arc<Ordering>,
+    /// The assembly at `d` (its tangent taken out while it is factored).
+    asm: Assembled,
+    /// Whether the next solve is the predictor.
+    predictor: bool,
+    /// Newton iterations so far.
+    iterations: usize,
+    /// Iterations of the current pass (since the contact set last changed).
+    pass_iter: usize,
+    /// Active-set changes so far (chattering is counted from them).
+    changes: usize,
+    /// The norm of the last correction.
+    last_step: f64,
+    /// Whether a contact let go: node-on-beam contacts that turn tensile while the structure
+    /// springs back are released at once.
+    springback: bool,
+    /// The iteration records.
+    log: IterationLog,
+    /// The stall test of the current pass.
+    stall: Stall,
+    /// The bound on the round-off floor.
+    bound: FloorBound,
+}
+
+/// The residual of an iterate: its norm and the reference force it is measured against.
+#[derive(Clone, Copy)]
+struct Residual {
+    norm: f64,
+    reference: f64,
+}
+
+impl Residual {
+    fn relative(&self) -> f64 {
+        self.norm / self.reference
+    }
+}
+
+/// What judging an iterate (stages 3 and 4) decides.
+enum Verdict {
+    /// Go on iterating: solve for the next correction.
+    Correct,
+    /// The contact set changed: assemble again at the same displacements.
+    Again,
+    /// The state is accepted, at this round-off floor.
+    Accept { floor: f64 },
+}
 
 impl Newton<'_> {
     /// One attempt to meet `constraint` from the last converged state.
@@ -42,9 +117,56 @@ impl Newton<'_> {
         viscous: Option<&Viscous<'_>>,
         obs: &mut dyn Observer,
     ) -> Result<Converged, AttemptError> {
-        let p = &self.structure.params;
-        // The buffers of the last attempt (fresh memory would cost page faults).
-        let (mut d, mut rhs) = {
+        let mut it = self.first_iterate(increment, slide_off);
+        let mut max_step = self.structure.params.max_step;
+        if slide_off.is_some() {
+            max_step = max_step.min(SPRING_BACK_STEP * self.structure.model_size());
+        }
+        let mut path = Path::new(constraint, self);
+        let mut reuse = self.reuses_the_converged_assembly(&mut it, &path, viscous);
+        loop {
+            // 1. The assembly.
+            let residual = self.assemble(&mut it, &path, viscous, std::mem::take(&mut reuse));
+            // 2. Releases while springing back.
+            if self.spring_back(&mut it, increment)? {
+                continue;
+            }
+            let mut tangent = it.asm.tangent.take().expect("tangent requested");
+            if it.predictor {
+                for (e, c) in it.asm.unbalanced.iter_mut().zip(&it.asm.coupling) {
+                    *e -= c;
+                }
+                it.log.r0 = Some(sum_squares(&it.asm.unbalanced).sqrt());
+            } else {
+                // 3 and 4. The iterate judged, and the contact stages at a converged pass.
+                match self.judge(&mut it, &tangent, residual, increment, obs)? {
+                    Verdict::Correct => {}
+                    Verdict::Again => continue,
+                    Verdict::Accept { floor } => {
+                        let at = (residual, floor, increment);
+                        return Ok(self.accept(it, tangent, &path, at, viscous));
+                    }
+                }
+            }
+            // 5. The correction.
+            self.correct(&mut it, &mut path, &mut tangent, viscous, max_step)?;
+            it.asm.tangent = Some(tangent);
+            // 6. Transfers: a transfer during the iterations follows the iterate (the next
+            // iterate may move the contact back), not an active-set change, so not counted as
+            // chattering.
+            let view = self.view();
+            let (d, iterations) = (&it.d, it.iterations);
+            if (it.contacts).transfer(&view, d, increment, iterations, false, &mut it.events) > 0 {
+                it.ordering = self.ordering_for(&it.contacts);
+            }
+        }
+    }
+
+    /// The iterate an attempt starts from: the last converged state, with the buffers of the
+    /// last attempt (fresh memory would cost page faults), its contacts within `slide_off` of
+    /// a free end slid off it.
+    fn first_iterate(&self, increment: usize, slide_off: Option<f64>) -> Iterate {
+        let (mut d, rhs) = {
             let mut spare = self.work.spare.borrow_mut();
             (std::mem::take(&mut spare.d), std::mem::take(&mut spare.rhs))
         };
@@ -53,246 +175,322 @@ impl Newton<'_> {
         let mut contacts = self.state.contacts.clone();
         contacts.begin_attempt();
         let mut events = Vec::new();
-        let mut max_step = p.max_step;
         if let Some(margin) = slide_off {
             contacts.slide_off_tips(&self.view(), &self.state.d, margin, increment, &mut events);
-            max_step = max_step.min(SPRING_BACK_STEP * self.structure.model_size());
         }
-        let mut path = Path::new(constraint, self);
-        let mut ordering = self.ordering_for(&contacts);
-        let mut predictor = true;
-        let mut iterations = 0;
-        let mut log = IterationLog::default();
-        let mut changes = 0;
-        let mut pass_iter = 0;
-        let mut last_step = 0.0;
-        let mut springback = false;
-        let mut stall = Stall::new();
-        let mut bound = FloorBound::new(self.structure.coordinate_scale(&d));
-        // The stretch correction (`take_out_stretch`), and the displacements before each
-        // update that it starts from.
-        let correcting = self.stretch_correcting();
-        let mut before = Vec::new();
-        // Buffers reused by every iteration: the assembly (band tangent included) and the
-        // right-hand side.
-        let mut asm = Assembled::default();
-        // The predictor's assembly is the last converged one when nothing differs: no contact
-        // element or obstacle contact and no prescribed increment (which would need the
-        // coupling K_fp dp).
-        let mut reuse = false;
-        if ordering.links.is_empty()
-            && viscous.is_none()
-            && contacts.obstacles.links.is_empty()
-            && path.starts_at_the_converged_state()
-            && !self.structure.model.has_followers()
+        let bound = FloorBound::new(self.structure.coordinate_scale(&d));
+        Iterate {
+            d,
+            rhs,
+            ordering: self.ordering_for(&contacts),
+            contacts,
+            events,
+            asm: Assembled::default(),
+            predictor: true,
+            iterations: 0,
+            pass_iter: 0,
+            changes: 0,
+            last_step: 0.0,
+            springback: false,
+            log: IterationLog::default(),
+            stall: Stall::new(),
+            bound,
+        }
+    }
+
+    /// Whether the predictor's assembly is the last converged one, taken into `it`: when
+    /// nothing differs (no contact element or obstacle contact, no prescribed increment, which
+    /// would need the coupling K_fp dp, no follower load and no viscous force).
+    fn reuses_the_converged_assembly(
+        &self,
+        it: &mut Iterate,
+        path: &Path,
+        viscous: Option<&Viscous<'_>>,
+    ) -> bool {
+        if !it.ordering.links.is_empty()
+            || viscous.is_some()
+            || !it.contacts.obstacles.links.is_empty()
+            || !path.starts_at_the_converged_state()
+            || self.structure.model.has_followers()
         {
-            if let Some(kept) = self.work.converged_assembly.take(self.state.increment) {
-                asm = kept;
-                asm.coupling.clear();
-                reuse = asm
-                    .tangent
-                    .as_ref()
-                    .is_some_and(|t| t.len() == ordering.n_eq);
-            }
+            return false;
         }
-        loop {
-            let fext = path.external_force();
-            let loads = Self::loads_at_equations(fext, &ordering);
-            let grips = contacts.grips(&self.view());
+        let Some(kept) = self.work.converged_assembly.take(self.state.increment) else {
+            return false;
+        };
+        it.asm = kept;
+        it.asm.coupling.clear();
+        (it.asm.tangent.as_ref()).is_some_and(|t| t.len() == it.ordering.n_eq)
+    }
+
+    /// Stage 1: the internal forces and tangent at the iterate (reloaded with the current
+    /// loads where `reuse`), with a snap's viscous force; returns the residual.
+    fn assemble(
+        &self,
+        it: &mut Iterate,
+        path: &Path,
+        viscous: Option<&Viscous<'_>>,
+        reuse: bool,
+    ) -> Residual {
+        let p = &self.structure.params;
+        let fext = path.external_force();
+        let loads = Self::loads_at_equations(fext, &it.ordering);
+        if reuse {
+            it.asm.reload(&loads);
+        } else {
+            let grips = it.contacts.grips(&self.view());
             let ctx = AssemblyContext {
-                contact: p.contact_options(pass_iter + 1),
+                contact: p.contact_options(it.pass_iter + 1),
                 loads: &loads,
-                follower: self
-                    .structure
-                    .model
-                    .has_followers()
-                    .then(|| path.load_factors()),
-                obstacles: &contacts.obstacles.links,
+                follower: (self.structure.model.has_followers()).then(|| path.load_factors()),
+                obstacles: &it.contacts.obstacles.links,
                 grips: &grips,
-                ..self.structure.context(&ordering)
+                ..self.structure.context(&it.ordering)
             };
-            if std::mem::take(&mut reuse) {
-                asm.reload(&loads);
-            } else {
-                let dp = path.dp().filter(|_| predictor);
-                assemble_into(&ctx, &d, true, dp, &mut asm);
-            }
-            if let Some(v) = viscous {
-                v.load(&d, &ordering, &mut asm);
-            }
-            let (norm, reference) = self.residual_norms(&asm, fext);
-            if springback && !predictor && !contacts.beams.guard.one_at_a_time() {
-                let released = contacts.release_tensile(
-                    &self.view(),
-                    &asm,
-                    increment,
-                    iterations,
-                    &mut events,
-                );
-                if released > 0 {
-                    changes = self.count_changes(changes, released)?;
-                    ordering = self.ordering_for(&contacts);
-                    continue;
-                }
-            }
-            let mut tangent = asm.tangent.take().expect("tangent requested");
-            if predictor {
-                for (e, c) in asm.unbalanced.iter_mut().zip(&asm.coupling) {
-                    *e -= c;
-                }
-                log.r0 = Some(sum_squares(&asm.unbalanced).sqrt());
-            } else {
-                let rel = norm / reference;
-                log.record(
-                    obs,
-                    IterationRecord {
-                        increment,
-                        iteration: iterations,
-                        residual: norm,
-                        relative_residual: rel,
-                        reference,
-                        step_norm: last_step,
-                        active_contacts: contacts.beams.active.len(),
-                    },
-                )?;
-                let (scale, floor) = if bound.may_decide(rel, &tangent, reference, p, pass_iter) {
-                    self.roundoff_floor(&tangent, &d, reference)
-                } else {
-                    bound.get(&tangent, reference)
-                };
-                let at_floor = stall.at_floor(rel, floor, ordering.n_eq, last_step, scale);
-                let accepted = self.equilibrium_reached(rel, floor, at_floor)?;
-                // At the round-off floor the state is as converged as it can be: let the contact
-                // state settle there too (e.g. a node that must slide off a tip), even if the
-                // tolerance itself is out of reach for this contact set.
-                let settled = rel <= STAGNATION * floor;
-                // An obstacle contact that turned tensile lets go before the pass has
-                // converged, once it is near (`EARLY_RELEASE`): a strip peeling off a table
-                // lets go node after node, a pass for each, and every pass saved is an
-                // iteration or two. Touches wait for the converged pass.
-                if !accepted
-                    && !settled
-                    && pass_iter > 0
-                    && rel < EARLY_RELEASE
-                    && !contacts.obstacles.links.is_empty()
-                    && !contacts.obstacles.guard.one_at_a_time()
-                {
-                    let changed = contacts.obstacle_changes(&self.view(), &d, &asm, true);
-                    if changed > 0 {
-                        changes = self.count_changes(changes, changed)?;
-                        ordering = self.ordering_for(&contacts);
-                        pass_iter = 0;
-                        stall = Stall::new();
-                        continue;
-                    }
-                }
-                if accepted || settled {
-                    let mut changed = contacts.after_convergence(
-                        &self.view(),
-                        &d,
-                        &asm,
-                        increment,
-                        iterations,
-                        &mut events,
-                    );
-                    let mut updated = 0;
-                    if changed == 0 {
-                        (changed, updated) = contacts.obstacle_pass(&self.view(), &d, &asm);
-                    }
-                    // Stick and slip are judged once the normal forces hold: every contact
-                    // made and every obstacle gap closed.
-                    if changed == 0 && updated == 0 {
-                        changed = contacts.friction_pass(&self.view(), &asm);
-                    }
-                    self.too_deep(&contacts)?;
-                    if changed == 0 && updated == 0 && accepted {
-                        let view = self.view();
-                        contacts.obstacle_settle(&view, increment, iterations, &mut events);
-                        contacts.settle_friction(&view, &asm, increment, iterations, &mut events);
-                        let max_penetration = contacts.max_penetration(&self.view(), &d);
-                        // A snap's step: its state's own assembly, and how far that is from
-                        // equilibrium.
-                        let equilibrium_residual = viscous.map(|v| {
-                            v.unload(&d, &ordering, &mut asm);
-                            asm.unbalanced_norm2.sqrt() / reference
-                        });
-                        // Unfactored: the next increment's predictor may start from it.
-                        asm.tangent = Some(tangent);
-                        self.work.spare.borrow_mut().rhs = rhs;
-                        return Ok(Converged {
-                            max_penetration,
-                            d,
-                            load_factors: path.load_factors().to_vec(),
-                            contacts,
-                            assembled: asm,
-                            iterations,
-                            iterations_8_orders: log.it8,
-                            relative_residual: rel,
-                            reference,
-                            roundoff_floor: floor,
-                            equilibrium_residual,
-                            residuals: log.residuals,
-                            events,
-                        });
-                    }
-                    if changed > 0 {
-                        // A contact let go: the structure springs back, and contacts that turn
-                        // tensile on the way are released as soon as they do.
-                        springback |= events.iter().any(|e| {
-                            matches!(e, Event::Contact(c) if matches!(c.change, ContactChange::Released | ContactChange::SlidOff))
-                        });
-                        changes = self.count_changes(changes, changed)?;
-                        ordering = self.ordering_for(&contacts);
-                        pass_iter = 0;
-                        stall = Stall::new();
-                        continue;
-                    }
-                    if updated > 0 {
-                        // The same contacts with new multipliers: another pass closes the gaps.
-                        self.gaps_closing(&contacts)?;
-                        pass_iter = 0;
-                        stall = Stall::new();
-                        continue;
-                    }
-                }
-                self.pass_failed(rel, floor, pass_iter, iterations)?;
-            }
-            // The unbalanced force is the right-hand side, which the solve overwrites; the next
-            // assembly gets the last right-hand side's storage.
-            std::mem::swap(&mut rhs, &mut asm.unbalanced);
-            if let Some(v) = viscous {
-                v.stiffen(&ordering, &mut tangent);
-            }
-            self.factor_and_solve(&mut tangent, &ordering, &mut rhs)?;
-            if correcting {
-                before.clear();
-                before.extend_from_slice(&d);
-            }
-            let step = path.update(
-                self, predictor, &ordering, &tangent, &rhs, &mut d, max_step, iterations, &mut log,
-                &mut bound,
-            );
-            asm.tangent = Some(tangent);
-            last_step = step?;
-            predictor = false;
-            if correcting {
-                let factors = asm.tangent.as_ref().expect("factored");
-                let after = path.counts_moves().then(|| d.clone());
-                let moved = self.take_out_stretch(&before, &mut d, &ordering, factors, &mut rhs);
-                bound.moved(moved);
-                if let Some(after) = after {
-                    path.moved(&after, &d);
-                }
-            }
-            iterations += 1;
-            pass_iter += 1;
-            let moved =
-                contacts.transfer(&self.view(), &d, increment, iterations, false, &mut events);
-            // A transfer during the iterations follows the iterate (the next iterate may move
-            // the contact back): not an active-set change, so not counted as chattering.
-            if moved > 0 {
-                ordering = self.ordering_for(&contacts);
+            let dp = path.dp().filter(|_| it.predictor);
+            assemble_into(&ctx, &it.d, true, dp, &mut it.asm);
+        }
+        if let Some(v) = viscous {
+            v.load(&it.d, &it.ordering, &mut it.asm);
+        }
+        let (norm, reference) = self.residual_norms(&it.asm, fext);
+        Residual { norm, reference }
+    }
+
+    /// Stage 2: while the structure springs back from a contact let go, the node-on-beam
+    /// contacts that turn tensile are released as soon as they do. Returns whether any was.
+    fn spring_back(&self, it: &mut Iterate, increment: usize) -> Result<bool, AttemptError> {
+        if !it.springback || it.predictor || it.contacts.beams.guard.one_at_a_time() {
+            return Ok(false);
+        }
+        let view = self.view();
+        let released =
+            (it.contacts).release_tensile(&view, &it.asm, increment, it.iterations, &mut it.events);
+        if released == 0 {
+            return Ok(false);
+        }
+        it.changes = self.count_changes(it.changes, released)?;
+        it.ordering = self.ordering_for(&it.contacts);
+        Ok(true)
+    }
+
+    /// Stages 3 and 4: record the iterate's residual and judge it, and at a converged pass run
+    /// the contact stages.
+    fn judge(
+        &self,
+        it: &mut Iterate,
+        tangent: &BandMatrix,
+        residual: Residual,
+        increment: usize,
+        obs: &mut dyn Observer,
+    ) -> Result<Verdict, AttemptError> {
+        let p = &self.structure.params;
+        let rel = residual.relative();
+        let record = IterationRecord {
+            increment,
+            iteration: it.iterations,
+            residual: residual.norm,
+            relative_residual: rel,
+            reference: residual.reference,
+            step_norm: it.last_step,
+            active_contacts: it.contacts.beams.active.len(),
+        };
+        it.log.record(obs, record)?;
+        let reference = residual.reference;
+        let (scale, floor) = if (it.bound).may_decide(rel, tangent, reference, p, it.pass_iter) {
+            self.roundoff_floor(tangent, &it.d, reference)
+        } else {
+            it.bound.get(tangent, reference)
+        };
+        let n_eq = it.ordering.n_eq;
+        let at_floor = (it.stall).at_floor(rel, floor, n_eq, it.last_step, scale);
+        let accepted = self.equilibrium_reached(rel, floor, at_floor)?;
+        // At the round-off floor the state is as converged as it can be: let the contact state
+        // settle there too (e.g. a node that must slide off a tip), even if the tolerance
+        // itself is out of reach for this contact set.
+        let settled = rel <= STAGNATION * floor;
+        if !accepted && !settled && self.lets_go_early(it, rel)? {
+            return Ok(Verdict::Again);
+        }
+        if accepted || settled {
+            let verdict = self.contact_stages(it, increment, accepted.then_some(floor))?;
+            if !matches!(verdict, Verdict::Correct) {
+                return Ok(verdict);
             }
         }
+        self.pass_failed(rel, floor, it.pass_iter, it.iterations)?;
+        Ok(Verdict::Correct)
+    }
+
+    /// Stage 3's early release: an obstacle contact that turned tensile lets go before the pass
+    /// has converged, once it is near (`EARLY_RELEASE`): a strip peeling off a table lets go
+    /// node after node, a pass for each, and every pass saved is an iteration or two. Touches
+    /// wait for the converged pass. Returns whether any let go.
+    fn lets_go_early(&self, it: &mut Iterate, rel: f64) -> Result<bool, AttemptError> {
+        if it.pass_iter == 0
+            || rel >= EARLY_RELEASE
+            || it.contacts.obstacles.links.is_empty()
+            || it.contacts.obstacles.guard.one_at_a_time()
+        {
+            return Ok(false);
+        }
+        let changed = (it.contacts).obstacle_changes(&self.view(), &it.d, &it.asm, true);
+        if changed == 0 {
+            return Ok(false);
+        }
+        it.changes = self.count_changes(it.changes, changed)?;
+        it.ordering = self.ordering_for(&it.contacts);
+        it.new_pass();
+        Ok(true)
+    }
+
+    /// Stage 4, at a converged pass: node-on-beam activation and release, then (with none)
+    /// obstacle contacts and their multipliers, then (with neither) the friction modes. Stick
+    /// and slip are judged once the normal forces hold: every contact made and every obstacle
+    /// gap closed. `Accept` where nothing changed and the state is in equilibrium (`accepted`:
+    /// at that round-off floor); `Again` for a new pass; `Correct` where the pass only
+    /// settled at the round-off floor.
+    fn contact_stages(
+        &self,
+        it: &mut Iterate,
+        increment: usize,
+        accepted: Option<f64>,
+    ) -> Result<Verdict, AttemptError> {
+        let view = self.view();
+        let (d, iterations) = (&it.d, it.iterations);
+        let mut changed = (it.contacts).after_convergence(
+            &view,
+            d,
+            &it.asm,
+            increment,
+            iterations,
+            &mut it.events,
+        );
+        let mut updated = 0;
+        if changed == 0 {
+            (changed, updated) = it.contacts.obstacle_pass(&view, d, &it.asm);
+        }
+        if changed == 0 && updated == 0 {
+            changed = it.contacts.friction_pass(&view, &it.asm);
+        }
+        self.too_deep(&it.contacts)?;
+        if let Some(floor) = accepted.filter(|_| changed == 0 && updated == 0) {
+            return Ok(Verdict::Accept { floor });
+        }
+        if changed > 0 {
+            // A contact let go: the structure springs back, and contacts that turn tensile on
+            // the way are released as soon as they do.
+            it.springback |= it.events.iter().any(|e| {
+                matches!(e, Event::Contact(c) if matches!(c.change, ContactChange::Released | ContactChange::SlidOff))
+            });
+            it.changes = self.count_changes(it.changes, changed)?;
+            it.ordering = self.ordering_for(&it.contacts);
+            it.new_pass();
+            return Ok(Verdict::Again);
+        }
+        if updated > 0 {
+            // The same contacts with new multipliers: another pass closes the gaps.
+            self.gaps_closing(&it.contacts)?;
+            it.new_pass();
+            return Ok(Verdict::Again);
+        }
+        Ok(Verdict::Correct)
+    }
+
+    /// The accepted state (with its residual and round-off floor, at `increment`): the
+    /// contacts settled against the last accepted ones (the events of the obstacle contacts
+    /// and friction modes), and a snap's residual without its viscous force.
+    fn accept(
+        &self,
+        mut it: Iterate,
+        tangent: BandMatrix,
+        path: &Path,
+        (residual, floor, increment): (Residual, f64, usize),
+        viscous: Option<&Viscous<'_>>,
+    ) -> Converged {
+        let view = self.view();
+        let iterations = it.iterations;
+        (it.contacts).obstacle_settle(&view, increment, iterations, &mut it.events);
+        (it.contacts).settle_friction(&view, &it.asm, increment, iterations, &mut it.events);
+        let max_penetration = it.contacts.max_penetration(&view, &it.d);
+        // A snap's step: its state's own assembly, and how far that is from equilibrium.
+        let equilibrium_residual = viscous.map(|v| {
+            v.unload(&it.d, &it.ordering, &mut it.asm);
+            it.asm.unbalanced_norm2.sqrt() / residual.reference
+        });
+        // Unfactored: the next increment's predictor may start from it.
+        it.asm.tangent = Some(tangent);
+        self.work.spare.borrow_mut().rhs = it.rhs;
+        Converged {
+            max_penetration,
+            d: it.d,
+            load_factors: path.load_factors().to_vec(),
+            contacts: it.contacts,
+            assembled: it.asm,
+            iterations,
+            iterations_8_orders: it.log.it8,
+            relative_residual: residual.relative(),
+            reference: residual.reference,
+            roundoff_floor: floor,
+            equilibrium_residual,
+            residuals: it.log.residuals,
+            events: it.events,
+        }
+    }
+
+    /// Stage 5: solve for the correction with the factored tangent and update the iterate
+    /// under the constraint, then take the chords' stretch out where asked.
+    fn correct(
+        &self,
+        it: &mut Iterate,
+        path: &mut Path,
+        tangent: &mut BandMatrix,
+        viscous: Option<&Viscous<'_>>,
+        max_step: f64,
+    ) -> Result<(), AttemptError> {
+        // The unbalanced force is the right-hand side, which the solve overwrites; the next
+        // assembly gets the last right-hand side's storage.
+        std::mem::swap(&mut it.rhs, &mut it.asm.unbalanced);
+        if let Some(v) = viscous {
+            v.stiffen(&it.ordering, tangent);
+        }
+        self.factor_and_solve(tangent, &it.ordering, &mut it.rhs)?;
+        // The stretch correction (`take_out_stretch`) starts from the displacements before the
+        // update.
+        let before = self.stretch_correcting().then(|| it.d.clone());
+        let step = path.update(
+            self,
+            it.predictor,
+            &it.ordering,
+            tangent,
+            &it.rhs,
+            &mut it.d,
+            max_step,
+            it.iterations,
+            &mut it.log,
+            &mut it.bound,
+        );
+        it.last_step = step?;
+        it.predictor = false;
+        if let Some(before) = before {
+            let after = path.counts_moves().then(|| it.d.clone());
+            let moved =
+                self.take_out_stretch(&before, &mut it.d, &it.ordering, tangent, &mut it.rhs);
+            it.bound.moved(moved);
+            if let Some(after) = after {
+                path.moved(&after, &it.d);
+            }
+        }
+        it.iterations += 1;
+        it.pass_iter += 1;
+        Ok(())
+    }
+}
+
+impl Iterate {
+    /// A new pass starts: the contact set or its multipliers changed.
+    fn new_pass(&mut self) {
+        self.pass_iter = 0;
+        self.stall = Stall::new();
     }
 }
