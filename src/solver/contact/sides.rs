@@ -439,6 +439,10 @@ impl ContactSet {
             let Some((_, was)) = self.side_of(cv, n, b, Some(&views.before)) else {
                 continue;
             };
+            // A contact that slid off an end in this attempt went round it (`crossing`).
+            if self.beams.slid_off.contains(&(n, b)) && Self::over_an_end_half(cv, n, b, was) {
+                continue;
+            }
             if self.probe_near(cv, d, n, b, Some(&views.now)).is_some() {
                 continue;
             }
