@@ -1,5 +1,6 @@
 //! The held dofs of an accepted state: every support where the model holds it (no
-//! displacement from rest) and every prescribed dof at the value its record gives. A state
+//! displacement from rest), every prescribed dof at the value its record gives, and every
+//! node that moves with a pilot (a moving polyline's corner) displaced as its pilot is. A state
 //! whose prescribed node stayed behind while its record says it moved is in equilibrium from
 //! its own forces, so only this check tells it apart.
 
@@ -38,7 +39,7 @@ pub fn out_of_place(
     if topology.prescribed.len() != r.prescribed.len() {
         return Vec::new();
     }
-    let mut found = Vec::new();
+    let mut found = with_their_pilots(topology, slot, rest, r, (size, roundoff));
     for (node, dof) in &topology.held {
         let (Some(&s), Some(&at_rest)) = (slot.get(node), rest.get(node)) else {
             continue;
@@ -69,6 +70,48 @@ pub fn out_of_place(
                     "node {node}'s {dof} is {value:.9e}, {off:.3e} off {what} {target:.9e}"
                 ),
             });
+        }
+    }
+    found
+}
+
+/// Every node of `r` that moves with a pilot (`TopologyNode::moves_with`) whose u or v is off
+/// its pilot's by more than `SLACK` of `size` (m) and the round-off `roundoff`.
+fn with_their_pilots(
+    topology: &Topology,
+    slot: &HashMap<u32, usize>,
+    rest: &HashMap<u32, [f64; 2]>,
+    r: &IncrementRecord,
+    (size, roundoff): (f64, f64),
+) -> Vec<Finding> {
+    let mut found = Vec::new();
+    for n in &topology.nodes {
+        let Some(pilot) = n.moves_with else { continue };
+        let (Some(&s), Some(&sp), Some(&rp)) =
+            (slot.get(&n.id), slot.get(&pilot), rest.get(&pilot))
+        else {
+            continue;
+        };
+        for dof in ["u", "v"] {
+            let (Some(own), Some(its)) = (
+                displacement(r, s, [n.x, n.y], dof),
+                displacement(r, sp, rp, dof),
+            ) else {
+                continue;
+            };
+            let off = own - its;
+            if off.abs() > SLACK * size.max(its.abs()).max(1.0) + roundoff {
+                found.push(Finding {
+                    increment: r.increment,
+                    node: Some(n.id),
+                    body: None,
+                    element: None,
+                    what: format!(
+                        "node {}'s {dof} is {own:.9e}, {off:.3e} off its pilot {pilot}'s {dof}, {its:.9e}",
+                        n.id
+                    ),
+                });
+            }
         }
     }
     found

@@ -74,6 +74,10 @@ pub struct TopologyNode {
     /// its thickest element's thickness.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub clearance: f64,
+    /// The pilot (id) whose u and v it moves with: a moving polyline's corner that touches
+    /// elements.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub moves_with: Option<u32>,
 }
 
 /// Whether a size is zero (left out of the file).
@@ -207,6 +211,7 @@ impl Topology {
                     x: n.x,
                     y: n.y,
                     clearance: n.clearance,
+                    moves_with: n.moves_with.map(id),
                 })
                 .collect(),
             elements: (model.beams.iter())

@@ -64,6 +64,12 @@ pub fn free_parts(model: &Model, resting: &[(usize, [f64; 2])]) -> Vec<FreePart>
     for p in &model.prescribed {
         hold(p.node, p.dof);
     }
+    for (k, node) in model.nodes.iter().enumerate() {
+        if node.moves_with.is_some() {
+            hold(k, Dof::U);
+            hold(k, Dof::V);
+        }
+    }
     parts
         .into_iter()
         .filter_map(|nodes| {

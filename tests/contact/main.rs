@@ -17,6 +17,7 @@ mod mesh_node_contact;
 mod obstacle_campaign;
 mod obstacles;
 mod oracle;
+mod punch;
 mod rims;
 mod self_contact;
 mod snap;

@@ -117,6 +117,7 @@ pub(super) fn geometry<'a>(
             // The radius; half the thickest element's thickness is added once the bodies are
             // meshed (`clearances`).
             clearance: radius,
+            moves_with: None,
         });
     }
     let explicit = nodes.len();
@@ -245,6 +246,7 @@ pub(super) fn geometry<'a>(
                         y,
                         rotation: true,
                         clearance: 0.0,
+                        moves_with: None,
                     });
                     nodes.len() - 1
                 }

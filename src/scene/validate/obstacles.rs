@@ -142,12 +142,13 @@ pub(super) fn obstacles(
 /// the force at the point of the element's deformed shape touched, sliding along the element
 /// and on to the next: a solid circle's centre with its radius (its pilot, which sits there,
 /// or for a fixed circle a centre node of its own, held, whose reactions are the force on
-/// it), or each convex corner of a fixed polyline (a held node of its own; its faces keep
-/// touching the nodes).
+/// it), or each convex corner of a polyline (a node of its own, held where the polyline is
+/// fixed and moving with its pilot where it has one; its faces keep touching the nodes).
 pub(super) struct Roller {
     /// Index of the obstacle.
     pub(super) obstacle: usize,
-    /// The pilot node (index) of a circle that has one.
+    /// The obstacle's pilot node (index), if it has one: a circle's centre node, or the node
+    /// a polyline's corners move with.
     pub(super) pilot: Option<usize>,
     /// The points that touch, at rest (m): a circle's centre, a polyline's convex corners.
     pub(super) points: Vec<[f64; 2]>,
@@ -171,8 +172,8 @@ fn thick(bodies: &[usize], g: &Geometry) -> bool {
 }
 
 /// Obstacle `k` (`o`, of shape `shape` and pilot `pilot`, touching `bodies`) as a `Roller`:
-/// a frictionless solid circle, its pilot, if any, at its centre, or a fixed polyline with a
-/// convex corner (with friction only on bodies without a thickness), touching bodies.
+/// a frictionless solid circle, its pilot, if any, at its centre, or a polyline with a convex
+/// corner (with friction only on bodies without a thickness), touching bodies.
 fn roller(
     ctx: &Ctx,
     (k, o): (usize, &ObstacleDef),
@@ -190,8 +191,6 @@ fn roller(
              elements: other shapes touch the nodes"
                 .to_string(),
         )
-    } else if !corners.is_empty() && pilot.is_some() {
-        Some("a polyline's corners touch elements only where it is fixed: no pilot".to_string())
     } else if o.mu != 0.0 && thick(&bodies, g) {
         Some(format!(
             "on a body with a thickness it touches elements without friction: set mu: 0 (it is {:e})",
@@ -208,7 +207,7 @@ fn roller(
     let Some((centre, radius)) = shape.disk() else {
         return Ok(Roller {
             obstacle: k,
-            pilot: None,
+            pilot,
             points: corners,
             circle: false,
             bodies,

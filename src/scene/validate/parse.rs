@@ -186,8 +186,8 @@ fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
     for r in rollers {
         for &at in &r.points {
             // A circle's pilot, or a node of its own for a fixed circle's centre or a corner:
-            // the next id after the scene's largest, held.
-            let node = r.pilot.unwrap_or_else(|| {
+            // the next id after the scene's largest, held, or moving with the polyline's pilot.
+            let node = r.pilot.filter(|_| r.circle).unwrap_or_else(|| {
                 let id = g.nodes.iter().map(|n| n.id).max().unwrap_or(0) + 1;
                 g.nodes.push(Node {
                     id,
@@ -195,10 +195,13 @@ fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
                     y: at[1],
                     rotation: false,
                     clearance: 0.0,
+                    moves_with: r.pilot,
                 });
                 let n = g.nodes.len() - 1;
-                c.supports
-                    .extend([Dof::U, Dof::V].map(|dof| Support { node: n, dof }));
+                if r.pilot.is_none() {
+                    c.supports
+                        .extend([Dof::U, Dof::V].map(|dof| Support { node: n, dof }));
+                }
                 if r.circle {
                     obstacles[r.obstacle].pilot = Some(n);
                 }

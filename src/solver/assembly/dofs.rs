@@ -44,6 +44,14 @@ impl DofMap {
         for (p, pr) in model.prescribed.iter().enumerate() {
             kind[first[pr.node] + pr.dof.offset()] = DofKind::Prescribed(p);
         }
+        // A node that moves with a pilot is held as the pilot is (`Node::moves_with`).
+        for (n, node) in model.nodes.iter().enumerate() {
+            if let Some(p) = node.moves_with {
+                for o in 0..2 {
+                    kind[first[n] + o] = kind[first[p] + o];
+                }
+            }
+        }
         let held = (0..total).filter(|&g| kind[g] != DofKind::Free).collect();
         DofMap { first, kind, held }
     }

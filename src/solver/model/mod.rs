@@ -82,6 +82,12 @@ pub struct Node {
     /// Its radius plus half its thickest element's thickness: where it touches obstacles (m).
     #[serde(default)]
     pub clearance: f64,
+    /// The pilot node (index) this node moves with: a convex corner of a moving polyline
+    /// that touches elements. Its (u, v) are held as the pilot's are, by the same supports and
+    /// prescribed values, so that it stays where the obstacle's corner is; the reactions at
+    /// its dofs are the force on the obstacle there.
+    #[serde(default)]
+    pub moves_with: Option<usize>,
 }
 
 /// Section and material of a beam, reduced to the stiffnesses the element force equation needs.
@@ -217,7 +223,8 @@ pub struct Obstacle {
     pub shape: Shape,
     /// The node whose displacement (u, v) moves the obstacle (its u and v are supported or
     /// prescribed), or `None`: the obstacle is fixed. The force on the obstacle is that node's
-    /// reaction.
+    /// reaction, and those of its corners' nodes where they touch elements
+    /// ([`Node::moves_with`]).
     pub pilot: Option<usize>,
     /// The nodes that may touch it (node indices, ascending).
     pub nodes: Vec<usize>,

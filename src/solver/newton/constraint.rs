@@ -168,8 +168,12 @@ impl Path {
                 // prescribed part, which is not scaled, by at most as much again.
                 bound.moved(if predictor { 2.0 * step } else { scale * step });
                 if predictor {
-                    for (pr, v) in n.structure.model.prescribed.iter().zip(dp.iter()) {
-                        d[n.structure.dofs.dof(pr.node, pr.dof.offset())] += v;
+                    // Every dof a prescribed value holds: its own, and those of the nodes that
+                    // move with it (`Node::moves_with`).
+                    for &g in &n.structure.dofs.held {
+                        if let DofKind::Prescribed(k) = n.structure.dofs.kind[g] {
+                            d[g] += dp[k];
+                        }
                     }
                 }
                 Ok(scale * step)
