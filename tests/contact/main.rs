@@ -15,6 +15,7 @@ mod friction;
 mod load_paths;
 mod mesh_node_contact;
 mod obstacle_campaign;
+mod obstacle_sets;
 mod obstacles;
 mod oracle;
 mod punch;

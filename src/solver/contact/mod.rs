@@ -5,7 +5,7 @@
 //! `broad_phase.rs` culls node-body pairs and elements; `probe.rs` finds where a node lies
 //! relative to a body's deformed shape; `sides.rs` remembers sides and detects crossings;
 //! `transfer.rs` moves contacts between elements and off free ends; `active_set.rs` decides
-//! activation and release at a converged pass; `obstacles.rs` the contacts with rigid
+//! activation and release at a converged pass; `obstacles/` the contacts with rigid
 //! obstacles; `friction.rs` the stick points of frictional contacts; `cycle.rs` the guard
 //! against cycling that each of those stages keeps for an attempt.
 

@@ -2,7 +2,7 @@
 //! candidate node was last seen on relative to each candidate body, and what the assembly and
 //! the records read of it. Probing a node against a body's deformed shape is `probe.rs`, sides
 //! and crossings `sides.rs`, transfers and slide-off `transfer.rs`, activation and release at a
-//! converged pass `active_set.rs`, the contacts with rigid obstacles `obstacles.rs`. The
+//! converged pass `active_set.rs`, the contacts with rigid obstacles `obstacles/`. The
 //! contact stage reads the solver through a `ContactView`: the structure, and the last
 //! converged displacements and contact set, nothing more.
 
@@ -50,7 +50,7 @@ pub struct Stick {
 pub struct ContactSet {
     /// The node-on-beam contacts (`active_set.rs`, `sides.rs`, `transfer.rs`).
     pub beams: BeamContacts,
-    /// The contacts with rigid obstacles (`obstacles.rs`).
+    /// The contacts with rigid obstacles (`obstacles/`).
     pub obstacles: ObstacleContacts,
     /// The friction modes' passes (`friction.rs`).
     pub(super) friction: FrictionModes,

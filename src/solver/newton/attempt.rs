@@ -8,8 +8,9 @@
 //! 1. assemble the internal forces and tangent at the iterate (and a snap's viscous force);
 //! 2. while the structure springs back from a contact let go, release the node-on-beam
 //!    contacts that turn tensile (`ContactSet::release_tensile`);
-//! 3. judge the iterate: equilibrium, the round-off floor, a stall; near equilibrium, obstacle
-//!    contacts that turned tensile let go (`ContactSet::obstacle_changes`);
+//! 3. judge the iterate: equilibrium, the round-off floor, a stall; near equilibrium, the
+//!    obstacle contacts change where one turned tensile or a node went inside
+//!    (`ContactSet::predicted_changes`, else only the tensile ones let go);
 //! 4. at a converged pass, the contact stages one after the other, each only once the one
 //!    before has nothing to change: node-on-beam activation and release
 //!    (`ContactSet::after_convergence`), obstacle contacts and their multipliers
@@ -19,15 +20,12 @@
 //!    correction after it;
 //! 6. follow the contacts across element ends (`ContactSet::transfer`).
 
-use std::sync::Arc;
-
 use super::constraint::{Constraint, Path};
-use super::convergence::{FloorBound, IterationLog, Stall, STAGNATION};
+use super::convergence::STAGNATION;
 use super::failure::{AttemptError, Converged};
-use super::iteration::Newton;
+use super::iteration::{Iterate, Newton};
 use super::viscous::Viscous;
-use crate::solver::assembly::{assemble_into, Assembled, AssemblyContext, Ordering};
-use crate::solver::contact::ContactSet;
+use crate::solver::assembly::{assemble_into, AssemblyContext};
 use crate::solver::linear::reduce::sum_squares;
 use crate::solver::linear::BandMatrix;
 use crate::solver::report::{ContactChange, Event, IterationRecord, Observer};
@@ -36,47 +34,13 @@ use crate::solver::report::{ContactChange, Event, IterationRecord, Observer};
 /// of the model's size ([`Newton::attempt`]).
 const SPRING_BACK_STEP: f64 = 0.2;
 
-/// Below this relative residual a pass lets go of the obstacle contacts that turned tensile
-/// without waiting for convergence ([`Newton::attempt`]). The built-in `table_lift` takes 40
-/// Newton iterations in its first increment instead of 62, `roller` 716 in all instead of 902;
-/// at 1e-2 and above, faster still on those, some random drives of the robustness campaign
-/// take more passes or stop (`tsm-contact robust`, seed 1).
+/// Below this relative residual a pass changes its obstacle contacts without waiting for
+/// convergence ([`Newton::attempt`]): the set the linearised problem predicts, or where that
+/// does not apply, the release of the contacts that turned tensile. With releases alone the
+/// built-in `table_lift` takes 40 Newton iterations in its first increment instead of 62,
+/// `roller` 716 in all instead of 902; at 1e-2 and above, faster still on those, some random
+/// drives of the robustness campaign take more passes or stop (`tsm-contact robust`, seed 1).
 const EARLY_RELEASE: f64 = 1e-3;
-
-/// What an attempt carries from one iteration to the next.
-struct Iterate {
-    /// The displacements.
-    d: Vec<f64>,
-    /// The right-hand side of the last solve (the correction).
-    rhs: Vec<f64>,
-    /// The contact set the iterate is assembled with.
-    contacts: ContactSet,
-    /// The contact events so far.
-    events: Vec<Event>,
-    /// The equation ordering of `contacts`.
-    ordering: Arc<Ordering>,
-    /// The assembly at `d` (its tangent taken out while it is factored).
-    asm: Assembled,
-    /// Whether the next solve is the predictor.
-    predictor: bool,
-    /// Newton iterations so far.
-    iterations: usize,
-    /// Iterations of the current pass (since the contact set last changed).
-    pass_iter: usize,
-    /// Active-set changes so far (chattering is counted from them).
-    changes: usize,
-    /// The norm of the last correction.
-    last_step: f64,
-    /// Whether a contact let go: node-on-beam contacts that turn tensile while the structure
-    /// springs back are released at once.
-    springback: bool,
-    /// The iteration records.
-    log: IterationLog,
-    /// The stall test of the current pass.
-    stall: Stall,
-    /// The bound on the round-off floor.
-    bound: FloorBound,
-}
 
 /// The residual of an iterate: its norm and the reference force it is measured against.
 #[derive(Clone, Copy)]
@@ -160,67 +124,6 @@ impl Newton<'_> {
                 it.ordering = self.ordering_for(&it.contacts);
             }
         }
-    }
-
-    /// The iterate an attempt starts from: the last converged state, with the buffers of the
-    /// last attempt (fresh memory would cost page faults), its contacts within `slide_off` of
-    /// a free end slid off it.
-    fn first_iterate(&self, increment: usize, slide_off: Option<f64>) -> Iterate {
-        let (mut d, rhs) = {
-            let mut spare = self.work.spare.borrow_mut();
-            (std::mem::take(&mut spare.d), std::mem::take(&mut spare.rhs))
-        };
-        d.clear();
-        d.extend_from_slice(&self.state.d);
-        let mut contacts = self.state.contacts.clone();
-        contacts.begin_attempt();
-        let mut events = Vec::new();
-        if let Some(margin) = slide_off {
-            contacts.slide_off_tips(&self.view(), &self.state.d, margin, increment, &mut events);
-        }
-        let bound = FloorBound::new(self.structure.coordinate_scale(&d));
-        Iterate {
-            d,
-            rhs,
-            ordering: self.ordering_for(&contacts),
-            contacts,
-            events,
-            asm: Assembled::default(),
-            predictor: true,
-            iterations: 0,
-            pass_iter: 0,
-            changes: 0,
-            last_step: 0.0,
-            springback: false,
-            log: IterationLog::default(),
-            stall: Stall::new(),
-            bound,
-        }
-    }
-
-    /// Whether the predictor's assembly is the last converged one, taken into `it`: when
-    /// nothing differs (no contact element or obstacle contact, no prescribed increment, which
-    /// would need the coupling K_fp dp, no follower load and no viscous force).
-    fn reuses_the_converged_assembly(
-        &self,
-        it: &mut Iterate,
-        path: &Path,
-        viscous: Option<&Viscous<'_>>,
-    ) -> bool {
-        if !it.ordering.links.is_empty()
-            || viscous.is_some()
-            || !it.contacts.obstacles.links.is_empty()
-            || !path.starts_at_the_converged_state()
-            || self.structure.model.has_followers()
-        {
-            return false;
-        }
-        let Some(kept) = self.work.converged_assembly.take(self.state.increment) else {
-            return false;
-        };
-        it.asm = kept;
-        it.asm.coupling.clear();
-        (it.asm.tangent.as_ref()).is_some_and(|t| t.len() == it.ordering.n_eq)
     }
 
     /// Stage 1: the internal forces and tangent at the iterate (reloaded with the current
@@ -309,11 +212,11 @@ impl Newton<'_> {
         // settle there too (e.g. a node that must slide off a tip), even if the tolerance
         // itself is out of reach for this contact set.
         let settled = rel <= STAGNATION * floor;
-        if !accepted && !settled && self.lets_go_early(it, rel)? {
+        if !accepted && !settled && self.lets_go_early(it, tangent, rel)? {
             return Ok(Verdict::Again);
         }
         if accepted || settled {
-            let verdict = self.contact_stages(it, increment, accepted.then_some(floor))?;
+            let verdict = self.contact_stages(it, tangent, increment, accepted.then_some(floor))?;
             if !matches!(verdict, Verdict::Correct) {
                 return Ok(verdict);
             }
@@ -322,11 +225,18 @@ impl Newton<'_> {
         Ok(Verdict::Correct)
     }
 
-    /// Stage 3's early release: an obstacle contact that turned tensile lets go before the pass
-    /// has converged, once it is near (`EARLY_RELEASE`): a strip peeling off a table lets go
-    /// node after node, a pass for each, and every pass saved is an iteration or two. Touches
-    /// wait for the converged pass. Returns whether any let go.
-    fn lets_go_early(&self, it: &mut Iterate, rel: f64) -> Result<bool, AttemptError> {
+    /// Stage 3's early change: once the pass is near convergence (`EARLY_RELEASE`), the
+    /// obstacle contacts change before it has converged: the set the linearised problem
+    /// predicts (`ContactSet::predicted_changes`), or, where that does not apply, the contacts
+    /// that turned tensile let go (a strip peeling off a table lets go node after node, a pass
+    /// for each, and every pass saved is an iteration or two; touches then wait for the
+    /// converged pass). Returns whether any changed.
+    fn lets_go_early(
+        &self,
+        it: &mut Iterate,
+        tangent: &BandMatrix,
+        rel: f64,
+    ) -> Result<bool, AttemptError> {
         if it.pass_iter == 0
             || rel >= EARLY_RELEASE
             || it.contacts.obstacles.links.is_empty()
@@ -334,7 +244,13 @@ impl Newton<'_> {
         {
             return Ok(false);
         }
-        let changed = (it.contacts).obstacle_changes(&self.view(), &it.d, &it.asm, true);
+        let view = self.view();
+        let predicted =
+            (it.contacts).predicted_changes(&view, &it.d, &it.asm, (tangent, &it.ordering));
+        let changed = match predicted {
+            Some(changed) => changed,
+            None => (it.contacts).obstacle_changes(&view, &it.d, &it.asm, true),
+        };
         if changed == 0 {
             return Ok(false);
         }
@@ -353,6 +269,7 @@ impl Newton<'_> {
     fn contact_stages(
         &self,
         it: &mut Iterate,
+        tangent: &BandMatrix,
         increment: usize,
         accepted: Option<f64>,
     ) -> Result<Verdict, AttemptError> {
@@ -368,7 +285,8 @@ impl Newton<'_> {
         );
         let mut updated = 0;
         if changed == 0 {
-            (changed, updated) = it.contacts.obstacle_pass(&view, d, &it.asm);
+            (changed, updated) =
+                (it.contacts).obstacle_pass(&view, d, &it.asm, (tangent, &it.ordering));
         }
         if changed == 0 && updated == 0 {
             changed = it.contacts.friction_pass(&view, &it.asm);
@@ -484,13 +402,5 @@ impl Newton<'_> {
         it.iterations += 1;
         it.pass_iter += 1;
         Ok(())
-    }
-}
-
-impl Iterate {
-    /// A new pass starts: the contact set or its multipliers changed.
-    fn new_pass(&mut self) {
-        self.pass_iter = 0;
-        self.stall = Stall::new();
     }
 }

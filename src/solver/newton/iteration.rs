@@ -1,16 +1,21 @@
 //! What a Newton attempt reads (`Newton`: the structure, the last converged state and the
-//! workspace) and the tests and measures its iteration (`attempt.rs`) applies: the residual
-//! and its reference force, equilibrium, divergence, chattering, a node too deep, the
-//! round-off floor, and the factor-and-solve that names a singular dof.
+//! workspace), what it carries from one iteration to the next (`Iterate`, and the first one,
+//! from the last converged state), and the tests and measures its iteration (`attempt.rs`)
+//! applies: the residual and its reference force, equilibrium, divergence, chattering, a node
+//! too deep, the round-off floor, and the factor-and-solve that names a singular dof.
 
 use std::sync::Arc;
 
+use super::constraint::Path;
+use super::convergence::{FloorBound, IterationLog, Stall};
 use super::failure::AttemptError;
+use super::viscous::Viscous;
 use super::workspace::Workspace;
 use crate::solver::assembly::{Assembled, DofKind, ExternalForce, Ordering};
 use crate::solver::contact::{ContactSet, ContactView};
 use crate::solver::linear::{BandMatrix, NOT_FREE};
 use crate::solver::params::StretchCorrection;
+use crate::solver::report::Event;
 use crate::solver::state::State;
 use crate::solver::structure::Structure;
 
@@ -208,5 +213,111 @@ impl<'a> Newton<'a> {
             .map_err(|sp| AttemptError::Singular {
                 dof: self.structure.equation_label(ord, sp.equation),
             })
+    }
+}
+
+/// What an attempt carries from one iteration to the next.
+pub(super) struct Iterate {
+    /// The displacements.
+    pub(super) d: Vec<f64>,
+    /// The right-hand side of the last solve (the correction).
+    pub(super) rhs: Vec<f64>,
+    /// The contact set the iterate is assembled with.
+    pub(super) contacts: ContactSet,
+    /// The contact events so far.
+    pub(super) events: Vec<Event>,
+    /// The equation ordering of `contacts`.
+    pub(super) ordering: Arc<Ordering>,
+    /// The assembly at `d` (its tangent taken out while it is factored).
+    pub(super) asm: Assembled,
+    /// Whether the next solve is the predictor.
+    pub(super) predictor: bool,
+    /// Newton iterations so far.
+    pub(super) iterations: usize,
+    /// Iterations of the current pass (since the contact set last changed).
+    pub(super) pass_iter: usize,
+    /// Active-set changes so far (chattering is counted from them).
+    pub(super) changes: usize,
+    /// The norm of the last correction.
+    pub(super) last_step: f64,
+    /// Whether a contact let go: node-on-beam contacts that turn tensile while the structure
+    /// springs back are released at once.
+    pub(super) springback: bool,
+    /// The iteration records.
+    pub(super) log: IterationLog,
+    /// The stall test of the current pass.
+    pub(super) stall: Stall,
+    /// The bound on the round-off floor.
+    pub(super) bound: FloorBound,
+}
+
+impl Newton<'_> {
+    /// The iterate an attempt starts from: the last converged state, with the buffers of the
+    /// last attempt (fresh memory would cost page faults), its contacts within `slide_off` of
+    /// a free end slid off it.
+    pub(super) fn first_iterate(&self, increment: usize, slide_off: Option<f64>) -> Iterate {
+        let (mut d, rhs) = {
+            let mut spare = self.work.spare.borrow_mut();
+            (std::mem::take(&mut spare.d), std::mem::take(&mut spare.rhs))
+        };
+        d.clear();
+        d.extend_from_slice(&self.state.d);
+        let mut contacts = self.state.contacts.clone();
+        contacts.begin_attempt();
+        let mut events = Vec::new();
+        if let Some(margin) = slide_off {
+            contacts.slide_off_tips(&self.view(), &self.state.d, margin, increment, &mut events);
+        }
+        let bound = FloorBound::new(self.structure.coordinate_scale(&d));
+        Iterate {
+            d,
+            rhs,
+            ordering: self.ordering_for(&contacts),
+            contacts,
+            events,
+            asm: Assembled::default(),
+            predictor: true,
+            iterations: 0,
+            pass_iter: 0,
+            changes: 0,
+            last_step: 0.0,
+            springback: false,
+            log: IterationLog::default(),
+            stall: Stall::new(),
+            bound,
+        }
+    }
+
+    /// Whether the predictor's assembly is the last converged one, taken into `it`: when
+    /// nothing differs (no contact element or obstacle contact, no prescribed increment, which
+    /// would need the coupling K_fp dp, no follower load and no viscous force).
+    pub(super) fn reuses_the_converged_assembly(
+        &self,
+        it: &mut Iterate,
+        path: &Path,
+        viscous: Option<&Viscous<'_>>,
+    ) -> bool {
+        if !it.ordering.links.is_empty()
+            || viscous.is_some()
+            || !it.contacts.obstacles.links.is_empty()
+            || !path.starts_at_the_converged_state()
+            || self.structure.model.has_followers()
+        {
+            return false;
+        }
+        let Some(kept) = self.work.converged_assembly.take(self.state.increment) else {
+            return false;
+        };
+        it.asm = kept;
+        it.asm.coupling.clear();
+        (it.asm.tangent.as_ref()).is_some_and(|t| t.len() == it.ordering.n_eq)
+    }
+}
+
+impl Iterate {
+    /// A new pass starts: the contact set or its multipliers changed.
+    pub(super) fn new_pass(&mut self) {
+        self.pass_iter = 0;
+        self.stall = Stall::new();
     }
 }

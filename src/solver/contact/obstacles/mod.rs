@@ -5,13 +5,18 @@
 //! an obstacle by more than [`Structure::obstacle_tolerance`] touch it; once the contacts hold,
 //! the multiplier of every contact whose gap is still open either way by more than the
 //! tolerance takes the force it carries (the augmented Lagrangian update), and the next pass
-//! closes the gap further. Should a set of contacts come back within an attempt, each pass
+//! closes the gap further. On frictionless obstacles the changes are first predicted for the
+//! whole set from the linearised problem (`prediction.rs`), with the forces the contacts will
+//! carry. Should a set of contacts come back within an attempt, each pass
 //! makes one change, the least (node, obstacle) pair first, which cannot cycle. At the
 //! accepted pass ([`ContactSet::obstacle_settle`]) the contacts are compared with the last
 //! accepted ones: the nodes that touched and let go are the events, not the passes between.
 
+mod prediction;
+
 use super::set::{ContactSet, ContactView};
-use crate::solver::assembly::{obstacle_gap, Assembled, ObstacleLink};
+use crate::solver::assembly::{obstacle_gap, Assembled, ObstacleLink, Ordering};
+use crate::solver::linear::BandMatrix;
 use crate::solver::report::{ContactChange, Event, Friction, ObstacleEvent, ObstacleState};
 
 impl ContactSet {
@@ -94,7 +99,11 @@ impl ContactSet {
         cv: &ContactView<'_>,
         d: &[f64],
         asm: &Assembled,
+        tangent: (&BandMatrix, &Ordering),
     ) -> (usize, usize) {
+        if let Some(changed) = self.predicted_changes(cv, d, asm, tangent) {
+            return (changed, 0);
+        }
         let changed = self.obstacle_changes(cv, d, asm, false);
         if changed > 0 {
             return (changed, 0);
