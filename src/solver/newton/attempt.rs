@@ -87,7 +87,8 @@ impl Newton<'_> {
             max_step = max_step.min(SPRING_BACK_STEP * self.structure.model_size());
         }
         let mut path = Path::new(constraint, self);
-        let mut reuse = self.reuses_the_converged_assembly(&mut it, &path, viscous);
+        let plain = viscous.is_none() && path.starts_at_the_converged_state();
+        let mut reuse = self.reuses_the_converged_assembly(&mut it, plain);
         loop {
             // 1. The assembly.
             let residual = self.assemble(&mut it, &path, viscous, std::mem::take(&mut reuse));

@@ -6,10 +6,8 @@
 
 use std::sync::Arc;
 
-use super::constraint::Path;
 use super::convergence::{FloorBound, IterationLog, Stall};
 use super::failure::AttemptError;
-use super::viscous::Viscous;
 use super::workspace::Workspace;
 use crate::solver::assembly::{Assembled, DofKind, ExternalForce, Ordering};
 use crate::solver::contact::{ContactSet, ContactView};
@@ -289,18 +287,13 @@ impl Newton<'_> {
     }
 
     /// Whether the predictor's assembly is the last converged one, taken into `it`: when
-    /// nothing differs (no contact element or obstacle contact, no prescribed increment, which
-    /// would need the coupling K_fp dp, no follower load and no viscous force).
-    pub(super) fn reuses_the_converged_assembly(
-        &self,
-        it: &mut Iterate,
-        path: &Path,
-        viscous: Option<&Viscous<'_>>,
-    ) -> bool {
-        if !it.ordering.links.is_empty()
-            || viscous.is_some()
+    /// nothing differs (no contact element or obstacle contact; `plain`: no prescribed
+    /// increment, which would need the coupling K_fp dp, and no viscous force; no follower
+    /// load).
+    pub(super) fn reuses_the_converged_assembly(&self, it: &mut Iterate, plain: bool) -> bool {
+        if !plain
+            || !it.ordering.links.is_empty()
             || !it.contacts.obstacles.links.is_empty()
-            || !path.starts_at_the_converged_state()
             || self.structure.model.has_followers()
         {
             return false;
