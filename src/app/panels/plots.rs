@@ -375,19 +375,9 @@ fn reaction(study: &Study, selected: usize, look: &Look, ui: &mut egui::Ui) -> O
     let units = l.scene.file.units;
     let (title, x_label, y_label, pts): (&str, String, String, Vec<[f64; 2]>) =
         if let Some(p) = model.prescribed.first() {
-            let id = model.nodes[p.node].id;
             let dof = p.dof.name();
-            let pts = study
-                .history
-                .iter()
-                .map(|r| {
-                    let y = r
-                        .reactions
-                        .iter()
-                        .find(|x| x.node == id && x.dof == dof)
-                        .map_or(0.0, |x| x.value);
-                    [r.prescribed[0], y]
-                })
+            let pts = (study.history.iter())
+                .map(|r| [r.prescribed[0], r.held_force(model, p.node, dof)])
                 .collect();
             (
                 "Reaction against displacement of the driven dof:",
