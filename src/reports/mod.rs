@@ -3,10 +3,9 @@
 //! report or the reference it is measured against:
 //! `work_precision.rs` (error against time, with `pin_elastica.rs` the contact reference),
 //! `stress/` (the stability suite), `scaling.rs` and `contact_scaling.rs` (cost against
-//! size, with `plain_chain.rs` the yardstick), `interactive.rs` (slider re-solve times), `robust.rs` (the robustness campaign, its families' scenes in `families.rs`).
+//! size, with `plain_chain.rs` the yardstick), `interactive.rs` (slider re-solve times), `robust/` (the robustness campaign, its families' scenes in `families.rs`, the built-in scenes as they ship in `shipped.rs`).
 
 pub mod contact_scaling;
-mod families;
 pub mod interactive;
 pub mod pin_elastica;
 pub mod plain_chain;

@@ -11,13 +11,18 @@
 
 use std::collections::BTreeMap;
 
-pub use super::families::{Family, FAMILIES};
+mod count;
+mod families;
+mod shipped;
+
 use crate::audit::{audit, Run};
 use crate::history::{History, Topology};
 use crate::scene::builtin::{builtin, with_elements, BUILTIN};
 use crate::scene::Scene;
-use crate::solver::report::Flow;
-use crate::solver::{Formulation, IncrementRecord, IterationRecord, Observer};
+use crate::solver::{Formulation, IncrementRecord};
+use count::{quantile, Count};
+pub use families::{Family, FAMILIES};
+pub use shipped::{shipped, shipped_report, Shipped};
 
 /// The most increments one drive takes (each way): a drive at 3e-4 of a scene's step covers
 /// that many of its small steps, not the scene's whole path.
@@ -225,27 +230,6 @@ fn scene_of(case: &Case) -> Result<Scene, (String, String)> {
     Ok(scene)
 }
 
-/// Counts the Newton iterations of each increment number, every attempt included, and keeps
-/// every accepted increment as it is accepted: a step that stops part way has accepted states
-/// of its own, and the audit reads them too.
-#[derive(Default)]
-struct Count {
-    per_increment: BTreeMap<usize, usize>,
-    accepted: Vec<IncrementRecord>,
-}
-
-impl Observer for Count {
-    fn iteration(&mut self, r: &IterationRecord) -> Flow {
-        *self.per_increment.entry(r.increment).or_default() += 1;
-        Flow::Continue
-    }
-
-    fn increment(&mut self, r: &IncrementRecord) -> Flow {
-        self.accepted.push(r.clone());
-        Flow::Continue
-    }
-}
-
 /// Drive `case` and audit what it accepted.
 pub fn run(case: &Case) -> Outcome {
     run_keeping(case, false)
@@ -358,14 +342,6 @@ pub fn history(case: &Case, outcome: &Outcome) -> History {
 fn kind(e: &crate::solver::SolveError) -> String {
     let debug = format!("{e:?}");
     debug.chars().take_while(|c| c.is_alphanumeric()).collect()
-}
-
-/// The `q`-quantile (0 to 1) of sorted `v` (0 for none).
-fn quantile(v: &[usize], q: f64) -> usize {
-    match v.len() {
-        0 => 0,
-        n => v[((q * (n - 1) as f64).round() as usize).min(n - 1)],
-    }
 }
 
 /// The report: a summary, a line per scene and every stop, as Markdown.

@@ -1,4 +1,4 @@
-//! The robustness campaign's families (`FAMILIES`, drawn by `robust.rs`): scenes with a plain
+//! The robustness campaign's families (`FAMILIES`, drawn by `mod.rs`): scenes with a plain
 //! answer, as scene text on `n` elements per body.
 
 /// A family of scenes with a plain answer.
