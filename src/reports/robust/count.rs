@@ -20,6 +20,16 @@ pub(super) struct Count {
     pub(super) accepted: Vec<IncrementRecord>,
 }
 
+impl Count {
+    /// The Newton iterations of each of `records`, its failed attempts included (its own count
+    /// where none was seen).
+    pub(super) fn iterations_of(&self, records: &[IncrementRecord]) -> Vec<usize> {
+        (records.iter())
+            .map(|r| (self.per_increment.get(&r.increment).copied()).unwrap_or(r.iterations))
+            .collect()
+    }
+}
+
 impl Observer for Count {
     fn iteration(&mut self, r: &IterationRecord) -> Flow {
         let last = self.last.insert(r.increment, r.iteration).unwrap_or(0);

@@ -296,15 +296,7 @@ pub fn run_keeping(case: &Case, keep: bool) -> Outcome {
         }
     }
     let records = std::mem::take(&mut count.accepted);
-    outcome.iterations = (records.iter())
-        .map(|r| {
-            count
-                .per_increment
-                .get(&r.increment)
-                .copied()
-                .unwrap_or(r.iterations)
-        })
-        .collect();
+    outcome.iterations = count.iterations_of(&records);
     let topology = Topology::of(&scene.model);
     let ids: Vec<u32> = scene.model.nodes.iter().map(|n| n.id).collect();
     let audit_run = Run {

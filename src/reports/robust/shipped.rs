@@ -53,15 +53,7 @@ fn solve(name: &str) -> Shipped {
         }
         Err(e) => out.stop = Some(e.to_string()),
     }
-    out.iterations = (count.accepted.iter())
-        .map(|r| {
-            count
-                .per_increment
-                .get(&r.increment)
-                .copied()
-                .unwrap_or(r.iterations)
-        })
-        .collect();
+    out.iterations = count.iterations_of(&count.accepted);
     out
 }
 
