@@ -313,3 +313,26 @@ fn a_cantilever_rolled_up_two_turns_onto_itself_completes_in_both_formulations()
         }
     }
 }
+
+/// The built-in cantilever rolled past a turn at 1.7821 times its load step (7 steps, to a
+/// load factor of 1.25): between two states its tip glides over a mesh node of the root under
+/// it, lying for one state in the wedge outside that convex node, projecting onto neither
+/// element there, and nearer another layer of the coil. The side it came from is then read in
+/// that wedge, not from the other layer: the tip is not made to rest on the root from the far
+/// side (a contact that would hold it through the body), and the oracle finds nothing in any
+/// state up to the last step's load factor.
+#[test]
+fn a_tip_gliding_over_a_mesh_node_of_the_root_keeps_the_side_it_came_from() {
+    let mut scene = tsm_contact::scene::open("rolled_past_a_turn").expect("built in");
+    let f = 1.7821;
+    scene.model.load_per_step *= f;
+    scene.steps = (scene.steps as f64 / f).ceil() as usize;
+    let mut solver = scene.solver().unwrap();
+    let mut records = Vec::new();
+    for _ in 0..scene.steps {
+        records.extend(solver.step(&mut Silent).expect("converges"));
+    }
+    crate::common::assert_audited(&scene, &records);
+    let last = records.last().unwrap().load_factor;
+    assert!((last - 7.0 * 0.1 * f).abs() < 1e-12, "{last}");
+}

@@ -434,8 +434,9 @@ impl ContactSet {
     /// a neighbour of it (`probe_around`), where it was clear of it and within `FAR` element
     /// lengths (farther, a side is that of the element's line): for a node whose remembered
     /// side was measured against a distant part of the body (a coil holds a node between two
-    /// of its layers, on opposite sides of each). None where it projected onto none of them,
-    /// or touched them.
+    /// of its layers, on opposite sides of each). Where it projected onto none of them, the
+    /// side of the wedge outside a convex mesh node between them it lay in (`wedge_side`).
+    /// None where it lay in no such wedge, or touched them.
     pub(super) fn local_side(
         &self,
         cv: &ContactView<'_>,
@@ -443,9 +444,36 @@ impl ContactSet {
         e: usize,
         views: &PassViews,
     ) -> Option<(f64, usize)> {
-        let q = self.probe_around(cv, cv.d, (n, b), e, &views.before)?;
+        let Some(q) = self.probe_around(cv, cv.d, (n, b), e, &views.before) else {
+            return wedge_side(cv, (n, b), e);
+        };
         let clear =
             q.centre.abs() > cv.structure.touching(SIDE, q.length) && q.gap.abs() <= FAR * q.length;
         clear.then(|| (q.centre.signum(), q.beam))
     }
+}
+
+/// The side of element `e` of body `b`, or of a neighbour of it, that node `n` lay on at the
+/// last converged state where it lay in the wedge outside a convex mesh node of theirs
+/// (`beside_a_convex_node`), clear of the element's chord and within `FAR` of its length: there
+/// both elements meeting at the node have it on that side. A node gliding along a layer of a
+/// coil passes its mesh nodes so, projecting onto none of its elements for a state.
+fn wedge_side(cv: &ContactView<'_>, (n, b): (usize, usize), e: usize) -> Option<(f64, usize)> {
+    let (m, dofs) = (&cv.structure.model, &cv.structure.dofs);
+    let els = &m.bodies[b].elements;
+    let k = els.iter().position(|&x| x == e)?;
+    let around = &els[k.saturating_sub(1)..(k + 2).min(els.len())];
+    around.iter().copied().find_map(|f| {
+        if !cv.structure.outside_window(n, b, f) || !beside_a_convex_node(cv, cv.d, n, b, f) {
+            return None;
+        }
+        let (xi, _) = current(m, dofs, cv.d, m.beams[f].i);
+        let (xj, _) = current(m, dofs, cv.d, m.beams[f].j);
+        let p = current(m, dofs, cv.d, n).0;
+        let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
+        let l = dx.hypot(dy);
+        let centre = (dx * (p[1] - xi[1]) - dy * (p[0] - xi[0])) / l;
+        let clear = centre.abs() > cv.structure.touching(SIDE, l) && centre.abs() <= FAR * l;
+        clear.then(|| (centre.signum(), f))
+    })
 }
