@@ -80,15 +80,17 @@ impl ContactSet {
             k,
             cv.structure.obstacle_tolerance(),
         )?;
+        let changed = holds.iter().zip(&was).filter(|(a, b)| a != b).count();
+        if changed == 0 {
+            return None;
+        }
         let let_go = &asm.elements.obstacle_forces;
-        let mut changed = 0;
         for (i, x) in cand.iter().enumerate() {
             let link = &mut self.obstacles.links[x.link];
             link.multiplier = if holds[i] { forces[i] } else { 0.0 };
             if holds[i] == was[i] {
                 continue;
             }
-            changed += 1;
             link.active = holds[i];
             if holds[i] {
                 self.obstacles.touched.push(x.link);
@@ -96,11 +98,9 @@ impl ContactSet {
                 self.obstacles.let_go.insert(x.link, let_go[x.link]);
             }
         }
-        if changed > 0 {
-            let set: Vec<bool> = self.obstacles.links.iter().map(|l| l.active).collect();
-            self.obstacles.guard.reached(set);
-        }
-        (changed > 0).then_some(changed)
+        let set: Vec<bool> = self.obstacles.links.iter().map(|l| l.active).collect();
+        self.obstacles.guard.reached(set);
+        Some(changed)
     }
 
     /// The candidates of `predicted_changes` at displacements `d` (assembly `asm`, equations of
