@@ -214,3 +214,51 @@ fn settle_candidates(
     }
     None
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn candidate(gap: f64, force: f64) -> Candidate {
+        Candidate {
+            link: 0,
+            gap,
+            force,
+            normal: [0.0, 1.0],
+            eqs: [0, 1],
+        }
+    }
+
+    /// A node inside by g on a structure of compliance c, made a contact with penalty k: its
+    /// spring and the structure, two springs in series, carry k |g| / (1 + k c).
+    #[test]
+    fn a_node_made_a_contact_carries_the_force_of_two_springs_in_series() {
+        let (g, c, k) = (-1e-3, 1e-4, 3e4);
+        let cand = [candidate(g, -k * g)];
+        let compliance = DMatrix::from_element(1, 1, c);
+        let (holds, forces) = settle_candidates(&cand, &compliance, &[false], k, 1e-9).unwrap();
+        assert_eq!(holds, vec![true]);
+        let series = -k * g / (1.0 + k * c);
+        assert!((forces[0] - series).abs() < 1e-12 * series, "{forces:?}");
+    }
+
+    /// Two nodes of a structure of compliance S = [[2, 1], [1, 2]] 1e-4 m/N, penalty k = 1e4
+    /// N/m: node 0 in contact and pulling with 1 N, node 1 free and 3e-4 m inside. Solved by
+    /// hand on the structure alone: letting node 0 go takes its 1 N pull off, and node 1's
+    /// spring then carries f1 = k (3e-4 - S10 - S11 f1), f1 = 2/3 N, while node 0's gap opens
+    /// by S00 + S01 f1 > 0, so it stays free. The small iteration, given the compliance with
+    /// node 0's spring in it (Sherman-Morrison), finds that set and force.
+    #[test]
+    fn a_pulling_contact_lets_go_and_the_node_it_held_out_touches_as_by_hand() {
+        let k = 1e4;
+        let s = DMatrix::from_row_slice(2, 2, &[2e-4, 1e-4, 1e-4, 2e-4]);
+        // With node 0's spring: C = S - k S e0 e0^T S / (1 + k S00).
+        let col = s.column(0).into_owned();
+        let compliance = &s - &col * col.transpose() * (k / (1.0 + k * s[(0, 0)]));
+        let cand = [candidate(0.0, -1.0), candidate(-3e-4, 3.0)];
+        let (holds, forces) =
+            settle_candidates(&cand, &compliance, &[true, false], k, 1e-12).unwrap();
+        assert_eq!(holds, vec![false, true]);
+        assert!((forces[1] - 2.0 / 3.0).abs() < 1e-12, "{forces:?}");
+    }
+}
