@@ -87,6 +87,7 @@ impl Newton<'_> {
             max_step = max_step.min(SPRING_BACK_STEP * self.structure.model_size());
         }
         let mut path = Path::new(constraint, self);
+        it.predicts = viscous.is_none() && path.dp().is_some();
         let plain = viscous.is_none() && path.starts_at_the_converged_state();
         let mut reuse = self.reuses_the_converged_assembly(&mut it, plain);
         loop {
@@ -246,8 +247,10 @@ impl Newton<'_> {
             return Ok(false);
         }
         let view = self.view();
-        let predicted =
-            (it.contacts).predicted_changes(&view, &it.d, &it.asm, (tangent, &it.ordering));
+        let predicted = it.predicts.then(|| {
+            (it.contacts).predicted_changes(&view, &it.d, &it.asm, (tangent, &it.ordering))
+        });
+        let predicted = predicted.flatten();
         let changed = match predicted {
             Some(changed) => changed,
             None => (it.contacts).obstacle_changes(&view, &it.d, &it.asm, true),
@@ -286,8 +289,12 @@ impl Newton<'_> {
         );
         let mut updated = 0;
         if changed == 0 {
-            (changed, updated) =
-                (it.contacts).obstacle_pass(&view, d, &it.asm, (tangent, &it.ordering));
+            (changed, updated) = (it.contacts).obstacle_pass(
+                &view,
+                d,
+                &it.asm,
+                it.predicts.then_some((tangent, &it.ordering)),
+            );
         }
         if changed == 0 && updated == 0 {
             changed = it.contacts.friction_pass(&view, &it.asm);

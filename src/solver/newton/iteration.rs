@@ -224,6 +224,10 @@ pub(super) struct Iterate {
     pub(super) contacts: ContactSet,
     /// The contact events so far.
     pub(super) events: Vec<Event>,
+    /// Whether obstacle contact sets are predicted (`ContactSet::predicted_changes`): under
+    /// prescribed displacements and load factors without a snap's viscous force, where the
+    /// tangent alone gives the next Newton correction.
+    pub(super) predicts: bool,
     /// The equation ordering of `contacts`.
     pub(super) ordering: Arc<Ordering>,
     /// The assembly at `d` (its tangent taken out while it is factored).
@@ -280,6 +284,7 @@ impl Newton<'_> {
             changes: 0,
             last_step: 0.0,
             springback: false,
+            predicts: false,
             log: IterationLog::default(),
             stall: Stall::new(),
             bound,

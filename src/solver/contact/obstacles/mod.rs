@@ -99,9 +99,9 @@ impl ContactSet {
         cv: &ContactView<'_>,
         d: &[f64],
         asm: &Assembled,
-        tangent: (&BandMatrix, &Ordering),
+        tangent: Option<(&BandMatrix, &Ordering)>,
     ) -> (usize, usize) {
-        if let Some(changed) = self.predicted_changes(cv, d, asm, tangent) {
+        if let Some(changed) = tangent.and_then(|t| self.predicted_changes(cv, d, asm, t)) {
             return (changed, 0);
         }
         let changed = self.obstacle_changes(cv, d, asm, false);

@@ -95,7 +95,11 @@ impl ContactSet {
             if holds[i] {
                 self.obstacles.touched.push(x.link);
             } else {
-                self.obstacles.let_go.insert(x.link, let_go[x.link]);
+                // Let go at no more than no force: it may still press now, relieved by the
+                // other changes.
+                self.obstacles
+                    .let_go
+                    .insert(x.link, let_go[x.link].min(0.0));
             }
         }
         let set: Vec<bool> = self.obstacles.links.iter().map(|l| l.active).collect();
@@ -124,7 +128,14 @@ impl ContactSet {
         let mut out = Vec::new();
         let mut violated = false;
         for (i, link) in self.obstacles.links.iter().enumerate() {
-            let gap = obstacle_gap(m, dofs, d, link.node, link.obstacle)?;
+            // Out of its obstacle's reach (an arc's node beyond its angles): a free node is no
+            // candidate; a contact there lets go as usual.
+            let Some(gap) = obstacle_gap(m, dofs, d, link.node, link.obstacle) else {
+                if link.active {
+                    return None;
+                }
+                continue;
+            };
             if !link.active && gap.g >= -tol {
                 continue;
             }
