@@ -17,6 +17,17 @@ use crate::solver::IncrementRecord;
 /// below.
 const SLACK: f64 = 1e-9;
 
+/// How far held dof `dof` may be from `target`: `SLACK` of the model's `size` (m, at least 1,
+/// or of `target` where larger) and the round-off `roundoff` of a recorded position, or
+/// `SLACK` of a radian (or of `target`) for a rotation.
+fn allowed(dof: &str, target: f64, (size, roundoff): (f64, f64)) -> f64 {
+    if dof == "phi" {
+        SLACK * target.abs().max(1.0)
+    } else {
+        SLACK * size.max(target.abs()).max(1.0) + roundoff
+    }
+}
+
 /// The offset of dof `dof` ("u", "v" or "phi") of the node at `slot` in `r` from rest.
 fn displacement(r: &IncrementRecord, slot: usize, rest: [f64; 2], dof: &str) -> Option<f64> {
     let k = dof_place(dof)?;
@@ -54,13 +65,8 @@ pub fn out_of_place(
             Some(p) => (p, "its prescribed value"),
             None => (0.0, "its support (no displacement)"),
         };
-        let allowed = if dof == "phi" {
-            SLACK * target.abs().max(1.0)
-        } else {
-            SLACK * size.max(target.abs()).max(1.0) + roundoff
-        };
         let off = value - target;
-        if off.abs() > allowed {
+        if off.abs() > allowed(dof, target, (size, roundoff)) {
             found.push(Finding {
                 increment: r.increment,
                 node: Some(*node),
@@ -100,7 +106,7 @@ fn with_their_pilots(
                 continue;
             };
             let off = own - its;
-            if off.abs() > SLACK * size.max(its.abs()).max(1.0) + roundoff {
+            if off.abs() > allowed(dof, its, (size, roundoff)) {
                 found.push(Finding {
                     increment: r.increment,
                     node: Some(n.id),

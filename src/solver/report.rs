@@ -416,14 +416,10 @@ pub struct IncrementRecord {
 }
 
 impl IncrementRecord {
-    /// The reaction at dof `dof` ("u", "v" or "phi") of node `node` (an index of `model`),
-    /// with those of the nodes that move with it (a moving polyline's corners,
-    /// `Node::moves_with`): the force a driven node carries, its obstacle's included (N, or N m).
-    pub fn held_force(&self, model: &Model, node: usize, dof: &str) -> f64 {
-        let ids: Vec<u32> = (model.nodes.iter().enumerate())
-            .filter(|(k, n)| *k == node || n.moves_with == Some(node))
-            .map(|(_, n)| n.id)
-            .collect();
+    /// The sum of the reactions at dof `dof` ("u", "v" or "phi") of the nodes with ids `ids`:
+    /// with [`Model::moving_with`], the force a driven node carries, its obstacle's included
+    /// (N, or N m).
+    pub fn held_force(&self, ids: &[u32], dof: &str) -> f64 {
         (self.reactions.iter())
             .filter(|r| r.dof == dof && ids.contains(&r.node))
             .map(|r| r.value)

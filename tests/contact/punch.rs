@@ -93,7 +93,7 @@ fn a_moving_wedge_presses_a_coarse_beam_between_its_nodes_as_a_point_load() {
             // The pilot itself carries nothing: the wedge's faces are clear of the beam. The
             // force that drives it, its corners' included, is the corner's.
             assert_eq!(force(100), 0.0);
-            assert_eq!(last.held_force(&sc.model, pilot, "v"), on_wedge);
+            assert_eq!(last.held_force(&sc.model.moving_with(pilot), "v"), on_wedge);
             // A corner recorded away from where its pilot puts it is found by the oracle.
             let mut moved = recs.clone();
             moved.last_mut().unwrap().nodes[corner][0] += 1e-6;

@@ -375,9 +375,9 @@ fn reaction(study: &Study, selected: usize, look: &Look, ui: &mut egui::Ui) -> O
     let units = l.scene.file.units;
     let (title, x_label, y_label, pts): (&str, String, String, Vec<[f64; 2]>) =
         if let Some(p) = model.prescribed.first() {
-            let dof = p.dof.name();
+            let (dof, ids) = (p.dof.name(), model.moving_with(p.node));
             let pts = (study.history.iter())
-                .map(|r| [r.prescribed[0], r.held_force(model, p.node, dof)])
+                .map(|r| [r.prescribed[0], r.held_force(&ids, dof)])
                 .collect();
             (
                 "Reaction against displacement of the driven dof:",

@@ -10,7 +10,7 @@
 //! ([`Shape::place`]), kept in the obstacle link with the mode.
 
 use super::set::{ActiveContact, ContactSet, ContactView, Stick};
-use crate::solver::assembly::{obstacle_gap, obstacle_offset, Assembled};
+use crate::solver::assembly::{obstacle_offset, Assembled};
 use crate::solver::element::friction::{Grip, ObstacleGrip, Traction, STICK_ROUNDOFF_ULPS};
 use crate::solver::report::{ContactChange, Event, ObstacleEvent};
 
@@ -75,7 +75,7 @@ impl ContactSet {
         if obstacle.mu <= 0.0 {
             return None;
         }
-        let gap = obstacle_gap(&cv.structure.model, &cv.structure.dofs, d, n, o)?;
+        let gap = cv.obstacle_gap(d, n, o)?;
         let t = obstacle_offset(&cv.structure.model, &cv.structure.dofs, d, o);
         let stiffness = least_axial(cv, n, f64::INFINITY);
         let stiffness = if stiffness.is_finite() {

@@ -9,10 +9,11 @@
 use std::collections::HashMap;
 
 use super::cycle::CycleGuard;
-use crate::solver::assembly::{current, Assembled, ContactLink, ObstacleLink};
+use crate::solver::assembly::{current, obstacle_gap, Assembled, ContactLink, ObstacleLink};
 use crate::solver::element::beam::Chord;
 use crate::solver::element::contact_law::{rim_point, surface_turn};
 use crate::solver::index_map::IndexMap;
+use crate::solver::model::Gap;
 use crate::solver::model::Model;
 use crate::solver::report::{ContactState, Friction};
 use crate::solver::structure::Structure;
@@ -221,6 +222,13 @@ pub struct ContactView<'a> {
     pub d: &'a [f64],
     /// Contact set at the last converged state.
     pub contacts: &'a ContactSet,
+}
+
+impl ContactView<'_> {
+    /// The gap of node `n` to obstacle `o` at displacements `d` (`None`: out of its reach).
+    pub(super) fn obstacle_gap(&self, d: &[f64], n: usize, o: usize) -> Option<Gap> {
+        obstacle_gap(&self.structure.model, &self.structure.dofs, d, n, o)
+    }
 }
 
 /// Where node `n`, on side `side` of beam `e` and touching it, presses on the beam's axis at

@@ -365,6 +365,15 @@ impl Model {
             && (pair.nodes.iter()).all(|&n| self.nodes[n].clearance == 0.0 || rigid(n))
     }
 
+    /// The ids of node `n` and of the nodes that move with it (a moving polyline's corners,
+    /// [`Node::moves_with`]), whose reactions together are the force that drives it.
+    pub fn moving_with(&self, n: usize) -> Vec<u32> {
+        (self.nodes.iter().enumerate())
+            .filter(|(k, node)| *k == n || node.moves_with == Some(n))
+            .map(|(_, node)| node.id)
+            .collect()
+    }
+
     /// Initial length of beam `e`.
     pub fn beam_length(&self, e: usize) -> f64 {
         let b = &self.beams[e];

@@ -15,7 +15,7 @@
 mod prediction;
 
 use super::set::{ContactSet, ContactView};
-use crate::solver::assembly::{obstacle_gap, Assembled, ObstacleLink, Ordering};
+use crate::solver::assembly::{Assembled, ObstacleLink, Ordering};
 use crate::solver::linear::BandMatrix;
 use crate::solver::report::{ContactChange, Event, Friction, ObstacleEvent, ObstacleState};
 
@@ -25,15 +25,14 @@ impl ContactSet {
     /// table) starts in contact, its multiplier taking up a gap of round-off so that it presses
     /// from the start.
     pub(crate) fn obstacles_at_rest(&mut self, cv: &ContactView<'_>) {
-        let (m, k, tol) = (
-            &cv.structure.model,
+        let (k, tol) = (
             cv.structure.obstacle_penalty,
             cv.structure.obstacle_tolerance(),
         );
         self.obstacles.links.clear();
         self.obstacles.resting.clear();
         for &(node, obstacle) in &cv.structure.obstacle_candidates {
-            let gap = obstacle_gap(m, &cv.structure.dofs, cv.d, node, obstacle);
+            let gap = cv.obstacle_gap(cv.d, node, obstacle);
             let resting = gap.is_some_and(|g| g.g.abs() <= tol);
             let multiplier = gap.filter(|_| resting).map_or(0.0, |g| k * g.g.max(0.0));
             let grip = resting
@@ -57,13 +56,7 @@ impl ContactSet {
         (self.obstacles.links.iter().zip(&self.obstacles.resting))
             .filter(|(_, &r)| r)
             .filter_map(|(l, _)| {
-                let gap = obstacle_gap(
-                    &cv.structure.model,
-                    &cv.structure.dofs,
-                    cv.d,
-                    l.node,
-                    l.obstacle,
-                )?;
+                let gap = cv.obstacle_gap(cv.d, l.node, l.obstacle)?;
                 let n = gap.n;
                 let tangent = l.grip.map(|_| (l.node, [n[1], -n[0]]));
                 Some(std::iter::once((l.node, n)).chain(tangent))
@@ -116,13 +109,7 @@ impl ContactSet {
             if !link.active {
                 continue;
             }
-            let Some(gap) = obstacle_gap(
-                &cv.structure.model,
-                &cv.structure.dofs,
-                d,
-                link.node,
-                link.obstacle,
-            ) else {
+            let Some(gap) = cv.obstacle_gap(d, link.node, link.obstacle) else {
                 continue;
             };
             if gap.g.abs() > tol {
@@ -167,13 +154,7 @@ impl ContactSet {
             if releases_only {
                 continue;
             }
-            let Some(gap) = obstacle_gap(
-                &cv.structure.model,
-                &cv.structure.dofs,
-                d,
-                link.node,
-                link.obstacle,
-            ) else {
+            let Some(gap) = cv.obstacle_gap(d, link.node, link.obstacle) else {
                 continue;
             };
             if gap.g < -tol {
@@ -271,7 +252,7 @@ impl ContactSet {
         .enumerate()
         .filter(|(_, (link, _))| link.active)
         .filter_map(|(k, (link, &force))| {
-            let gap = obstacle_gap(m, &cv.structure.dofs, d, link.node, link.obstacle)?;
+            let gap = cv.obstacle_gap(d, link.node, link.obstacle)?;
             Some(ObstacleState {
                 node: m.nodes[link.node].id,
                 obstacle: m.obstacles[link.obstacle].name.clone(),

@@ -6,7 +6,7 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::node_length;
-use crate::solver::assembly::{obstacle_gap, Assembled, Ordering};
+use crate::solver::assembly::{Assembled, Ordering};
 use crate::solver::contact::set::{ContactSet, ContactView};
 use crate::solver::linear::{BandMatrix, NOT_FREE};
 
@@ -119,7 +119,7 @@ impl ContactSet {
         asm: &Assembled,
         ord: &Ordering,
     ) -> Option<Vec<Candidate>> {
-        let (m, dofs) = (&cv.structure.model, &cv.structure.dofs);
+        let dofs = &cv.structure.dofs;
         let (k, tol) = (
             cv.structure.obstacle_penalty,
             cv.structure.obstacle_tolerance(),
@@ -130,7 +130,7 @@ impl ContactSet {
         for (i, link) in self.obstacles.links.iter().enumerate() {
             // Out of its obstacle's reach (an arc's node beyond its angles): a free node is no
             // candidate; a contact there lets go as usual.
-            let Some(gap) = obstacle_gap(m, dofs, d, link.node, link.obstacle) else {
+            let Some(gap) = cv.obstacle_gap(d, link.node, link.obstacle) else {
                 if link.active {
                     return None;
                 }
