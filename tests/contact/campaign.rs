@@ -64,9 +64,11 @@ fn a_tip_resting_on_the_mesh_node_of_a_frictional_beam_under_it_completes() {
 /// falls: a limit point of the drive, where the tangent tends to singular. Without the snap
 /// (`control: (snap: false)`) the drive stops there, and the tangent's least eigenvalue (the
 /// drive held) at the last accepted state is below a twentieth of the one after the first
-/// step. With 128 and 128 elements and friction (mu 0.2), flat contact node over node stops
-/// without a limit point: the eigenvalue does not fall. With the snap both complete, through
-/// states marked snapping, and the oracle finds nothing in any state.
+/// step. With 128 and 128 elements and friction (mu 0.2), flat contact node over node, the
+/// slips the drive turns back stick (a step cut back checks its predictor for them), and the
+/// drive goes on to a limit point too: the eigenvalue falls below a twentieth as well. With
+/// the snap both complete, through states marked snapping, and the oracle finds nothing in any
+/// state.
 #[test]
 fn a_snap_under_the_drive_shows_in_the_tangent_and_both_hard_places_complete_through_a_snap() {
     let stop = |seed: u64| {
@@ -84,7 +86,7 @@ fn a_snap_under_the_drive_shows_in_the_tangent_and_both_hard_places_complete_thr
     let (first, last) = stop(0x08d1_2e02_76c8_4d10);
     assert!(first > 0.0 && last < first / 20.0, "{first} {last}");
     let (first, last) = stop(0x98c4_7599_f066_a9cf);
-    assert!(first > 0.0 && last > first / 2.0, "{first} {last}");
+    assert!(first > 0.0 && last < first / 20.0, "{first} {last}");
     for seed in [0x08d1_2e02_76c8_4d10, 0x98c4_7599_f066_a9cf] {
         let case = drawn(24, 1, seed);
         let outcome = run_keeping(&case, true);
@@ -165,4 +167,59 @@ fn a_tip_handed_a_node_s_touch_keeps_the_side_it_is_on() {
 #[test]
 fn a_pin_whose_contact_slides_off_a_tip_during_a_snap_goes_round_it() {
     completes_audited(0x6a99_b4d8_f77d_d0fd);
+}
+
+/// A coil of three zero-thickness layers (`rolled_past_a_turn`, Timoshenko, its own 32
+/// elements, one step of 35.9 times the scene's; drive 0x56e2_7ebb_62ed_df56 of the campaign
+/// of 96 drives per scene, seed 11): node 6 comes to lie nearest the outer layer while it is
+/// still over the middle one, which it was measured against. The part it was measured against
+/// is judged too, by the side the node had there, so the node is caught where it would pass
+/// 7e-6 m through the middle layer, and caught where it would leave a contact it rested on
+/// through that contact's element. The drive completes, and the oracle finds nothing in any
+/// accepted state.
+#[test]
+fn a_node_nearest_another_layer_of_a_coil_is_still_judged_against_the_one_it_lay_over() {
+    let case = drawn(96, 11, 0x56e2_7ebb_62ed_df56);
+    let outcome = run(&case);
+    assert_eq!(outcome.stop, None, "{case:?} stops");
+    audited_at_least(&outcome, 200);
+}
+
+/// A tip slipping along the coil under it as the end moment rolls the cantilever up
+/// (`rolled_past_a_turn`, Timoshenko, 16 elements, mu 0.94, two steps of 7.7 times the
+/// scene's, then back; drive 0xe377_9b99_f4a7_c151 of the campaign, seed 1): at the top of the
+/// drive the moment unloads. Under the slip mode the tip would slide freely the wrong way,
+/// pushed on by its own friction, and no step size converges; the step cut back, a slip its
+/// predictor turns back sticks and the predictor is solved again. The tip sticks through the
+/// first unloading increments, every state audited by the oracle.
+#[test]
+fn a_slipping_tip_sticks_when_the_drive_turns_back() {
+    let case = drawn(24, 1, 0xe377_9b99_f4a7_c151);
+    let outcome = run_keeping(&case, true);
+    audited_at_least(&outcome, 35);
+    let top = (outcome.records.iter())
+        .map(|r| r.load_factor)
+        .fold(f64::MIN, f64::max);
+    let after: Vec<_> = (outcome.records.iter())
+        .skip_while(|r| r.load_factor < top)
+        .skip(1)
+        .take(3)
+        .collect();
+    assert_eq!(
+        after.len(),
+        3,
+        "three increments after the top of the drive"
+    );
+    for r in after {
+        assert!(r.load_factor < top, "unloading");
+        let tip = (r.contacts.iter())
+            .find(|c| c.node == 17)
+            .expect("the tip rests");
+        assert!(
+            matches!(tip.friction, tsm_contact::solver::Friction::Sticking),
+            "increment {}: the tip {:?}",
+            r.increment,
+            tip.friction
+        );
+    }
 }

@@ -11,7 +11,9 @@
 
 use super::set::{ActiveContact, ContactSet, ContactView, Stick};
 use crate::solver::assembly::{obstacle_offset, Assembled};
-use crate::solver::element::friction::{Grip, ObstacleGrip, Traction, STICK_ROUNDOFF_ULPS};
+use crate::solver::element::friction::{
+    Grip, ObstacleGrip, Traction, COULOMB_TOLERANCE, STICK_ROUNDOFF_ULPS,
+};
 use crate::solver::report::{ContactChange, Event, ObstacleEvent};
 
 /// The stiffness kt that holds sticking node `node` to beam `beam` (N/m): `friction_penalty`
@@ -198,6 +200,38 @@ impl ContactSet {
             self.friction.guard.reached(modes);
         }
         changes.len()
+    }
+
+    /// After the predictor of an attempt (assembled in `asm`): every slipping contact, with a
+    /// beam or an obstacle, whose trial force the predicted state brings back inside the
+    /// Coulomb cone sticks. The slip has turned back against its own friction (the drive
+    /// unloads or reverses): under the slip mode the contact would slide freely the wrong
+    /// way, with the friction pushing it on, a near-mechanism Newton cannot converge on at
+    /// any step size. Returns how many stick now.
+    pub(crate) fn unloaded_slips(&mut self, asm: &Assembled) -> usize {
+        let inside = |slip: Option<f64>, t: &Traction| {
+            slip.is_some_and(|sigma| sigma * t.trial < t.limit * (1.0 - COULOMB_TOLERANCE))
+        };
+        let mut stuck = 0;
+        let tractions = &asm.elements.contact_friction;
+        for (a, t) in self.beams.active.iter_mut().zip(tractions) {
+            if let (Some(stick), Some(t)) = (a.stick.as_mut(), t) {
+                if inside(stick.slip, t) {
+                    stick.slip = None;
+                    stuck += 1;
+                }
+            }
+        }
+        let tractions = &asm.elements.obstacle_friction;
+        for (link, t) in self.obstacles.links.iter_mut().zip(tractions) {
+            if let (Some(grip), Some(t)) = (link.grip.as_mut(), t) {
+                if inside(grip.slip, t) {
+                    grip.slip = None;
+                    stuck += 1;
+                }
+            }
+        }
+        stuck
     }
 
     /// At the accepted pass of an increment (assembled in `asm`): the stick point of every

@@ -403,13 +403,16 @@ impl ContactSet {
     /// against each: the first element near it now (`ANOTHER_PART`; more than one element from
     /// each of `skip`) that it lies beyond, on the other side from the one it was clear on at
     /// the last converged state (`local_side`), by more than `through` (a fraction of the
-    /// element length). Returns its probe now and the side it came from.
+    /// element length). Against the element `kept` names (the pair's remembered side, measured
+    /// there) or a neighbour of it, the remembered side is the side: a node that rested on it
+    /// at the last converged state lay inside it by its contact's penetration, on the far side
+    /// to the geometry. Returns its probe now and the side it came from.
     pub(super) fn through_another_part(
         &self,
         cv: &ContactView<'_>,
         d: &[f64],
         (n, b): (usize, usize),
-        skip: [usize; 2],
+        (skip, kept): ([usize; 2], (f64, usize)),
         views: &PassViews,
         through: f64,
     ) -> Option<(Probe, f64)> {
@@ -425,7 +428,12 @@ impl ContactSet {
         near.into_iter().filter(far_from_skip).find_map(|e| {
             let q = self.closest(cv, d, (n, c), std::iter::once(e), Some(&views.now))?;
             let beyond = q.gap.abs() > cv.structure.touching(through, q.length);
-            let (side, _) = beyond.then(|| self.local_side(cv, (n, b), e, views))??;
+            let remembered = || {
+                let (side, was) = kept;
+                Self::adjacent(cv, b, was, e).then_some((side, was))
+            };
+            let local = || remembered().or_else(|| self.local_side(cv, (n, b), e, views));
+            let (side, _) = beyond.then(local)??;
             (q.gap * side < 0.0).then_some((q, side))
         })
     }

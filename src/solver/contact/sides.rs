@@ -284,13 +284,19 @@ impl ContactSet {
     ) -> Option<(Probe, f64)> {
         let p = self.probe_near(cv, d, n, b, Some(&views.now))?;
         if let Some((side, was)) = self.side_of(cv, n, b, Some(&views.before)) {
-            // The part of the body the side was measured against (where the node rested, if it
-            // did): it and the part the node lies over now are judged by the rules below, every
-            // other part near the node by its side of that part (`through_another_part`).
-            let skip = [was, p.beam];
-            let (side, was) = match Self::adjacent(cv, b, was, p.beam) {
-                true => (side, was),
-                false => (self.local_side(cv, (n, b), p.beam, views)).unwrap_or((side, was)),
+            // The part the node lies over now is judged by the rules below, with the side it
+            // had there; so is the part the side was measured against (where the node rested,
+            // if it did) where that is the same part. Every other part near the node, that one
+            // included where the node now lies over another layer of a coil, is judged by its
+            // side of that part (`through_another_part`).
+            let kept = (side, was);
+            let (skip, side, was) = match Self::adjacent(cv, b, was, p.beam) {
+                true => ([was, p.beam], side, was),
+                false => {
+                    let local = self.local_side(cv, (n, b), p.beam, views);
+                    let (side, was) = local.unwrap_or((side, was));
+                    ([p.beam, p.beam], side, was)
+                }
             };
             // Beyond an element next to the one its side was measured against, a node went
             // through at any depth: a beam that springs back past a node resting inside the sag
@@ -308,7 +314,7 @@ impl ContactSet {
                 return None;
             }
             if !wrong_side {
-                return self.through_another_part(cv, d, (n, b), skip, views, THROUGH);
+                return self.through_another_part(cv, d, (n, b), (skip, kept), views, THROUGH);
             }
             // A side measured from afar (more than `FAR` element lengths from the element's line)
             // tells which side of the line the node lay on, not of the beam: a beam that

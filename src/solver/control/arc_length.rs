@@ -43,7 +43,7 @@ impl Solver {
         loop {
             let number = self.increment() + 1;
             let accepted = (self.newton())
-                .attempt(Constraint::Arc { ds }, number, None, None, obs)
+                .attempt(Constraint::Arc { ds }, number, None, None, false, obs)
                 .and_then(|conv| {
                     let checked = self.acceptance(&conv)?;
                     Ok((conv, checked))

@@ -103,7 +103,7 @@ impl Solver {
                 factors: &tl,
             };
             let accepted = (self.newton())
-                .attempt(constraint, number, slide_off, None, obs)
+                .attempt(constraint, number, slide_off, None, h < 1.0, obs)
                 .and_then(|conv| {
                     let checked = self.acceptance(&conv)?;
                     Ok((conv, checked))

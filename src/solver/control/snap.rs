@@ -109,7 +109,7 @@ impl Solver {
             let constraint = Constraint::Prescribed { targets, factors };
             let damped = (!settle).then_some(&viscous);
             let attempt = (self.newton())
-                .attempt(constraint, number, None, damped, obs)
+                .attempt(constraint, number, None, damped, false, obs)
                 .and_then(|conv| {
                     let checked = self.acceptance(&conv)?;
                     Ok((conv, checked))

@@ -8,9 +8,11 @@
 //! 1. assemble the internal forces and tangent at the iterate (and a snap's viscous force);
 //! 2. while the structure springs back from a contact let go, release the node-on-beam
 //!    contacts that turn tensile (`ContactSet::release_tensile`);
-//! 3. judge the iterate: equilibrium, the round-off floor, a stall; near equilibrium, the
-//!    obstacle contacts change where one turned tensile or a node went inside
-//!    (`ContactSet::predicted_changes`, else only the tensile ones let go);
+//! 3. judge the iterate: in a step that was cut back, after the predictor, a slip it turned
+//!    back sticks and the predictor is solved again (`ContactSet::unloaded_slips`); then
+//!    equilibrium, the round-off floor, a stall; near equilibrium, the obstacle contacts
+//!    change where one turned tensile or a node went inside (`ContactSet::predicted_changes`,
+//!    else only the tensile ones let go);
 //! 4. at a converged pass, the contact stages one after the other, each only once the one
 //!    before has nothing to change: node-on-beam activation and release
 //!    (`ContactSet::after_convergence`), obstacle contacts and their multipliers
@@ -63,6 +65,9 @@ enum Verdict {
     Again,
     /// The state is accepted, at this round-off floor.
     Accept { floor: f64 },
+    /// A slip the predictor turned back sticks now: solve the predictor again, from the last
+    /// converged state.
+    Repredict,
 }
 
 impl Newton<'_> {
@@ -72,16 +77,20 @@ impl Newton<'_> {
     /// motion for one Newton solve, so each correction is held to `SPRING_BACK_STEP` of the
     /// model's size. `viscous`: a pseudo-time step of a snap, the viscous force added to the
     /// internal forces (the relative residual without it goes to
-    /// [`Converged::equilibrium_residual`]).
+    /// [`Converged::equilibrium_residual`]). `cut_back`: a sub-increment of a step that was
+    /// cut back, whose predictor is checked for slips it turns back (stage 3a): a step that
+    /// unloads a slipping contact fails under the slip mode at any size.
     pub(crate) fn attempt(
         &self,
         constraint: Constraint<'_>,
         increment: usize,
         slide_off: Option<f64>,
         viscous: Option<&Viscous<'_>>,
+        cut_back: bool,
         obs: &mut dyn Observer,
     ) -> Result<Converged, AttemptError> {
         let mut it = self.first_iterate(increment, slide_off);
+        it.unloads_slips = cut_back;
         let mut max_step = self.structure.params.max_step;
         if slide_off.is_some() {
             max_step = max_step.min(SPRING_BACK_STEP * self.structure.model_size());
@@ -108,6 +117,11 @@ impl Newton<'_> {
                 match self.judge(&mut it, &tangent, residual, increment, obs)? {
                     Verdict::Correct => {}
                     Verdict::Again => continue,
+                    Verdict::Repredict => {
+                        self.repredict(&mut it);
+                        path = Path::new(constraint, self);
+                        continue;
+                    }
                     Verdict::Accept { floor } => {
                         let at = (residual, floor, increment);
                         return Ok(self.accept(it, tangent, &path, at, viscous));
@@ -201,6 +215,10 @@ impl Newton<'_> {
             active_contacts: it.contacts.beams.active.len(),
         };
         it.log.record(obs, record)?;
+        // 3a. After the predictor: a slip it turned back sticks (`ContactSet::unloaded_slips`).
+        if it.unloads_slips && it.iterations == 1 && it.contacts.unloaded_slips(&it.asm) > 0 {
+            return Ok(Verdict::Repredict);
+        }
         let reference = residual.reference;
         let (scale, floor) = if (it.bound).may_decide(rel, tangent, reference, p, it.pass_iter) {
             self.roundoff_floor(tangent, &it.d, reference)
@@ -362,6 +380,15 @@ impl Newton<'_> {
             residuals: it.log.residuals,
             events: it.events,
         }
+    }
+
+    /// Stage 3a's restart: the iterate back at the last converged state, to be predicted
+    /// again with the contacts' new modes (the iterations done stay counted).
+    fn repredict(&self, it: &mut Iterate) {
+        it.d.copy_from_slice(&self.state.d);
+        it.predictor = true;
+        it.pass_iter = 0;
+        it.last_step = 0.0;
     }
 
     /// Stage 5: solve for the correction with the factored tangent and update the iterate

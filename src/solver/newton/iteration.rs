@@ -228,6 +228,9 @@ pub(super) struct Iterate {
     /// prescribed displacements and load factors without a snap's viscous force, where the
     /// tangent alone gives the next Newton correction.
     pub(super) predicts: bool,
+    /// Whether a slip the predictor turns back sticks, and the predictor is solved again
+    /// (`ContactSet::unloaded_slips`): in a step that was cut back.
+    pub(super) unloads_slips: bool,
     /// The equation ordering of `contacts`.
     pub(super) ordering: Arc<Ordering>,
     /// The assembly at `d` (its tangent taken out while it is factored).
@@ -285,6 +288,7 @@ impl Newton<'_> {
             last_step: 0.0,
             springback: false,
             predicts: false,
+            unloads_slips: false,
             log: IterationLog::default(),
             stall: Stall::new(),
             bound,
