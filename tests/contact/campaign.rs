@@ -65,7 +65,7 @@ fn a_tip_resting_on_the_mesh_node_of_a_frictional_beam_under_it_completes() {
 /// (`control: (snap: false)`) the drive stops there, and the tangent's least eigenvalue (the
 /// drive held) at the last accepted state is below a twentieth of the one after the first
 /// step. With 128 and 128 elements and friction (mu 0.2), flat contact node over node, the
-/// slips the drive turns back stick (a step cut back checks its predictor for them), and the
+/// slips the drive turns back stick (an attempt after a failed one checks its predictor for them), and the
 /// drive goes on to a limit point too: the eigenvalue falls below a twentieth as well. With
 /// the snap both complete, through states marked snapping, and the oracle finds nothing in any
 /// state.
@@ -189,7 +189,7 @@ fn a_node_nearest_another_layer_of_a_coil_is_still_judged_against_the_one_it_lay
 /// (`rolled_past_a_turn`, Timoshenko, 16 elements, mu 0.94, two steps of 7.7 times the
 /// scene's, then back; drive 0xe377_9b99_f4a7_c151 of the campaign, seed 1): at the top of the
 /// drive the moment unloads. Under the slip mode the tip would slide freely the wrong way,
-/// pushed on by its own friction, and no step size converges; the step cut back, a slip its
+/// pushed on by its own friction, and no step size converges; after a failed attempt, a slip its
 /// predictor turns back sticks and the predictor is solved again. The tip sticks through the
 /// first unloading increments, every state audited by the oracle.
 #[test]

@@ -78,6 +78,9 @@ impl Solver {
         let mut clock = Instant::now();
         // Set for the attempt that first slides contacts off the tips they are about to leave.
         let mut slide_off = None;
+        // Whether the next attempt sticks the slips its predictor turns back: every other
+        // attempt after a failed one, so that a cut-back tries both (`Newton::attempt`).
+        let mut unload_slips = false;
         while done < 1.0 {
             let next = (done + h).min(1.0);
             // The last sub-increment lands exactly on the targets.
@@ -103,7 +106,7 @@ impl Solver {
                 factors: &tl,
             };
             let accepted = (self.newton())
-                .attempt(constraint, number, slide_off, None, h < 1.0, obs)
+                .attempt(constraint, number, slide_off, None, unload_slips, obs)
                 .and_then(|conv| {
                     let checked = self.acceptance(&conv)?;
                     Ok((conv, checked))
@@ -111,6 +114,7 @@ impl Solver {
             match accepted {
                 Ok((conv, checked)) => {
                     slide_off = None;
+                    unload_slips = false;
                     // After a cut-back the sub-increment grows again (doubles) once Newton has
                     // it easy, so one hard moment does not leave the rest of the step in
                     // tiny pieces.
@@ -160,6 +164,7 @@ impl Solver {
                         continue;
                     }
                     let reason = self.failure_reason(&e);
+                    unload_slips = !unload_slips;
                     cutbacks += 1;
                     h *= 0.5;
                     obs.event(&Event::CutBack {

@@ -8,11 +8,11 @@
 //! 1. assemble the internal forces and tangent at the iterate (and a snap's viscous force);
 //! 2. while the structure springs back from a contact let go, release the node-on-beam
 //!    contacts that turn tensile (`ContactSet::release_tensile`);
-//! 3. judge the iterate: in a step that was cut back, after the predictor, a slip it turned
-//!    back sticks and the predictor is solved again (`ContactSet::unloaded_slips`); then
-//!    equilibrium, the round-off floor, a stall; near equilibrium, the obstacle contacts
-//!    change where one turned tensile or a node went inside (`ContactSet::predicted_changes`,
-//!    else only the tensile ones let go);
+//! 3. judge the iterate: in every other attempt after a failed one, after the predictor, a
+//!    slip it turned back sticks and the predictor is solved again
+//!    (`ContactSet::unloaded_slips`); then equilibrium, the round-off floor, a stall; near
+//!    equilibrium, the obstacle contacts change where one turned tensile or a node went
+//!    inside (`ContactSet::predicted_changes`, else only the tensile ones let go);
 //! 4. at a converged pass, the contact stages one after the other, each only once the one
 //!    before has nothing to change: node-on-beam activation and release
 //!    (`ContactSet::after_convergence`), obstacle contacts and their multipliers
@@ -77,20 +77,21 @@ impl Newton<'_> {
     /// motion for one Newton solve, so each correction is held to `SPRING_BACK_STEP` of the
     /// model's size. `viscous`: a pseudo-time step of a snap, the viscous force added to the
     /// internal forces (the relative residual without it goes to
-    /// [`Converged::equilibrium_residual`]). `cut_back`: a sub-increment of a step that was
-    /// cut back, whose predictor is checked for slips it turns back (stage 3a): a step that
-    /// unloads a slipping contact fails under the slip mode at any size.
+    /// [`Converged::equilibrium_residual`]). `unload_slips`: the predictor is checked for
+    /// slips it turns back (stage 3a), as every other attempt after a failed one is: a step
+    /// that unloads a slipping contact can fail under the slip mode at any size, and one whose
+    /// predictor turns a slip back only to the first order can fail sticking it.
     pub(crate) fn attempt(
         &self,
         constraint: Constraint<'_>,
         increment: usize,
         slide_off: Option<f64>,
         viscous: Option<&Viscous<'_>>,
-        cut_back: bool,
+        unload_slips: bool,
         obs: &mut dyn Observer,
     ) -> Result<Converged, AttemptError> {
         let mut it = self.first_iterate(increment, slide_off);
-        it.unloads_slips = cut_back;
+        it.unloads_slips = unload_slips;
         let mut max_step = self.structure.params.max_step;
         if slide_off.is_some() {
             max_step = max_step.min(SPRING_BACK_STEP * self.structure.model_size());

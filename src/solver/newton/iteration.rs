@@ -229,7 +229,7 @@ pub(super) struct Iterate {
     /// tangent alone gives the next Newton correction.
     pub(super) predicts: bool,
     /// Whether a slip the predictor turns back sticks, and the predictor is solved again
-    /// (`ContactSet::unloaded_slips`): in a step that was cut back.
+    /// (`ContactSet::unloaded_slips`): in every other attempt after a failed one.
     pub(super) unloads_slips: bool,
     /// The equation ordering of `contacts`.
     pub(super) ordering: Arc<Ordering>,
