@@ -4,7 +4,7 @@
 
 use std::collections::BTreeMap;
 
-use crate::solver::{Flow, IncrementRecord, IterationRecord, Observer};
+use crate::solver::{Event, Flow, IncrementRecord, IterationRecord, Observer};
 
 /// Counts the Newton iterations of each increment number, every attempt included, and keeps
 /// every accepted increment as it is accepted: a step that stops part way has accepted states
@@ -42,9 +42,9 @@ impl Observer for Count {
         Flow::Continue
     }
 
-    fn event(&mut self, e: &crate::solver::Event) {
+    fn event(&mut self, e: &Event) {
         // A cut-back starts a new attempt, numbered from 1 again.
-        if let crate::solver::Event::CutBack { increment, .. } = e {
+        if let Event::CutBack { increment, .. } = e {
             self.last.remove(increment);
         }
     }
@@ -56,9 +56,17 @@ impl Observer for Count {
 }
 
 /// The `q`-quantile (0 to 1) of sorted `v` (0 for none).
-pub(super) fn quantile(v: &[usize], q: f64) -> usize {
+fn quantile(v: &[usize], q: f64) -> usize {
     match v.len() {
         0 => 0,
         n => v[((q * (n - 1) as f64).round() as usize).min(n - 1)],
     }
+}
+
+/// The median, 99th percentile and largest of counts `v` (0 for none), as the report gives
+/// them.
+pub(super) fn spread(mut v: Vec<usize>) -> (usize, usize, usize) {
+    v.sort_unstable();
+    let largest = v.last().copied().unwrap_or(0);
+    (quantile(&v, 0.5), quantile(&v, 0.99), largest)
 }

@@ -20,7 +20,7 @@ use crate::history::{History, Topology};
 use crate::scene::builtin::{builtin, with_elements, BUILTIN};
 use crate::scene::Scene;
 use crate::solver::{Formulation, IncrementRecord};
-use count::{quantile, Count};
+use count::{spread, Count};
 pub use families::{Family, FAMILIES};
 pub use shipped::{shipped, shipped_report, Shipped};
 
@@ -340,23 +340,21 @@ fn kind(e: &crate::solver::SolveError) -> String {
 pub fn report(outcomes: &[Outcome], per_scene: usize, seed: u64) -> String {
     let mut text = String::new();
     let done = outcomes.iter().filter(|o| o.stop.is_none()).count();
-    let mut all: Vec<usize> = outcomes
+    let all: Vec<usize> = outcomes
         .iter()
         .flat_map(|o| o.iterations.iter().copied())
         .collect();
-    all.sort_unstable();
+    let accepted = all.len();
+    let (median, p99, largest) = spread(all);
     let findings: usize = outcomes.iter().map(|o| o.findings.len()).sum();
     text += &format!(
         "{} drives ({per_scene} per built-in scene and family, seed {seed}): {done} complete ({:.1} %), {} accepted increments, {findings} audit finding(s).\n\n",
         outcomes.len(),
         100.0 * done as f64 / outcomes.len().max(1) as f64,
-        all.len()
+        accepted
     );
     text += &format!(
-        "Newton iterations per accepted increment, failed attempts and cut-backs included: median {}, 99th percentile {}, largest {}.\n\n",
-        quantile(&all, 0.5),
-        quantile(&all, 0.99),
-        all.last().copied().unwrap_or(0)
+        "Newton iterations per accepted increment, failed attempts and cut-backs included: median {median}, 99th percentile {p99}, largest {largest}.\n\n",
     );
     text += "| scene | drives | complete | stops (kind: count) | iterations median / p99 / max | findings |\n|---|---|---|---|---|---|\n";
     let mut scenes: Vec<&str> = outcomes.iter().map(|o| o.case.scene.as_str()).collect();
@@ -369,14 +367,14 @@ pub fn report(outcomes: &[Outcome], per_scene: usize, seed: u64) -> String {
                 *stops.entry(k.as_str()).or_default() += 1;
             }
         }
-        let mut its: Vec<usize> = of
+        let its: Vec<usize> = of
             .iter()
             .flat_map(|o| o.iterations.iter().copied())
             .collect();
-        its.sort_unstable();
+        let (median, p99, largest) = spread(its);
         let stops: Vec<String> = stops.iter().map(|(k, n)| format!("{k}: {n}")).collect();
         text += &format!(
-            "| {name} | {} | {} | {} | {} / {} / {} | {} |\n",
+            "| {name} | {} | {} | {} | {median} / {p99} / {largest} | {} |\n",
             of.len(),
             of.iter().filter(|o| o.stop.is_none()).count(),
             if stops.is_empty() {
@@ -384,9 +382,6 @@ pub fn report(outcomes: &[Outcome], per_scene: usize, seed: u64) -> String {
             } else {
                 stops.join(", ")
             },
-            quantile(&its, 0.5),
-            quantile(&its, 0.99),
-            its.last().copied().unwrap_or(0),
             of.iter().map(|o| o.findings.len()).sum::<usize>()
         );
     }

@@ -2,7 +2,7 @@
 //! of every increment (failed attempts and cut-backs included), for the report's table beside
 //! the campaign's random drives.
 
-use super::count::{quantile, Count};
+use super::count::{spread, Count};
 use crate::scene::builtin::{builtin, BUILTIN};
 
 /// How one built-in scene solves in its own steps.
@@ -64,15 +64,11 @@ pub fn shipped_report(shipped: &[Shipped]) -> String {
         "The built-in scenes as they ship, each solved through its own steps (`tsm-contact solve NAME`); Newton iterations per accepted increment, failed attempts and cut-backs included:\n\n| scene | increments | iterations median / p99 / max | ends |\n|---|---|---|---|\n",
     );
     for s in shipped {
-        let mut its = s.iterations.clone();
-        its.sort_unstable();
+        let (median, p99, largest) = spread(s.iterations.clone());
         text += &format!(
-            "| {} | {} | {} / {} / {} | {} |\n",
+            "| {} | {} | {median} / {p99} / {largest} | {} |\n",
             s.scene,
-            its.len(),
-            quantile(&its, 0.5),
-            quantile(&its, 0.99),
-            its.last().copied().unwrap_or(0),
+            s.iterations.len(),
             s.stop.as_deref().unwrap_or("complete")
         );
     }

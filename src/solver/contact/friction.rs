@@ -11,9 +11,7 @@
 
 use super::set::{ActiveContact, ContactSet, ContactView, Stick};
 use crate::solver::assembly::{obstacle_offset, Assembled};
-use crate::solver::element::friction::{
-    Grip, ObstacleGrip, Traction, COULOMB_TOLERANCE, STICK_ROUNDOFF_ULPS,
-};
+use crate::solver::element::friction::{Grip, ObstacleGrip, Traction, STICK_ROUNDOFF_ULPS};
 use crate::solver::report::{ContactChange, Event, ObstacleEvent};
 
 /// The stiffness kt that holds sticking node `node` to beam `beam` (N/m): `friction_penalty`
@@ -209,9 +207,9 @@ impl ContactSet {
     /// way, with the friction pushing it on, a near-mechanism Newton cannot converge on at
     /// any step size. Returns how many stick now.
     pub(crate) fn unloaded_slips(&mut self, asm: &Assembled) -> usize {
-        let inside = |slip: Option<f64>, t: &Traction| {
-            slip.is_some_and(|sigma| sigma * t.trial < t.limit * (1.0 - COULOMB_TOLERANCE))
-        };
+        // A slip the cautious return mapping, with no slack, would stick.
+        let inside =
+            |slip: Option<f64>, t: &Traction| slip.is_some() && t.mode(slip, true, 0.0).is_none();
         let mut stuck = 0;
         let tractions = &asm.elements.contact_friction;
         for (a, t) in self.beams.active.iter_mut().zip(tractions) {

@@ -352,14 +352,8 @@ impl ContactSet {
         e: usize,
         view: &StateView,
     ) -> Option<Probe> {
-        let els = &cv.structure.model.bodies[b].elements;
-        let k = els.iter().position(|&x| x == e)?;
-        let near = (els[k.saturating_sub(1)..(k + 2).min(els.len())]
-            .iter()
-            .copied())
-        .filter(|&f| cv.structure.outside_window(n, b, f));
         let at = current(&cv.structure.model, &cv.structure.dofs, d, n).0;
-        self.closest(cv, d, (n, at), near, Some(view))
+        self.closest(cv, d, (n, at), around(cv, (n, b), e), Some(view))
     }
 
     /// The elements of body `b` that point `c` projects onto at state `d` within `reach` of
@@ -468,11 +462,8 @@ impl ContactSet {
 /// coil passes its mesh nodes so, projecting onto none of its elements for a state.
 fn wedge_side(cv: &ContactView<'_>, (n, b): (usize, usize), e: usize) -> Option<(f64, usize)> {
     let (m, dofs) = (&cv.structure.model, &cv.structure.dofs);
-    let els = &m.bodies[b].elements;
-    let k = els.iter().position(|&x| x == e)?;
-    let around = &els[k.saturating_sub(1)..(k + 2).min(els.len())];
-    around.iter().copied().find_map(|f| {
-        if !cv.structure.outside_window(n, b, f) || !beside_a_convex_node(cv, cv.d, n, b, f) {
+    around(cv, (n, b), e).find_map(|f| {
+        if !beside_a_convex_node(cv, cv.d, n, b, f) {
             return None;
         }
         let (xi, _) = current(m, dofs, cv.d, m.beams[f].i);
@@ -484,4 +475,19 @@ fn wedge_side(cv: &ContactView<'_>, (n, b): (usize, usize), e: usize) -> Option<
         let clear = centre.abs() > cv.structure.touching(SIDE, l) && centre.abs() <= FAR * l;
         clear.then(|| (centre.signum(), f))
     })
+}
+
+/// Element `e` of body `b` and its neighbours along the body, outside node `n`'s own window.
+fn around<'a>(
+    cv: &'a ContactView<'_>,
+    (n, b): (usize, usize),
+    e: usize,
+) -> impl Iterator<Item = usize> + 'a {
+    let els = &cv.structure.model.bodies[b].elements;
+    let k = cv.structure.place[e];
+    debug_assert_eq!(els.get(k), Some(&e), "element {e} lies in body {b}");
+    (els[k.saturating_sub(1)..(k + 2).min(els.len())]
+        .iter()
+        .copied())
+    .filter(move |&f| cv.structure.outside_window(n, b, f))
 }

@@ -38,10 +38,10 @@ const SPRING_BACK_STEP: f64 = 0.2;
 
 /// Below this relative residual a pass changes its obstacle contacts without waiting for
 /// convergence ([`Newton::attempt`]): the set the linearised problem predicts, or where that
-/// does not apply, the release of the contacts that turned tensile. With releases alone the
-/// built-in `table_lift` takes 40 Newton iterations in its first increment instead of 62,
-/// `roller` 716 in all instead of 902; at 1e-2 and above, faster still on those, some random
-/// drives of the robustness campaign take more passes or stop (`tsm-contact robust`, seed 1).
+/// does not apply, the release of the contacts that turned tensile: a strip peeling off a
+/// table lets go node after node, and a pass saved is an iteration or two. Much earlier (1e-2
+/// and above) the linearisation is too rough, and some random drives of the robustness
+/// campaign take more passes or stop (`tsm-contact robust`, seed 1).
 const EARLY_RELEASE: f64 = 1e-3;
 
 /// The residual of an iterate: its norm and the reference force it is measured against.
@@ -91,7 +91,7 @@ impl Newton<'_> {
         obs: &mut dyn Observer,
     ) -> Result<Converged, AttemptError> {
         let mut it = self.first_iterate(increment, slide_off);
-        it.unloads_slips = unload_slips;
+        it.unload_slips = unload_slips;
         let mut max_step = self.structure.params.max_step;
         if slide_off.is_some() {
             max_step = max_step.min(SPRING_BACK_STEP * self.structure.model_size());
@@ -115,10 +115,15 @@ impl Newton<'_> {
                 it.log.r0 = Some(sum_squares(&it.asm.unbalanced).sqrt());
             } else {
                 // 3 and 4. The iterate judged, and the contact stages at a converged pass.
+                // A new pass assembles again into the same storage.
                 match self.judge(&mut it, &tangent, residual, increment, obs)? {
                     Verdict::Correct => {}
-                    Verdict::Again => continue,
+                    Verdict::Again => {
+                        it.asm.tangent = Some(tangent);
+                        continue;
+                    }
                     Verdict::Repredict => {
+                        it.asm.tangent = Some(tangent);
                         self.repredict(&mut it);
                         path = Path::new(constraint, self);
                         continue;
@@ -217,7 +222,7 @@ impl Newton<'_> {
         };
         it.log.record(obs, record)?;
         // 3a. After the predictor: a slip it turned back sticks (`ContactSet::unloaded_slips`).
-        if it.unloads_slips && it.iterations == 1 && it.contacts.unloaded_slips(&it.asm) > 0 {
+        if it.unload_slips && it.iterations == 1 && it.contacts.unloaded_slips(&it.asm) > 0 {
             return Ok(Verdict::Repredict);
         }
         let reference = residual.reference;
@@ -411,7 +416,11 @@ impl Newton<'_> {
         self.factor_and_solve(tangent, &it.ordering, &mut it.rhs)?;
         // The stretch correction (`take_out_stretch`) starts from the displacements before the
         // update.
-        let before = self.stretch_correcting().then(|| it.d.clone());
+        let correcting = self.stretch_correcting();
+        if correcting {
+            it.before.clear();
+            it.before.extend_from_slice(&it.d);
+        }
         let step = path.update(
             self,
             it.predictor,
@@ -426,10 +435,10 @@ impl Newton<'_> {
         );
         it.last_step = step?;
         it.predictor = false;
-        if let Some(before) = before {
+        if correcting {
             let after = path.counts_moves().then(|| it.d.clone());
             let moved =
-                self.take_out_stretch(&before, &mut it.d, &it.ordering, tangent, &mut it.rhs);
+                self.take_out_stretch(&it.before, &mut it.d, &it.ordering, tangent, &mut it.rhs);
             it.bound.moved(moved);
             if let Some(after) = after {
                 path.moved(&after, &it.d);

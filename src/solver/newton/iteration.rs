@@ -230,7 +230,10 @@ pub(super) struct Iterate {
     pub(super) predicts: bool,
     /// Whether a slip the predictor turns back sticks, and the predictor is solved again
     /// (`ContactSet::unloaded_slips`): in every other attempt after a failed one.
-    pub(super) unloads_slips: bool,
+    pub(super) unload_slips: bool,
+    /// The displacements before the last update, where the stretch correction starts from
+    /// (kept for the attempt, refilled at each correction).
+    pub(super) before: Vec<f64>,
     /// The equation ordering of `contacts`.
     pub(super) ordering: Arc<Ordering>,
     /// The assembly at `d` (its tangent taken out while it is factored).
@@ -288,7 +291,8 @@ impl Newton<'_> {
             last_step: 0.0,
             springback: false,
             predicts: false,
-            unloads_slips: false,
+            unload_slips: false,
+            before: Vec::new(),
             log: IterationLog::default(),
             stall: Stall::new(),
             bound,
