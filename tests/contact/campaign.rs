@@ -223,3 +223,15 @@ fn a_slipping_tip_sticks_when_the_drive_turns_back() {
         );
     }
 }
+
+/// A strip lying on a rough table whose weight a drive has almost taken away
+/// (`table_lift`, Bernoulli-Euler, mu 0.50, 120 steps of 1.2e-3 times the scene's, then back;
+/// drive 0x1715_6092_7c74_6c68 of the campaign, seed 1): the nodes press with 1e-5 N, and
+/// the Coulomb limits, 3e-6 N, are below the round-off of a stick spring of full stiffness
+/// (friction_penalty EA / l times a few units in the last place of the coordinates). The
+/// spring of each contact is no stiffer than its limit resolves, so that stick and slip are
+/// decided on the limit, not on round-off: the drive completes, every state audited.
+#[test]
+fn a_strip_that_barely_presses_on_a_rough_table_sticks_and_slips_on_its_limit() {
+    completes_audited(0x1715_6092_7c74_6c68);
+}

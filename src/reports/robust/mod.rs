@@ -22,7 +22,7 @@ use crate::scene::Scene;
 use crate::solver::{Formulation, IncrementRecord};
 use count::{spread, Count};
 pub use families::{Family, FAMILIES};
-pub use shipped::{shipped, shipped_report, Shipped};
+pub use shipped::{shipped, shipped_report, validation, validation_report, Shipped};
 
 /// The most increments one drive takes (each way): a drive at 3e-4 of a scene's step covers
 /// that many of its small steps, not the scene's whole path.

@@ -16,9 +16,47 @@ use crate::solver::report::{ContactChange, Event, ObstacleEvent};
 
 /// The stiffness kt that holds sticking node `node` to beam `beam` (N/m): `friction_penalty`
 /// times the smallest axial stiffness EA / L0 of that element and the node's own elements, so
-/// that a stiff floor does not make the spring stiffer than what rests on it.
-fn stick_stiffness(cv: &ContactView<'_>, node: usize, beam: usize) -> f64 {
-    cv.structure.params.friction_penalty * least_axial(cv, node, axial(cv, beam))
+/// that a stiff floor does not make the spring stiffer than what rests on it, and no stiffer than its Coulomb limit resolves (`Stick::resolved`).
+fn stick_stiffness(cv: &ContactView<'_>, a: &ActiveContact) -> f64 {
+    let full = cv.structure.params.friction_penalty * least_axial(cv, a.node, axial(cv, a.beam));
+    a.stick.map_or(full, |s| full.min(s.resolved))
+}
+
+/// The stiffness kt that holds a node sticking to an obstacle (N/m): `friction_penalty` times
+/// the least axial stiffness of the node's elements (of the obstacle penalty for a node
+/// without elements).
+fn obstacle_stick_stiffness(cv: &ContactView<'_>, node: usize) -> f64 {
+    let stiffness = least_axial(cv, node, f64::INFINITY);
+    let stiffness = if stiffness.is_finite() {
+        stiffness
+    } else {
+        cv.structure.obstacle_penalty
+    };
+    cv.structure.params.friction_penalty * stiffness
+}
+
+/// The largest part of its Coulomb limit the round-off of a stick spring's force may be (its
+/// stiffness times `STICK_ROUNDOFF_ULPS` units in the last place of the coordinates).
+const STICK_RESOLUTION: f64 = 1e-3;
+
+/// The stiffness of a stick spring of full stiffness `full` whose Coulomb limit is `limit`
+/// (N) at coordinates of size `scale` (m): `full`, or less where the round-off of its force
+/// would be above `STICK_RESOLUTION` of the limit. A contact that barely presses (a strip
+/// whose weight a drive has nearly taken off) would otherwise have a limit below the round-off
+/// of its own spring, and the return mapping would decide stick and slip on round-off.
+fn resolved_stiffness(full: f64, limit: f64, scale: f64) -> f64 {
+    full.min(resolvable(limit, scale))
+}
+
+/// The stiffest stick spring whose force's round-off is within `STICK_RESOLUTION` of Coulomb
+/// limit `limit` (N) at coordinates of size `scale` (m); infinite where the limit is not
+/// positive (nothing presses: the spring keeps its full stiffness).
+fn resolvable(limit: f64, scale: f64) -> f64 {
+    if limit > 0.0 {
+        STICK_RESOLUTION * limit / (STICK_ROUNDOFF_ULPS * f64::EPSILON * scale)
+    } else {
+        f64::INFINITY
+    }
 }
 
 /// The axial stiffness EA / L0 of element `e` (N/m).
@@ -58,6 +96,7 @@ impl ContactSet {
         Some(Stick {
             at: si + xi * (sj - si),
             slip: None,
+            resolved: f64::INFINITY,
         })
     }
 
@@ -77,15 +116,9 @@ impl ContactSet {
         }
         let gap = cv.obstacle_gap(d, n, o)?;
         let t = obstacle_offset(&cv.structure.model, &cv.structure.dofs, d, o);
-        let stiffness = least_axial(cv, n, f64::INFINITY);
-        let stiffness = if stiffness.is_finite() {
-            stiffness
-        } else {
-            cv.structure.obstacle_penalty
-        };
         Some(ObstacleGrip {
             mu: obstacle.mu,
-            stiffness: cv.structure.params.friction_penalty * stiffness,
+            stiffness: obstacle_stick_stiffness(cv, n),
             stick: (obstacle.shape).place([gap.point[0] - t[0], gap.point[1] - t[1]]),
             slip: None,
             period: obstacle.shape.period(),
@@ -112,7 +145,7 @@ impl ContactSet {
         let span = sj - si;
         Some(Grip {
             mu,
-            stiffness: stick_stiffness(cv, a.node, a.beam),
+            stiffness: stick_stiffness(cv, a),
             stick: (stick.at - si) / span,
             span,
             side: a.side,
@@ -157,7 +190,7 @@ impl ContactSet {
             let (Some(stick), Some(Some(t))) = (a.stick, tractions.get(k)) else {
                 continue;
             };
-            let kt = stick_stiffness(cv, a.node, a.beam);
+            let kt = stick_stiffness(cv, a);
             let want = want((a.node, a.body, false), stick.slip, t, slack(kt, stick.at));
             if want != stick.slip {
                 changes.push((k, want));
@@ -245,13 +278,19 @@ impl ContactSet {
         events: &mut Vec<Event>,
     ) {
         let tractions = &asm.elements.contact_friction;
+        let frictional = |t: &[Option<Traction>]| t.iter().any(Option::is_some);
+        let scale = if frictional(tractions) || frictional(&asm.elements.obstacle_friction) {
+            cv.structure.coordinate_scale(cv.d)
+        } else {
+            1.0
+        };
         for k in 0..self.beams.active.len() {
             let a = self.beams.active[k];
             let (Some(mut stick), Some(Some(t))) = (a.stick, tractions.get(k)) else {
                 continue;
             };
             if t.slipping {
-                stick.at += t.slip - t.force / stick_stiffness(cv, a.node, a.beam);
+                stick.at += t.slip - t.force / stick_stiffness(cv, &a);
             }
             let before = (cv.contacts.beams.active.iter())
                 .find(|b| b.node == a.node && b.body == a.body)
@@ -267,6 +306,8 @@ impl ContactSet {
                 let event = Self::event(cv, &a, change, increment, iteration, xi, t.tangential);
                 events.push(event);
             }
+            // The spring the next increment holds it with, from the same stick point.
+            stick.resolved = resolvable(t.limit, scale);
             self.beams.active[k].stick = Some(stick);
         }
         let tractions = &asm.elements.obstacle_friction;
@@ -278,6 +319,9 @@ impl ContactSet {
             if t.slipping {
                 grip.stick += t.slip - t.force / grip.stiffness;
             }
+            // The spring the next increment holds it with, from the same stick point.
+            grip.stiffness =
+                resolved_stiffness(obstacle_stick_stiffness(cv, link.node), t.limit, scale);
             let before = cv.contacts.obstacles.links.get(k).and_then(|b| b.grip);
             let slipped = before.is_some_and(|b| b.slip.is_some());
             if t.slipping != slipped {

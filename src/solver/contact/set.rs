@@ -43,6 +43,9 @@ pub struct Stick {
     /// in direction sigma (+1 or -1); `None`: it sticks. At an accepted state, how it got
     /// there; within an attempt, the mode the passes try.
     pub slip: Option<f64>,
+    /// The stiffest spring the Coulomb limit at the last accepted state resolves (N/m;
+    /// infinite for a new contact): the stick spring is no stiffer.
+    pub resolved: f64,
 }
 
 /// The contact set as its stages: node-on-beam contacts, contacts with rigid obstacles and the
