@@ -132,8 +132,9 @@ pub(super) enum Command {
     /// Robustness campaign: seeded random drives of every built-in scene (meshes, formulations,
     /// steps from 3e-4 to 50 times the scene's, down and back up, friction); counts how they
     /// end and the Newton iterations of every increment (failed attempts included), audits
-    /// every accepted state; then the built-in scenes as they ship, each through its own steps;
-    /// prints a Markdown report and writes robustness.md into --out.
+    /// every accepted state; then the built-in scenes as they ship and the validation
+    /// problems, each through its own steps; prints a Markdown report and writes robustness.md
+    /// into --out.
     #[cfg(feature = "reports")]
     #[command(after_help = "Example: tsm-contact robust --per-scene 4 --out /tmp/report")]
     Robust {
