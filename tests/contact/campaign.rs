@@ -235,3 +235,20 @@ fn a_slipping_tip_sticks_when_the_drive_turns_back() {
 fn a_strip_that_barely_presses_on_a_rough_table_sticks_and_slips_on_its_limit() {
     completes_audited(0x1715_6092_7c74_6c68);
 }
+
+/// A cantilever rolled 1.19 turns and back (`rolled_past_a_turn`, Bernoulli-Euler, 16
+/// elements, frictionless, 11 steps of 1.08 times the scene's; drive 0x1dd1_b5eb_4c3d_61f6 of
+/// the campaign of 96 drives per scene, seed 11): past a turn, the tip's turn rests on the
+/// first element, and as the coil opens it slides off the clamped end. The touch passes to
+/// that end, which rests on the turn from then on, as between two bodies; let go instead, the
+/// turn springs back through the elements under it and no step converges. The drive
+/// completes, every state audited, with the clamped end (node 1) resting on the turn.
+#[test]
+fn a_coil_that_opens_off_its_clamped_end_hands_the_touch_to_that_end() {
+    let case = drawn(96, 11, 0x1dd1_b5eb_4c3d_61f6);
+    let outcome = run_keeping(&case, true);
+    assert_eq!(outcome.stop, None, "{case:?} stops");
+    audited_at_least(&outcome, 2 * case.steps);
+    let rests = (outcome.records.iter()).any(|r| r.contacts.iter().any(|c| c.node == 1));
+    assert!(rests, "the clamped end never rests on the turn");
+}

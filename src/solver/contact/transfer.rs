@@ -94,9 +94,11 @@ impl ContactSet {
 
     /// The contact of tip `tip` on the body of node `a.node`, which slides off that tip: on the
     /// element at the node that the tip projects onto, from the side opposite to the node's
-    /// (the elements lying roughly parallel). `None` where the node is no interior mesh node
-    /// of a body, the tip may not touch that body there or already rests on it, or the two
-    /// elements cross steeply (the side would be a guess).
+    /// (the elements lying roughly parallel). The two may be parts of one body: a coil whose
+    /// turn rests on its own first element until the coil opens and the turn slides off the
+    /// clamped end, which then rests on the turn; and the node may be an end of its body. `None`
+    /// where the node is no mesh node of a body, the tip may not touch that body there or
+    /// already rests on it, or the two elements cross steeply (the side would be a guess).
     fn tip_onto_node_body(
         &self,
         cv: &ContactView<'_>,
@@ -105,11 +107,13 @@ impl ContactSet {
         tip: usize,
     ) -> Option<ActiveContact> {
         let m = &cv.structure.model;
-        let &[e1, e2] = cv.structure.node_beams[a.node].as_slice() else {
-            return None;
+        let (e1, e2) = match *cv.structure.node_beams[a.node].as_slice() {
+            [e1, e2] => (e1, e2),
+            [e] => (e, e),
+            _ => return None,
         };
         let body = m.beams[e1].body;
-        if m.beams[e2].body != body || body == a.body || self.is_active(tip, body) {
+        if m.beams[e2].body != body || self.is_active(tip, body) {
             return None;
         }
         let outside = |e: usize| {
