@@ -544,6 +544,7 @@ fn the_friction_law_check_finds_each_kind_of_violation() {
         tangential: -5.0,
         stick_before: Some(0.2),
         stick_after: 0.25,
+        period: 0.0,
     };
     assert_eq!(friction_law(&[ok]), None);
     let sticking = FrictionRecord {
@@ -560,6 +561,22 @@ fn the_friction_law_check_finds_each_kind_of_violation() {
         ..ok
     };
     assert_eq!(friction_law(&[at_limit]), None);
+    // On a circle of circumference 2 pi its places are taken modulo 2 pi: a stick point near
+    // place 0 found again a unit in the last place of 2 pi along the force is round-off too,
+    // and four units in the last place of its place alone are not that.
+    let on_a_circle = FrictionRecord {
+        tangential: 5.0,
+        stick_before: Some(1e-3),
+        stick_after: 1e-3 + std::f64::consts::TAU * f64::EPSILON,
+        period: std::f64::consts::TAU,
+        ..ok
+    };
+    assert_eq!(friction_law(&[on_a_circle]), None);
+    let off_the_circle = FrictionRecord {
+        period: 0.0,
+        ..on_a_circle
+    };
+    assert!(friction_law(&[off_the_circle]).is_some());
     for bad in [
         FrictionRecord {
             stick_after: 0.2 + 1e-12,

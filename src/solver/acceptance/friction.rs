@@ -31,6 +31,9 @@ pub struct FrictionRecord {
     pub stick_before: Option<f64>,
     /// The stick point at the end of the increment.
     pub stick_after: f64,
+    /// The length after which the stick points repeat (a circle's circumference, its places
+    /// taken modulo it: `Shape::period`), 0 where they do not: its round-off is theirs too.
+    pub period: f64,
 }
 
 /// A contact that breaks the friction law.
@@ -68,8 +71,10 @@ pub fn friction_law(records: &[FrictionRecord]) -> Option<FrictionViolation> {
         let slipped = r.stick_after - before;
         let over = t > limit * (1.0 + FRICTION_LAW_TOLERANCE);
         // A stick point is a place along a body: a move within a few units in the last place
-        // of it is the round-off of recomputing it, not a slip with a direction.
-        let roundoff = STICK_ROUNDOFF_ULPS * f64::EPSILON * before.abs().max(r.stick_after.abs());
+        // of it (or of the period it is taken modulo) is the round-off of recomputing it, not
+        // a slip with a direction.
+        let size = before.abs().max(r.stick_after.abs()).max(r.period);
+        let roundoff = STICK_ROUNDOFF_ULPS * f64::EPSILON * size;
         let moved = slipped.abs() > roundoff;
         let short = moved && t < limit * (1.0 - FRICTION_LAW_TOLERANCE);
         let along = moved && r.tangential * slipped > 0.0;

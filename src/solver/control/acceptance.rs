@@ -123,6 +123,7 @@ impl Solver {
                     tangential: t.tangential * (sj - si).signum(),
                     stick_before: before.map(|b| b.at),
                     stick_after: stick.at,
+                    period: 0.0,
                 })
             })
             .chain(self.obstacle_friction_records(c))
@@ -149,6 +150,7 @@ impl Solver {
                     tangential: t.tangential,
                     stick_before: was.map(|b| b.stick),
                     stick_after: grip.stick,
+                    period: grip.period.unwrap_or(0.0),
                 })
             })
             .collect()
