@@ -31,8 +31,9 @@ pub struct FrictionRecord {
     pub stick_before: Option<f64>,
     /// The stick point at the end of the increment.
     pub stick_after: f64,
-    /// The length after which the stick points repeat (a circle's circumference, its places
-    /// taken modulo it: `Shape::period`), 0 where they do not: its round-off is theirs too.
+    /// The length after which the stick points repeat (the circumference of a circle or of an
+    /// arc's circle, its places taken modulo it: `Shape::period`), 0 where they do not: its
+    /// round-off is theirs too.
     pub period: f64,
 }
 

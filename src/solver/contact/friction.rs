@@ -16,7 +16,8 @@ use crate::solver::report::{ContactChange, Event, ObstacleEvent};
 
 /// The stiffness kt that holds sticking node `node` to beam `beam` (N/m): `friction_penalty`
 /// times the smallest axial stiffness EA / L0 of that element and the node's own elements, so
-/// that a stiff floor does not make the spring stiffer than what rests on it, and no stiffer than its Coulomb limit resolves (`Stick::resolved`).
+/// that a stiff floor does not make the spring stiffer than what rests on it, and no stiffer
+/// than its Coulomb limit resolves (`Stick::resolved`).
 fn stick_stiffness(cv: &ContactView<'_>, a: &ActiveContact) -> f64 {
     let full = cv.structure.params.friction_penalty * least_axial(cv, a.node, axial(cv, a.beam));
     a.stick.map_or(full, |s| full.min(s.resolved))
@@ -49,8 +50,8 @@ fn resolved_stiffness(full: f64, limit: f64, scale: f64) -> f64 {
 }
 
 /// The stiffest stick spring whose force's round-off is within `STICK_RESOLUTION` of Coulomb
-/// limit `limit` (N) at coordinates of size `scale` (m); infinite where the limit is not
-/// positive (nothing presses: the spring keeps its full stiffness).
+/// limit `limit` (N) where the coordinates and stick points are of size `scale` (m); infinite
+/// where the limit is not positive (nothing presses: the spring keeps its full stiffness).
 fn resolvable(limit: f64, scale: f64) -> f64 {
     if limit > 0.0 {
         STICK_RESOLUTION * limit / (STICK_ROUNDOFF_ULPS * f64::EPSILON * scale)
@@ -307,7 +308,7 @@ impl ContactSet {
                 events.push(event);
             }
             // The spring the next increment holds it with, from the same stick point.
-            stick.resolved = resolvable(t.limit, scale);
+            stick.resolved = resolvable(t.limit, scale.max(stick.at.abs()));
             self.beams.active[k].stick = Some(stick);
         }
         let tractions = &asm.elements.obstacle_friction;
@@ -320,8 +321,9 @@ impl ContactSet {
                 grip.stick += t.slip - t.force / grip.stiffness;
             }
             // The spring the next increment holds it with, from the same stick point.
+            let size = scale.max(grip.stick.abs()).max(grip.period.unwrap_or(0.0));
             grip.stiffness =
-                resolved_stiffness(obstacle_stick_stiffness(cv, link.node), t.limit, scale);
+                resolved_stiffness(obstacle_stick_stiffness(cv, link.node), t.limit, size);
             let before = cv.contacts.obstacles.links.get(k).and_then(|b| b.grip);
             let slipped = before.is_some_and(|b| b.slip.is_some());
             if t.slipping != slipped {

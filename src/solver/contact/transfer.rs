@@ -96,9 +96,10 @@ impl ContactSet {
     /// element at the node that the tip projects onto, from the side opposite to the node's
     /// (the elements lying roughly parallel). The two may be parts of one body: a coil whose
     /// turn rests on its own first element until the coil opens and the turn slides off the
-    /// clamped end, which then rests on the turn; and the node may be an end of its body. `None`
-    /// where the node is no mesh node of a body, the tip may not touch that body there or
-    /// already rests on it, or the two elements cross steeply (the side would be a guess).
+    /// clamped end, which then rests on the turn; and the node may be an end of its body, the
+    /// tip then lying over its element clear of the free end's margin. `None` where the node
+    /// is no mesh node of a body, the tip may not touch that body there or already rests on
+    /// it, or the two elements cross steeply (the side would be a guess).
     fn tip_onto_node_body(
         &self,
         cv: &ContactView<'_>,
@@ -122,6 +123,13 @@ impl ContactSet {
         };
         let e = if outside(e1) <= outside(e2) { e1 } else { e2 };
         if !Self::may_touch(cv, tip, body, e) {
+            return None;
+        }
+        // The node an end of its body: the tip must lie over its element clear of the free
+        // end's margin, or the touch would slide off there at the next pass and come back.
+        let margin = cv.structure.params.free_end_margin;
+        let over = |t: f64| t > margin && t < 1.0 - margin;
+        if e1 == e2 && !over(Self::chord_fraction(cv, d, tip, e)) {
             return None;
         }
         let normal = |e: usize| {
@@ -264,9 +272,9 @@ impl ContactSet {
                                 Self::chord_fraction(cv, d, a.node, u.beam),
                             ),
                         });
-                // Else a node of another body sliding off a tip that rests on nothing of that
-                // body leaves the tip resting on the body at the node: the same touch, seen
-                // from the tip.
+                // Else a node sliding off a tip (of another body, or of its own in a coil) that
+                // rests on nothing of the node's body leaves the tip resting on that body at
+                // the node: the same touch, seen from the tip.
                 let handed = onto_under
                     .or_else(|| self.tip_onto_node_body(cv, d, &a, tip))
                     .filter(|h| self.side_agrees(cv, h));
