@@ -301,3 +301,32 @@ fn a_pin_drawn_back_off_a_mesh_node_lets_go_and_the_beam_springs_straight() {
         }
     }
 }
+
+/// A pin inside the kink of a body, driven straight down through the kink's mesh node in one
+/// step: there it lies in the wedge outside that convex node, projecting onto neither element
+/// meeting at it, and nearest the body's far segment beneath. No accepted state may have it
+/// there: the step is cut back until the pin is caught while it still projects onto the body,
+/// or the run stops with a typed error where it cannot be (a pin landed on the node itself).
+/// The oracle audits every accepted state, both formulations.
+#[test]
+fn a_pin_driven_through_a_kink_of_a_body_is_never_accepted_beyond_it() {
+    for formulation in ["BernoulliEuler", "Timoshenko"] {
+        let text = format!(
+            r#"(
+    name: "pin through a kink",
+    units: N_m,
+    formulation: {formulation},
+    sections: [(name: "s", E: 2.0e5, A: 1.0e2, I: 1.0e-5, G: 8.0e4)],
+    nodes: [(id: 500, x: 1.0, y: 0.05, rotation: false)],
+    bodies: [(name: "w", section: "s", path: [(0.0, 1.0), (1.0, 0.0), (2.0, 1.0), (2.0, -0.2), (0.5, -0.2)], elements: 10, first_node: 1)],
+    supports: [(node: 1, u: true, v: true, phi: true), (node: 21, u: true, v: true, phi: true), (node: 41, u: true, v: true, phi: true)],
+    prescribed: [(node: 500, dof: U, per_step: 0.0), (node: 500, dof: V, per_step: -0.1)],
+    contacts: [(nodes: [500], bodies: ["w"])],
+    control: (steps: 1),
+)"#
+        );
+        let s = parse(&text, "pin through a kink").expect("a valid scene");
+        let (records, _) = solve(&s);
+        common::assert_audited(&s, &records);
+    }
+}

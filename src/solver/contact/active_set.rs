@@ -3,11 +3,13 @@
 //! active set comes back within an attempt (cycling), one violation per pass, Murty's
 //! least-index rule. Two nodes of different bodies that meet node on node each get a contact
 //! on the other's body when each is found through it: one of them alone would leave the other
-//! through the first body wherever their chords meet at an angle.
+//! through the first body wherever their chords meet at an angle. A node that went through a
+//! body right at a convex mesh node, into the wedge outside it, cuts the increment back.
 
-use super::probe::{PassViews, Probe, SIDE};
+use super::probe::{around, beside_a_convex_node, PassViews, Probe, FAR, SIDE};
 use super::set::ContactView;
 use super::set::{ActiveContact, ContactSet};
+use super::sides::THROUGH;
 use crate::solver::assembly::{current, Assembled};
 use crate::solver::index_map::IndexMap;
 use crate::solver::report::{ContactChange, Event};
@@ -51,7 +53,7 @@ impl ContactSet {
         let mut crossings = Vec::new();
         let near = self.near_inactive(cv, d);
         let views = PassViews::default();
-        for (n, b) in near {
+        for &(n, b) in &near {
             if let Some((p, side)) = self.crossing(cv, d, n, b, &views) {
                 if -p.gap * side > cv.structure.params.max_penetration * p.length {
                     self.beams.too_deep = Some((n, b, -p.gap * side / p.length));
@@ -81,7 +83,8 @@ impl ContactSet {
             changes += self.activate(cv, &crossings, increment, iteration, events);
         }
         if self.beams.too_deep.is_none() {
-            self.beams.too_deep = self.passed_out_of_reach(cv, d, &views, &held);
+            self.beams.too_deep = (self.passed_out_of_reach(cv, d, &views, &held))
+                .or_else(|| self.went_into_a_convex_wedge(cv, d, &near, &held));
         }
         if changes > 0 {
             self.beams.guard.reached(self.pairs());
@@ -265,5 +268,51 @@ impl ContactSet {
             }
         }
         out
+    }
+}
+
+impl ContactSet {
+    /// A node not in contact that now lies in the wedge outside a convex mesh node of the part
+    /// of a body its side was measured against (that element or a neighbour), on the other side
+    /// of it from its remembered one, having lain within `FAR` element lengths of it at the last
+    /// converged state: it went through the body right at that mesh node (a pin driven through
+    /// the kink of a bent body, a tip let go at a mesh node of a coil's turn), projecting onto
+    /// neither element there and nearest a far part of the body, so that neither `crossing`
+    /// nor `passed_out_of_reach` finds it. The increment is cut back until the node is
+    /// caught while it still projects onto the body. Looks at the pairs of `near` (those near
+    /// their bodies at this pass) not in contact now; pairs in `held` (sorted) are skipped, as
+    /// in `passed_out_of_reach`. Returns (node, body, depth in element lengths).
+    pub(super) fn went_into_a_convex_wedge(
+        &self,
+        cv: &ContactView<'_>,
+        d: &[f64],
+        near: &[(usize, usize)],
+        held: &[(usize, usize)],
+    ) -> Option<(usize, usize, f64)> {
+        let (m, dofs) = (&cv.structure.model, &cv.structure.dofs);
+        let offset = |d: &[f64], n: usize, f: usize| {
+            let (xi, _) = current(m, dofs, d, m.beams[f].i);
+            let (xj, _) = current(m, dofs, d, m.beams[f].j);
+            let p = current(m, dofs, d, n).0;
+            let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
+            let l = dx.hypot(dy);
+            ((dx * (p[1] - xi[1]) - dy * (p[0] - xi[0])) / l, l)
+        };
+        near.iter().find_map(|&(n, b)| {
+            if held.binary_search(&(n, b)).is_ok() || self.is_active(n, b) {
+                return None;
+            }
+            // Remembered: the node was near the body at the last converged state.
+            let &(side, was) = self.beams.sides.get(&(n, b))?;
+            around(cv, (n, b), was).find_map(|f| {
+                if !beside_a_convex_node(cv, d, n, b, f) {
+                    return None;
+                }
+                let (now, l) = offset(d, n, f);
+                let (then, _) = offset(cv.d, n, f);
+                let through = now * side < -cv.structure.touching(THROUGH, l);
+                (through && then.abs() <= FAR * l).then_some((n, b, -now * side / l))
+            })
+        })
     }
 }

@@ -478,7 +478,7 @@ fn wedge_side(cv: &ContactView<'_>, (n, b): (usize, usize), e: usize) -> Option<
 }
 
 /// Element `e` of body `b` and its neighbours along the body, outside node `n`'s own window.
-fn around<'a>(
+pub(super) fn around<'a>(
     cv: &'a ContactView<'_>,
     (n, b): (usize, usize),
     e: usize,
