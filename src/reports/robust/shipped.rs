@@ -34,9 +34,9 @@ const VALIDATION_MESHES: [usize; 4] = [4, 16, 64, 256];
 /// mesh of `VALIDATION_MESHES`, at the default tolerance, solved in their own steps.
 pub fn validation() -> Vec<Shipped> {
     let mut out = Vec::new();
+    let tolerance = SolverParams::default().tolerance;
     for f in [Formulation::BernoulliEuler, Formulation::Timoshenko] {
         for n in VALIDATION_MESHES {
-            let tolerance = SolverParams::default().tolerance;
             for (name, scene) in problems(n, f, tolerance) {
                 out.push(solve_scene(format!("{name}, {f:?}, {n} el."), Ok(scene)));
             }

@@ -289,15 +289,6 @@ impl ContactSet {
         near: &[(usize, usize)],
         held: &[(usize, usize)],
     ) -> Option<(usize, usize, f64)> {
-        let (m, dofs) = (&cv.structure.model, &cv.structure.dofs);
-        let offset = |d: &[f64], n: usize, f: usize| {
-            let (xi, _) = current(m, dofs, d, m.beams[f].i);
-            let (xj, _) = current(m, dofs, d, m.beams[f].j);
-            let p = current(m, dofs, d, n).0;
-            let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
-            let l = dx.hypot(dy);
-            ((dx * (p[1] - xi[1]) - dy * (p[0] - xi[0])) / l, l)
-        };
         near.iter().find_map(|&(n, b)| {
             if held.binary_search(&(n, b)).is_ok() || self.is_active(n, b) {
                 return None;
@@ -308,8 +299,8 @@ impl ContactSet {
                 if !beside_a_convex_node(cv, d, n, b, f) {
                     return None;
                 }
-                let (now, l) = offset(d, n, f);
-                let (then, _) = offset(cv.d, n, f);
+                let (now, l) = Self::chord_offset(cv, d, n, f);
+                let (then, _) = Self::chord_offset(cv, cv.d, n, f);
                 let through = now * side < -cv.structure.touching(THROUGH, l);
                 (through && then.abs() <= FAR * l).then_some((n, b, -now * side / l))
             })

@@ -40,18 +40,12 @@ fn obstacle_stick_stiffness(cv: &ContactView<'_>, node: usize) -> f64 {
 /// stiffness times `STICK_ROUNDOFF_ULPS` units in the last place of the coordinates).
 const STICK_RESOLUTION: f64 = 1e-3;
 
-/// The stiffness of a stick spring of full stiffness `full` whose Coulomb limit is `limit`
-/// (N) at coordinates of size `scale` (m): `full`, or less where the round-off of its force
-/// would be above `STICK_RESOLUTION` of the limit. A contact that barely presses (a strip
-/// whose weight a drive has nearly taken off) would otherwise have a limit below the round-off
-/// of its own spring, and the return mapping would decide stick and slip on round-off.
-fn resolved_stiffness(full: f64, limit: f64, scale: f64) -> f64 {
-    full.min(resolvable(limit, scale))
-}
-
 /// The stiffest stick spring whose force's round-off is within `STICK_RESOLUTION` of Coulomb
 /// limit `limit` (N) where the coordinates and stick points are of size `scale` (m); infinite
-/// where the limit is not positive (nothing presses: the spring keeps its full stiffness).
+/// where the limit is not positive (nothing presses: the spring keeps its full stiffness). A
+/// contact that barely presses (a strip whose weight a drive has nearly taken off) would
+/// otherwise have a limit below the round-off of its own spring, and the return mapping would
+/// decide stick and slip on round-off.
 fn resolvable(limit: f64, scale: f64) -> f64 {
     if limit > 0.0 {
         STICK_RESOLUTION * limit / (STICK_ROUNDOFF_ULPS * f64::EPSILON * scale)
@@ -322,8 +316,7 @@ impl ContactSet {
             }
             // The spring the next increment holds it with, from the same stick point.
             let size = scale.max(grip.stick.abs()).max(grip.period.unwrap_or(0.0));
-            grip.stiffness =
-                resolved_stiffness(obstacle_stick_stiffness(cv, link.node), t.limit, size);
+            grip.stiffness = obstacle_stick_stiffness(cv, link.node).min(resolvable(t.limit, size));
             let before = cv.contacts.obstacles.links.get(k).and_then(|b| b.grip);
             let slipped = before.is_some_and(|b| b.slip.is_some());
             if t.slipping != slipped {

@@ -118,6 +118,18 @@ impl ContactSet {
         chord_fraction_of(current(m, &cv.structure.dofs, d, n).0, xi, xj)
     }
 
+    /// The signed distance of node `n` from the current chord of beam `e` (along its left
+    /// normal) and the chord's length.
+    pub(super) fn chord_offset(cv: &ContactView<'_>, d: &[f64], n: usize, e: usize) -> (f64, f64) {
+        let (m, dofs) = (&cv.structure.model, &cv.structure.dofs);
+        let (xi, _) = current(m, dofs, d, m.beams[e].i);
+        let (xj, _) = current(m, dofs, d, m.beams[e].j);
+        let p = current(m, dofs, d, n).0;
+        let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
+        let l = dx.hypot(dy);
+        ((dx * (p[1] - xi[1]) - dy * (p[0] - xi[0])) / l, l)
+    }
+
     pub(super) fn shape(&self, cv: &ContactView<'_>, d: &[f64], e: usize) -> Shape {
         let m = &cv.structure.model;
         let beam = &m.beams[e];
@@ -461,17 +473,11 @@ impl ContactSet {
 /// both elements meeting at the node have it on that side. A node gliding along a layer of a
 /// coil passes its mesh nodes so, projecting onto none of its elements for a state.
 fn wedge_side(cv: &ContactView<'_>, (n, b): (usize, usize), e: usize) -> Option<(f64, usize)> {
-    let (m, dofs) = (&cv.structure.model, &cv.structure.dofs);
     around(cv, (n, b), e).find_map(|f| {
         if !beside_a_convex_node(cv, cv.d, n, b, f) {
             return None;
         }
-        let (xi, _) = current(m, dofs, cv.d, m.beams[f].i);
-        let (xj, _) = current(m, dofs, cv.d, m.beams[f].j);
-        let p = current(m, dofs, cv.d, n).0;
-        let (dx, dy) = (xj[0] - xi[0], xj[1] - xi[1]);
-        let l = dx.hypot(dy);
-        let centre = (dx * (p[1] - xi[1]) - dy * (p[0] - xi[0])) / l;
+        let (centre, l) = ContactSet::chord_offset(cv, cv.d, n, f);
         let clear = centre.abs() > cv.structure.touching(SIDE, l) && centre.abs() <= FAR * l;
         clear.then(|| (centre.signum(), f))
     })
