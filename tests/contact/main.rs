@@ -13,6 +13,7 @@ mod contact;
 mod drags;
 mod friction;
 mod load_paths;
+mod long_slides;
 mod mesh_node_contact;
 mod obstacle_campaign;
 mod obstacle_sets;

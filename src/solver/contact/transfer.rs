@@ -31,10 +31,11 @@ impl ContactSet {
         })
     }
 
-    /// Move contacts whose li/l left [0, 1] to the neighbouring element. Between iterations a
-    /// contact moves by at most one element and never leaves the body (intermediate iterates can
-    /// be far off); at a converged state (`converged`) it walks to the element it now lies on, or
-    /// slides off a free end. Returns the number of changes.
+    /// Move contacts whose li/l left [0, 1] along the body: each walks to the element its node
+    /// now lies over, however many elements on (a node that slides three elements in one
+    /// increment rests on the third from the first iteration, not one element an iteration).
+    /// Between iterations it never leaves the body (intermediate iterates can be far off); at a
+    /// converged state (`converged`) it slides off a free end. Returns the number of changes.
     pub fn transfer(
         &mut self,
         cv: &ContactView<'_>,
@@ -174,11 +175,7 @@ impl ContactSet {
             let mut moved = false;
             let mut off_end = false;
             let mut xi_now = 0.0;
-            let walk = if converged {
-                m.bodies[a.body].elements.len()
-            } else {
-                1
-            };
+            let walk = m.bodies[a.body].elements.len();
             for _ in 0..walk {
                 let beam = &m.beams[a.beam];
                 let (xi, _) = current(m, &cv.structure.dofs, d, beam.i);

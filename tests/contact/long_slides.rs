@@ -1,0 +1,79 @@
+//! A contact that slides several elements in one increment: a pin driven down onto a
+//! cantilever of 256 elements, its contact point running two to four elements a step toward
+//! the tip. The contact is carried to the element under the pin as soon as an iterate puts it
+//! there, however many elements on, not one element an iteration; every state is audited by
+//! the oracle (`tsm_contact::audit`, which shares no code with the solver).
+
+use crate::common;
+
+use tsm_contact::scene::parse;
+use tsm_contact::solver::report::ContactChange;
+use tsm_contact::solver::{Event, IncrementRecord, Silent};
+
+/// The pin of `pin_on_cantilever` (L = 1 m, EA L^2 / EI = 1e6, 0.03 m a step) over a
+/// cantilever of `n` elements of formulation `formulation`.
+fn pin_on_a_fine_cantilever(formulation: &str, n: usize) -> String {
+    format!(
+        r#"(
+        name: "pin on a fine cantilever", formulation: {formulation},
+        sections: [(name: "strip", E: 1.0, A: 1.0e6, I: 1.0, G: 0.4)],
+        nodes: [(id: 100000, x: 0.7, y: 0.001, rotation: false)],
+        bodies: [(name: "cantilever", section: "strip", path: [(0.0, 0.0), (1.0, 0.0)], elements: {n}, first_node: 1)],
+        supports: [(node: 1, u: true, v: true, phi: true), (node: 100000, u: true)],
+        prescribed: [(node: 100000, dof: V, per_step: -0.03)],
+        contacts: [(nodes: [100000], bodies: ["cantilever"])],
+        control: (steps: 10),
+    )"#
+    )
+}
+
+/// The elements the contact is moved onto in increment `r`, in order.
+fn transfers(r: &IncrementRecord) -> Vec<usize> {
+    (r.events.iter())
+        .filter_map(|e| match e {
+            Event::Contact(c) if c.change == ContactChange::Transferred => Some(c.element),
+            _ => None,
+        })
+        .collect()
+}
+
+/// In every increment (without a cut-back) whose contact ends three or more elements from
+/// where the last one left it, the first transfer already lands within one element of the
+/// end: the element under the pin at the first iterate. Moving one element an iteration, the
+/// first transfer lands on the next element, two or more from the end. The run completes and
+/// every state passes the oracle, both formulations.
+#[test]
+fn a_contact_that_slides_several_elements_in_one_increment_gets_there_in_one_transfer() {
+    for formulation in ["Timoshenko", "BernoulliEuler"] {
+        let scene = parse(&pin_on_a_fine_cantilever(formulation, 256), "pin").unwrap();
+        let mut solver = scene.solver().unwrap();
+        let mut records = Vec::new();
+        for _ in 0..scene.steps {
+            records.extend(solver.step(&mut Silent).expect("converges"));
+        }
+        common::assert_audited(&scene, &records);
+        let mut long = 0;
+        for w in records.windows(2) {
+            let (Some(before), Some(after)) = (w[0].contacts.first(), w[1].contacts.first()) else {
+                continue;
+            };
+            let moved = after.element.abs_diff(before.element);
+            if moved < 3 || w[1].cutbacks > 0 {
+                continue;
+            }
+            long += 1;
+            let first = *transfers(&w[1]).first().expect("a transfer");
+            assert!(
+                first.abs_diff(after.element) <= 1,
+                "{formulation}, increment {}: from element {} to {}, first moved onto {first}",
+                w[1].increment,
+                before.element,
+                after.element
+            );
+        }
+        assert!(
+            long >= 3,
+            "{formulation}: {long} increments slide 3 elements"
+        );
+    }
+}
