@@ -252,3 +252,22 @@ fn a_coil_that_opens_off_its_clamped_end_hands_the_touch_to_that_end() {
     let rests = (outcome.records.iter()).any(|r| r.contacts.iter().any(|c| c.node == 1));
     assert!(rests, "the clamped end never rests on the turn");
 }
+
+/// A pin pressing two cantilevers (Bernoulli-Euler, 128 elements each, one step of 25.5 times
+/// the family's; drive 0xb696_2bbf_3ca4_0bcc of the campaign of 96 drives per scene, seed 7):
+/// the structure snaps from increment 48 and comes to rest where Newton reaches only the
+/// round-off floor, never the tolerance. The snap ends there, at a state whose residual
+/// without the viscous force is round-off, instead of stepping on at rest until its steps run
+/// out; the drive completes, every state audited, a snap ending on a `roundoff` state.
+#[test]
+fn a_snap_that_comes_to_rest_at_the_round_off_floor_ends_there() {
+    let case = drawn(96, 7, 0xb696_2bbf_3ca4_0bcc);
+    let outcome = run_keeping(&case, true);
+    assert_eq!(outcome.stop, None, "{case:?} stops");
+    audited_at_least(&outcome, case.steps);
+    let ends_at_floor = outcome.records.windows(2).any(|w| {
+        matches!(w[0].status, IncrementStatus::Snapping { .. })
+            && matches!(w[1].status, IncrementStatus::RoundOff { .. })
+    });
+    assert!(ends_at_floor, "no snap ends at the round-off floor");
+}

@@ -25,6 +25,15 @@ impl Solver {
         let status = match c.equilibrium_residual {
             // A snap's step: in equilibrium or not, by its residual without the viscous force.
             Some(residual) if residual <= p.tolerance => IncrementStatus::Converged,
+            // A step Newton took to the round-off floor (above the tolerance) is in equilibrium
+            // at that floor where the viscous force adds no more than round-off: its residual
+            // without it within twice the residual it was taken to.
+            Some(residual)
+                if c.relative_residual > p.tolerance && residual <= 2.0 * c.relative_residual =>
+            {
+                IncrementStatus::of(residual, p.tolerance, p.roundoff_bound)
+                    .unwrap_or(IncrementStatus::Snapping { residual })
+            }
             Some(residual) => IncrementStatus::Snapping { residual },
             None => {
                 let rel =

@@ -17,6 +17,11 @@ const STALL_ITERATIONS: usize = 3;
 /// ... and once the displacement correction has shrunk below this fraction of the coordinates.
 const STALL_STEP: f64 = 1e-10;
 
+/// Units in the last place of the coordinates that a correction's entries may each come to
+/// and still be round-off: a correction within them moves the state by no more than its
+/// coordinates can resolve, so one iteration without halving the residual after it is a stall.
+const ROUNDOFF_ULPS: f64 = 16.0;
+
 /// The factor by which the round-off of a residual norm over `n_eq` equations can exceed the
 /// floor estimate, which is that of one equation (`eps max|K_ii| |x|`): each equation rounds
 /// on its own, and the norm sums their squares, so up to sqrt(n_eq).
@@ -25,10 +30,11 @@ fn norm_spread(n_eq: usize) -> f64 {
 }
 
 /// Round-off stagnation of one Newton pass: once the residual has stopped falling (no halving
-/// of the best value for `STALL_ITERATIONS` iterations) while the corrections have vanished,
-/// and lies within `STAGNATION` times the round-off a residual norm over all the equations can
-/// have (the floor estimate times `norm_spread`), Newton cannot get closer: the state is
-/// accepted and its residual reported.
+/// of the best value for `STALL_ITERATIONS` iterations, or for one where the last correction
+/// was round-off itself: `ROUNDOFF_ULPS` of the coordinates in each of its entries) while the
+/// corrections have vanished, and lies within `STAGNATION` times the round-off a residual norm
+/// over all the equations can have (the floor estimate times `norm_spread`), Newton cannot get
+/// closer: the state is accepted and its residual reported.
 pub(crate) struct Stall {
     best: f64,
     count: usize,
@@ -59,9 +65,9 @@ impl Stall {
             self.count += 1;
         }
         self.best = self.best.min(rel);
-        self.count >= STALL_ITERATIONS
-            && rel <= STAGNATION * norm_spread(n_eq) * floor
-            && step <= STALL_STEP * scale
+        let roundoff_step = ROUNDOFF_ULPS * f64::EPSILON * norm_spread(n_eq) * scale;
+        let stalled = self.count >= STALL_ITERATIONS || (self.count >= 1 && step <= roundoff_step);
+        stalled && rel <= STAGNATION * norm_spread(n_eq) * floor && step <= STALL_STEP * scale
     }
 }
 

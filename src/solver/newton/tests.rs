@@ -142,3 +142,24 @@ fn the_floor_bound_never_falls_below_the_floor() {
         bound.moved(largest);
     }
 }
+
+/// A pass at the round-off floor is told stalled after one iteration without halving its
+/// residual where the correction before it was round-off itself (16 units in the last place of
+/// the coordinates in each of its entries: a norm of 16 eps sqrt(n) times their size), and
+/// after three where the correction was larger.
+#[test]
+fn a_stall_is_told_after_one_iteration_once_the_correction_is_round_off() {
+    use super::convergence::Stall;
+    let (floor, n_eq, scale) = (1e-9, 100, 2.0);
+    let roundoff = 16.0 * f64::EPSILON * 10.0 * scale;
+    let at_floor = [1.0e-8, 1.1e-8, 0.9e-8, 1.2e-8];
+    let mut stall = Stall::new();
+    assert!(!stall.at_floor(at_floor[0], floor, n_eq, 1e-6, scale));
+    assert!(stall.at_floor(at_floor[1], floor, n_eq, 0.9 * roundoff, scale));
+    let mut stall = Stall::new();
+    assert!(!stall.at_floor(at_floor[0], floor, n_eq, 1e-6, scale));
+    for (k, &rel) in at_floor[1..].iter().enumerate() {
+        let told = stall.at_floor(rel, floor, n_eq, 1.1 * roundoff, scale);
+        assert_eq!(told, k == 2, "iteration {} after the first", k + 1);
+    }
+}
