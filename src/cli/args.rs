@@ -27,6 +27,7 @@ pub(super) enum FormulationArg {
 #[derive(Clone, Copy, ValueEnum)]
 pub(super) enum StretchArg {
     Never,
+    WhereNeeded,
     AfterCutBack,
     Always,
 }
@@ -53,8 +54,8 @@ pub(super) struct SolveArgs {
     #[arg(long)]
     pub(super) unsymmetric_from: Option<usize>,
     /// When Newton's updates take the chords' second-order gaps out (the scene's
-    /// `control: (stretch_correction: ...)`, by default after the run's first cut-back): for
-    /// fine meshes of axially stiff beams in large rotation. Given without a value: always.
+    /// `control: (stretch_correction: ...)`, by default where needed): for fine meshes of
+    /// axially stiff beams in large rotation. Given without a value: always.
     #[arg(long, num_args = 0..=1, default_missing_value = "always")]
     pub(super) stretch_correction: Option<StretchArg>,
     /// The most bytes the history (`--json`) may take; a run that would write more stops at

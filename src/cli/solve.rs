@@ -170,6 +170,7 @@ pub(super) fn solve(args: SolveArgs) -> i32 {
     if let Some(m) = stretch_correction {
         scene.params.stretch_correction = match m {
             StretchArg::Never => StretchCorrection::Never,
+            StretchArg::WhereNeeded => StretchCorrection::WhereNeeded,
             StretchArg::AfterCutBack => StretchCorrection::AfterCutBack,
             StretchArg::Always => StretchCorrection::Always,
         };

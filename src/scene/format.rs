@@ -406,7 +406,7 @@ impl Default for ControlDef {
             roundoff_bound: None,
             contact_normal: ContactNormal::Surface,
             max_step: None,
-            stretch_correction: StretchCorrection::AfterCutBack,
+            stretch_correction: StretchCorrection::WhereNeeded,
             arc_length: None,
             gravity: None,
             obstacle_gap: None,

@@ -106,7 +106,7 @@ impl Default for SolverParams {
             max_cutbacks: 12,
             divergence: 1e6,
             max_step: f64::MAX,
-            stretch_correction: StretchCorrection::AfterCutBack,
+            stretch_correction: StretchCorrection::WhereNeeded,
             max_active_set_changes: 24,
             unsymmetric_from: 1,
             xi_min: 1e-6,
@@ -132,7 +132,8 @@ impl Default for SolverParams {
 /// Mattiasson's cantilever (k = 10 in 10 steps) on 10^4 elements: 88 increments and 921
 /// iterations never, 19 and 184 after the first cut-back, 17 and 155 always. The correction
 /// costs one more band solve an iteration (2.3 times the iteration of a long beam) and does not
-/// shorten Newton where it has no zig-zag to remove, hence the default. Load and
+/// shorten Newton where it has no zig-zag to remove, hence the default: where an update's gaps
+/// would load the structure more than the force it removes, or after a cut-back. Load and
 /// displacement steps only: the arc-length control's attempts (`arc_length`) do not use it.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub enum StretchCorrection {
@@ -142,8 +143,17 @@ pub enum StretchCorrection {
     Never,
     /// Plain Newton until the run's first cut-back, corrected from then on (reported as
     /// `Event::StretchCorrectionOn`). Runs without cut-backs are plain Newton's, bit for bit.
-    #[default]
     AfterCutBack,
+    /// As `AfterCutBack`, and before the first cut-back, in a model without contact (no
+    /// contact entry, no obstacle), each update judged: corrected where its chords' gaps
+    /// would load the structure more than the unbalanced force it came to remove (a stiff
+    /// chord turned by the update), left plain where the update turns a chord by more than a
+    /// radian or was cut to `max_step` (a direction, not a turn meant). With contact, the
+    /// linear update is the one the contact stages judge, and a corrected one can carry the
+    /// structure onto another path (Example 3.1's last step fails with it; a column in a
+    /// channel buckles the other way).
+    #[default]
+    WhereNeeded,
     /// Every update of every increment (`true` in a scene file).
     #[serde(alias = "true")]
     Always,

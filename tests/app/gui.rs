@@ -382,28 +382,29 @@ fn plot_keys_stay_in_their_column_in_a_narrow_window() {
 
 #[test]
 fn stretch_correction_selector_reloads_in_the_chosen_mode() {
-    // The roll-up never cuts back, so the default runs plain Newton (6 iterations an
-    // increment); chosen "always", each increment takes what a direct run in that mode takes.
+    // The roll-up never cuts back: the default corrects its updates where they turn the stiff
+    // chords (2 iterations an increment); chosen "after a cut-back", it runs plain Newton (6),
+    // what a direct run in that mode takes.
     let mut h = harness_on("end_moment", false);
     loaded(&mut h);
     h.get_by_label("Stretch correction").click();
     h.run();
-    h.get_by_label("always").click();
+    h.get_by_label("after a cut-back").click();
     wait(&mut h, "the reload", Duration::from_secs(30), |h| {
-        h.query_by_label("always").is_some() && shown_increment(h) == Some((0, 0))
+        h.query_by_label("after a cut-back").is_some() && shown_increment(h) == Some((0, 0))
     });
     let mut scene = builtin("end_moment").unwrap().unwrap();
     run_all(&mut h, scene.steps, Duration::from_secs(60));
-    let plain = direct(&scene, scene.steps);
-    scene.params.stretch_correction = tsm_contact::solver::StretchCorrection::Always;
-    let always = direct(&scene, scene.steps);
-    let (a, p) = (always.last().unwrap(), plain.last().unwrap());
-    assert_ne!(a.iterations, p.iterations, "the modes must differ here");
+    let default = direct(&scene, scene.steps);
+    scene.params.stretch_correction = tsm_contact::solver::StretchCorrection::AfterCutBack;
+    let chosen = direct(&scene, scene.steps);
+    let (c, d) = (chosen.last().unwrap(), default.last().unwrap());
+    assert_ne!(c.iterations, d.iterations, "the modes must differ here");
     let shown = label(&h, "iterations ").unwrap();
     assert!(
-        shown.starts_with(&format!("iterations {} ", a.iterations)),
-        "{shown} (always: {}, plain: {})",
-        a.iterations,
-        p.iterations
+        shown.starts_with(&format!("iterations {} ", c.iterations)),
+        "{shown} (after a cut-back: {}, default: {})",
+        c.iterations,
+        d.iterations
     );
 }

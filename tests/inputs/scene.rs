@@ -192,7 +192,7 @@ fn out_of_range_stiffness_and_vanishing_elements_name_the_field() {
 }
 
 /// `control.stretch_correction` takes a mode or, as scenes written before the automatic mode
-/// did, a flag; it defaults to `AfterCutBack`, and anything else names the field's line.
+/// did, a flag; it defaults to `WhereNeeded`, and anything else names the field's line.
 #[test]
 fn stretch_correction_takes_a_mode_or_a_flag() {
     use tsm_contact::solver::StretchCorrection as S;
@@ -213,9 +213,10 @@ fn stretch_correction_takes_a_mode_or_a_flag() {
             .expect("good")
             .params
             .stretch_correction,
-        S::AfterCutBack
+        S::WhereNeeded
     );
     assert_eq!(mode("Never"), S::Never);
+    assert_eq!(mode("WhereNeeded"), S::WhereNeeded);
     assert_eq!(mode("AfterCutBack"), S::AfterCutBack);
     assert_eq!(mode("Always"), S::Always);
     assert_eq!(mode("true"), S::Always);

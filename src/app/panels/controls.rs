@@ -15,6 +15,7 @@ use crate::figure::Diagram;
 fn stretch_correction(mode: StretchCorrection, actions: &mut Vec<Action>, ui: &mut egui::Ui) {
     let label = |m| match m {
         StretchCorrection::Never => "never",
+        StretchCorrection::WhereNeeded => "where needed",
         StretchCorrection::AfterCutBack => "after a cut-back",
         StretchCorrection::Always => "always",
     };
@@ -23,6 +24,7 @@ fn stretch_correction(mode: StretchCorrection, actions: &mut Vec<Action>, ui: &m
         .show_ui(ui, |ui| {
             for m in [
                 StretchCorrection::Never,
+                StretchCorrection::WhereNeeded,
                 StretchCorrection::AfterCutBack,
                 StretchCorrection::Always,
             ] {

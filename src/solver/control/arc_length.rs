@@ -83,8 +83,10 @@ impl Solver {
                         fraction: ds / nominal,
                     });
                     if !std::mem::replace(&mut self.state.cut_back, true)
-                        && self.structure.params.stretch_correction
-                            == StretchCorrection::AfterCutBack
+                        && matches!(
+                            self.structure.params.stretch_correction,
+                            StretchCorrection::AfterCutBack | StretchCorrection::WhereNeeded
+                        )
                     {
                         obs.event(&Event::StretchCorrectionOn { increment: number });
                     }

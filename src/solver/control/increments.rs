@@ -173,8 +173,10 @@ impl Solver {
                         fraction: h,
                     });
                     if !std::mem::replace(&mut self.state.cut_back, true)
-                        && self.structure.params.stretch_correction
-                            == StretchCorrection::AfterCutBack
+                        && matches!(
+                            self.structure.params.stretch_correction,
+                            StretchCorrection::AfterCutBack | StretchCorrection::WhereNeeded
+                        )
                     {
                         obs.event(&Event::StretchCorrectionOn { increment: number });
                     }

@@ -413,11 +413,18 @@ impl Newton<'_> {
         if let Some(v) = viscous {
             v.stiffen(&it.ordering, tangent);
         }
-        self.factor_and_solve(tangent, &it.ordering, &mut it.rhs)?;
         // The stretch correction (`take_out_stretch`) starts from the displacements before the
-        // update.
-        let correcting = self.stretch_correcting();
-        if correcting {
+        // update; where each update is judged, it is made only where the gaps' loads exceed
+        // the unbalanced force the update removes.
+        let beyond = if self.stretch_correcting() {
+            Some(0.0)
+        } else if self.stretch_judging() {
+            Some(sum_squares(&it.rhs).sqrt())
+        } else {
+            None
+        };
+        self.factor_and_solve(tangent, &it.ordering, &mut it.rhs)?;
+        if beyond.is_some() {
             it.before.clear();
             it.before.extend_from_slice(&it.d);
         }
@@ -435,10 +442,17 @@ impl Newton<'_> {
         );
         it.last_step = step?;
         it.predictor = false;
-        if correcting {
+        // A judged update cut to `max_step` is a direction, not a turn meant: left plain.
+        let beyond = beyond.filter(|&b| b == 0.0 || it.last_step < max_step);
+        if let Some(beyond) = beyond {
             let after = path.counts_moves().then(|| it.d.clone());
-            let moved =
-                self.take_out_stretch(&it.before, &mut it.d, &it.ordering, tangent, &mut it.rhs);
+            let moved = self.take_out_stretch(
+                &it.before,
+                &mut it.d,
+                (&it.ordering, tangent),
+                beyond,
+                &mut it.rhs,
+            );
             it.bound.moved(moved);
             if let Some(after) = after {
                 path.moved(&after, &it.d);

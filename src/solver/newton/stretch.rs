@@ -7,6 +7,10 @@ use crate::solver::assembly::Ordering;
 use crate::solver::linear::reduce::sum_squares;
 use crate::solver::linear::{BandMatrix, NOT_FREE};
 
+/// The largest turn of a chord (rad) a judged update is corrected for: beyond, the update is a
+/// direction (a buckling mode's at a bifurcation), not a turn meant.
+const JUDGED_TURN: f64 = 1.0;
+
 impl Newton<'_> {
     /// Take the chords' second-order errors out of the update from `before` to `d`.
     ///
@@ -20,14 +24,17 @@ impl Newton<'_> {
     /// forces for its gap (its end j moved by the gap, rotations held) and adds the
     /// displacements they produce: on a structure free to take them up (a tree), the turned
     /// chords exactly, up to the geometric stiffness; where supports hold the chords, what
-    /// the structure really gives. `buf` is scratch (the right-hand side's storage). Returns
-    /// the norm of the displacements added.
+    /// the structure really gives. A judged update (`beyond` > 0,
+    /// `StretchCorrection::WhereNeeded`) is corrected only where the gaps' loads (their norm)
+    /// exceed `beyond`, the unbalanced force it came to remove, and no chord turns by more
+    /// than a radian. `buf` is scratch (the right-hand side's storage). Returns the norm of the
+    /// displacements added.
     pub(crate) fn take_out_stretch(
         &self,
         before: &[f64],
         d: &mut [f64],
-        ordering: &Ordering,
-        factors: &BandMatrix,
+        (ordering, factors): (&Ordering, &BandMatrix),
+        beyond: f64,
         buf: &mut Vec<f64>,
     ) -> f64 {
         let first = &self.structure.dofs.first;
@@ -53,6 +60,9 @@ impl Newton<'_> {
             let turn = (e[0] * dc[1] - e[1] * dc[0]) / l;
             if turn == 0.0 || !turn.is_finite() {
                 continue;
+            }
+            if beyond > 0.0 && turn.abs() > JUDGED_TURN {
+                return 0.0;
             }
             // The gap from the update's chord, `stretched e + l turn n`, to the meant one,
             // `stretched (cos turn e + sin turn n)`, along e and across it (written without
@@ -81,7 +91,7 @@ impl Newton<'_> {
             }
             any = true;
         }
-        if !any {
+        if !any || sum_squares(buf).sqrt() <= beyond {
             return 0.0;
         }
         factors.solve(buf);

@@ -100,7 +100,7 @@ fn stretch_correction_turns_the_chords_of_a_tree_exactly() {
         );
         let mut buf = Vec::new();
         s.newton()
-            .take_out_stretch(&rest, &mut d, &ord, &tangent, &mut buf);
+            .take_out_stretch(&rest, &mut d, (&ord, &tangent), 0.0, &mut buf);
         assert!(worst(&d) < 1e-12, "{scene}: {}", worst(&d));
     }
 }
