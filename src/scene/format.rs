@@ -363,8 +363,8 @@ pub struct ControlDef {
     pub roundoff_bound: Option<f64>,
     /// Largest displacement correction per Newton iteration (m), if any.
     pub max_step: Option<f64>,
-    /// When Newton's updates take the chords' second-order gaps out: `Never`, `AfterCutBack`
-    /// (the default) or `Always`; `true` and `false` mean `Always` and `Never`.
+    /// When Newton's updates take the chords' second-order gaps out: `Never`, `WhereNeeded`
+    /// (the default), `AfterCutBack` or `Always`; `true` and `false` mean `Always` and `Never`.
     pub stretch_correction: StretchCorrection,
     /// Arc-length control (load-driven scenes): length of one increment along the equilibrium
     /// path as the root-mean-square change of the free dofs (m, rad). Each step is one arc; the load factor is solved for.

@@ -27,7 +27,7 @@ pub struct SolverParams {
     /// take_out_stretch`; one more band solve an iteration). A linear update that turns an
     /// element lengthens its chord by about l dpsi^2 / 2 and turns it by less than meant; on
     /// fine meshes of axially stiff beams in large rotation the spurious forces make Newton
-    /// zig-zag and load steps fail. Default: from a run's first cut-back on.
+    /// zig-zag and load steps fail. Default: where needed (`StretchCorrection::WhereNeeded`).
     pub stretch_correction: StretchCorrection,
     /// Contact state changes allowed within one increment, beyond four per candidate node, before
     /// it is cut back (chattering). Cycling itself is caught earlier: a repeated active set
@@ -133,8 +133,9 @@ impl Default for SolverParams {
 /// iterations never, 19 and 184 after the first cut-back, 17 and 155 always. The correction
 /// costs one more band solve an iteration (2.3 times the iteration of a long beam) and does not
 /// shorten Newton where it has no zig-zag to remove, hence the default: where an update's gaps
-/// would load the structure more than the force it removes, or after a cut-back. Load and
-/// displacement steps only: the arc-length control's attempts (`arc_length`) do not use it.
+/// would load the structure more than the force it removes, or after a cut-back. Under
+/// arc-length control (`arc_length`), updates are corrected after a cut-back (or always), not
+/// judged.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub enum StretchCorrection {
     /// Plain Newton: the linear update only (`false` in a scene file, the form of scenes

@@ -85,7 +85,8 @@ pub enum Event {
     Contact(ContactEvent),
     /// A contact with a rigid obstacle began or ended.
     Obstacle(ObstacleEvent),
-    /// The stretch correction (`StretchCorrection::AfterCutBack`) is on from this increment's
+    /// The stretch correction (`StretchCorrection::AfterCutBack`, `WhereNeeded`) is on for every
+    /// update from this increment's
     /// next attempt to the end of the run.
     StretchCorrectionOn {
         /// Increment number being attempted.

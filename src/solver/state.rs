@@ -31,6 +31,7 @@ pub struct State {
     pub increment: usize,
     /// Arc-length control memory.
     pub arc: ArcState,
-    /// Whether the run has cut an increment back (`StretchCorrection::AfterCutBack`).
+    /// Whether the run has cut an increment back (`StretchCorrection::AfterCutBack`,
+    /// `WhereNeeded`).
     pub cut_back: bool,
 }

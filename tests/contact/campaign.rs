@@ -257,8 +257,8 @@ fn a_coil_that_opens_off_its_clamped_end_hands_the_touch_to_that_end() {
 /// the family's; drive 0xb696_2bbf_3ca4_0bcc of the campaign of 96 drives per scene, seed 7):
 /// the structure snaps from increment 48 and comes to rest where Newton reaches only the
 /// round-off floor, never the tolerance. The snap ends there, at a state whose residual
-/// without the viscous force is round-off, instead of stepping on at rest until its steps run
-/// out; the drive completes, every state audited, a snap ending on a `roundoff` state.
+/// without the viscous force is round-off; stepping on at rest, it would run out of steps. The
+/// drive completes, every state audited, a snap ending on a `roundoff` state.
 #[test]
 fn a_snap_that_comes_to_rest_at_the_round_off_floor_ends_there() {
     let case = drawn(96, 7, 0xb696_2bbf_3ca4_0bcc);
@@ -270,4 +270,18 @@ fn a_snap_that_comes_to_rest_at_the_round_off_floor_ends_there() {
             && matches!(w[1].status, IncrementStatus::RoundOff { .. })
     });
     assert!(ends_at_floor, "no snap ends at the round-off floor");
+}
+
+/// Two strips of a thickness stacked (`thick strips`, Timoshenko, 64 elements, two steps of
+/// 29.4 times the family's; drive 0x4540_21b5_755d_453c of the campaign of 96 drives per
+/// scene, seed 7): a node standing off the lower strip by the thickness is pressed to a point
+/// past each of two elements towards the other at a convex mesh node. It rests on the one it
+/// overshoots less, every pass the same, and the drive completes, every state audited; hopping
+/// between the two at every converged pass, the increment is cut back as chattering.
+#[test]
+fn a_thick_node_over_a_convex_mesh_node_rests_on_one_element() {
+    let case = drawn(96, 7, 0x4540_21b5_755d_453c);
+    let outcome = run(&case);
+    assert_eq!(outcome.stop, None, "{case:?} stops");
+    audited_at_least(&outcome, 2 * case.steps);
 }

@@ -1,5 +1,6 @@
-//! Contacts that move during the iterations: transfer to the neighbouring element when li/l
-//! leaves (0, 1), and release when the node slides off a free end of the beam.
+//! Contacts that move during the iterations: transfer along the body to the element the node
+//! lies over when li/l leaves (0, 1), and release when the node slides off a free end of the
+//! beam.
 
 use super::probe::chord_fraction_of;
 use super::set::pressed_point;
@@ -32,8 +33,8 @@ impl ContactSet {
     }
 
     /// Move contacts whose li/l left [0, 1] along the body: each walks to the element its node
-    /// now lies over, however many elements on (a node that slides three elements in one
-    /// increment rests on the third from the first iteration, not one element an iteration).
+    /// lies over, however many elements on (a node that slides three elements in one increment
+    /// rests on the third from the first iterate on).
     /// Between iterations it never leaves the body (intermediate iterates can be far off); at a
     /// converged state (`converged`) it slides off a free end. Returns the number of changes.
     pub fn transfer(
@@ -172,7 +173,8 @@ impl ContactSet {
         let mut k = 0;
         while k < self.beams.active.len() {
             let mut a = self.beams.active[k];
-            let mut moved = false;
+            let start = a.beam;
+            let mut came_from = None;
             let mut off_end = false;
             let mut xi_now = 0.0;
             let walk = m.bodies[a.body].elements.len();
@@ -214,11 +216,23 @@ impl ContactSet {
                     if hollow {
                         break;
                     }
+                    // A node standing off the beam (a thickness, a radius) is pressed to a
+                    // point that depends on the element: at a convex mesh node it can lie past
+                    // each of two elements towards the other. It rests on the one it overshoots
+                    // less, whichever it came from, so that every pass finds the same.
+                    if came_from == Some(e) {
+                        let outside = |t: f64| (-t).max(t - 1.0);
+                        let q = pressed_point(cv, d, a.node, e, a.side);
+                        if outside(chord_fraction_of(q, oi, oj)) < outside(t) {
+                            a.beam = e;
+                        }
+                        break;
+                    }
                 }
                 match next {
                     Some(e) => {
+                        came_from = Some(a.beam);
                         a.beam = e;
-                        moved = true;
                     }
                     None => {
                         off_end = converged;
@@ -296,7 +310,7 @@ impl ContactSet {
                 changes += 1;
                 continue;
             }
-            if moved {
+            if a.beam != start {
                 let xi_there = Self::chord_fraction(cv, d, a.node, a.beam);
                 events.push(Self::event(
                     cv,

@@ -198,8 +198,8 @@ impl Solver {
         self.structure.node_state_at(&self.state.d, n)
     }
 
-    /// Whether the next attempt's Newton updates take the chords' stretch out
-    /// ([`SolverParams::stretch_correction`]).
+    /// Whether the next attempt's Newton updates take the chords' stretch out, every one of them
+    /// ([`SolverParams::stretch_correction`]; `WhereNeeded` before a cut-back judges each).
     pub fn stretch_correcting(&self) -> bool {
         self.newton().stretch_correcting()
     }

@@ -26,6 +26,7 @@ use super::constraint::{Constraint, Path};
 use super::convergence::STAGNATION;
 use super::failure::{AttemptError, Converged};
 use super::iteration::{Iterate, Newton};
+use super::stretch::Correction;
 use super::viscous::Viscous;
 use crate::solver::assembly::{assemble_into, AssemblyContext};
 use crate::solver::linear::reduce::sum_squares;
@@ -416,15 +417,17 @@ impl Newton<'_> {
         // The stretch correction (`take_out_stretch`) starts from the displacements before the
         // update; where each update is judged, it is made only where the gaps' loads exceed
         // the unbalanced force the update removes.
-        let beyond = if self.stretch_correcting() {
-            Some(0.0)
-        } else if self.stretch_judging() {
-            Some(sum_squares(&it.rhs).sqrt())
+        let correction = if self.stretch_correcting() {
+            Some(Correction::Every)
+        } else if self.stretch_judging() && !path.counts_moves() && max_step == f64::MAX {
+            // Judged under prescribed displacements and loads, where no step limit cuts the
+            // update to a direction.
+            Some(Correction::Beyond(sum_squares(&it.rhs).sqrt()))
         } else {
             None
         };
         self.factor_and_solve(tangent, &it.ordering, &mut it.rhs)?;
-        if beyond.is_some() {
+        if correction.is_some() {
             it.before.clear();
             it.before.extend_from_slice(&it.d);
         }
@@ -442,15 +445,13 @@ impl Newton<'_> {
         );
         it.last_step = step?;
         it.predictor = false;
-        // A judged update cut to `max_step` is a direction, not a turn meant: left plain.
-        let beyond = beyond.filter(|&b| b == 0.0 || it.last_step < max_step);
-        if let Some(beyond) = beyond {
+        if let Some(correction) = correction {
             let after = path.counts_moves().then(|| it.d.clone());
             let moved = self.take_out_stretch(
                 &it.before,
                 &mut it.d,
                 (&it.ordering, tangent),
-                beyond,
+                correction,
                 &mut it.rhs,
             );
             it.bound.moved(moved);

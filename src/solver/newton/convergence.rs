@@ -17,9 +17,10 @@ const STALL_ITERATIONS: usize = 3;
 /// ... and once the displacement correction has shrunk below this fraction of the coordinates.
 const STALL_STEP: f64 = 1e-10;
 
-/// Units in the last place of the coordinates that a correction's entries may each come to
-/// and still be round-off: a correction within them moves the state by no more than its
-/// coordinates can resolve, so one iteration without halving the residual after it is a stall.
+/// Units in the last place of the coordinates that a correction may come to, on the average
+/// over its entries (its norm within `ROUNDOFF_ULPS eps sqrt(n)` of their size), and still be
+/// round-off: such a correction moves the state by little more than its coordinates resolve,
+/// so one iteration without halving the residual after it is a stall.
 const ROUNDOFF_ULPS: f64 = 16.0;
 
 /// The factor by which the round-off of a residual norm over `n_eq` equations can exceed the
@@ -31,7 +32,7 @@ fn norm_spread(n_eq: usize) -> f64 {
 
 /// Round-off stagnation of one Newton pass: once the residual has stopped falling (no halving
 /// of the best value for `STALL_ITERATIONS` iterations, or for one where the last correction
-/// was round-off itself: `ROUNDOFF_ULPS` of the coordinates in each of its entries) while the
+/// was round-off itself: `ROUNDOFF_ULPS` of the coordinates on the average) while the
 /// corrections have vanished, and lies within `STAGNATION` times the round-off a residual norm
 /// over all the equations can have (the floor estimate times `norm_spread`), Newton cannot get
 /// closer: the state is accepted and its residual reported.

@@ -11,6 +11,17 @@ use crate::solver::linear::{BandMatrix, NOT_FREE};
 /// direction (a buckling mode's at a bifurcation), not a turn meant.
 const JUDGED_TURN: f64 = 1.0;
 
+/// Which updates the stretch correction is made for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Correction {
+    /// Every update.
+    Every,
+    /// A judged update (`StretchCorrection::WhereNeeded`): only where the gaps' loads (their
+    /// norm) exceed this unbalanced force, the one the update came to remove, and no chord
+    /// turns by more than `JUDGED_TURN`.
+    Beyond(f64),
+}
+
 impl Newton<'_> {
     /// Take the chords' second-order errors out of the update from `before` to `d`.
     ///
@@ -24,17 +35,16 @@ impl Newton<'_> {
     /// forces for its gap (its end j moved by the gap, rotations held) and adds the
     /// displacements they produce: on a structure free to take them up (a tree), the turned
     /// chords exactly, up to the geometric stiffness; where supports hold the chords, what
-    /// the structure really gives. A judged update (`beyond` > 0,
-    /// `StretchCorrection::WhereNeeded`) is corrected only where the gaps' loads (their norm)
-    /// exceed `beyond`, the unbalanced force it came to remove, and no chord turns by more
-    /// than a radian. `buf` is scratch (the right-hand side's storage). Returns the norm of the
+    /// the structure really gives; a judged update (`Correction::Beyond`) only where it needs
+    /// it. `buf` is scratch (the right-hand side's storage, assembled afresh before it is read
+    /// again, so an update left plain may leave it part filled). Returns the norm of the
     /// displacements added.
     pub(crate) fn take_out_stretch(
         &self,
         before: &[f64],
         d: &mut [f64],
         (ordering, factors): (&Ordering, &BandMatrix),
-        beyond: f64,
+        correction: Correction,
         buf: &mut Vec<f64>,
     ) -> f64 {
         let first = &self.structure.dofs.first;
@@ -61,7 +71,7 @@ impl Newton<'_> {
             if turn == 0.0 || !turn.is_finite() {
                 continue;
             }
-            if beyond > 0.0 && turn.abs() > JUDGED_TURN {
+            if matches!(correction, Correction::Beyond(_)) && turn.abs() > JUDGED_TURN {
                 return 0.0;
             }
             // The gap from the update's chord, `stretched e + l turn n`, to the meant one,
@@ -91,7 +101,11 @@ impl Newton<'_> {
             }
             any = true;
         }
-        if !any || sum_squares(buf).sqrt() <= beyond {
+        let needed = match correction {
+            Correction::Every => any,
+            Correction::Beyond(force) => any && sum_squares(buf).sqrt() > force,
+        };
+        if !needed {
             return 0.0;
         }
         factors.solve(buf);
