@@ -92,6 +92,11 @@ impl Newton<'_> {
         obs: &mut dyn Observer,
     ) -> Result<Converged, AttemptError> {
         let mut it = self.first_iterate(increment, slide_off);
+        if let Some(v) = viscous {
+            // The viscous stiffness rounds with the residual it is part of.
+            it.bound
+                .add_diagonal(v.c * v.weight.iter().fold(0.0f64, |w, &x| w.max(x)));
+        }
         it.unload_slips = unload_slips;
         let mut max_step = self.structure.params.max_step;
         if slide_off.is_some() {
@@ -228,7 +233,7 @@ impl Newton<'_> {
         }
         let reference = residual.reference;
         let (scale, floor) = if (it.bound).may_decide(rel, tangent, reference, p, it.pass_iter) {
-            self.roundoff_floor(tangent, &it.d, reference)
+            self.roundoff_floor(tangent, &it.d, reference, it.bound.extra_diagonal())
         } else {
             it.bound.get(tangent, reference)
         };

@@ -85,11 +85,28 @@ pub(crate) struct FloorBound {
     start: f64,
     /// Sum of the largest coordinate moves since.
     moved: f64,
+    /// What the solve adds to the tangent's diagonal beyond the assembly: a snap's viscous
+    /// stiffness, whose force rounds as the elements' do.
+    diagonal: f64,
 }
 
 impl FloorBound {
     pub(crate) fn new(start: f64) -> FloorBound {
-        FloorBound { start, moved: 0.0 }
+        FloorBound {
+            start,
+            moved: 0.0,
+            diagonal: 0.0,
+        }
+    }
+
+    /// Count `extra` on the tangent's diagonal (a snap's viscous stiffness `c w`, its largest).
+    pub(crate) fn add_diagonal(&mut self, extra: f64) {
+        self.diagonal += extra;
+    }
+
+    /// What the solve adds to the tangent's diagonal beyond the assembly.
+    pub(crate) fn extra_diagonal(&self) -> f64 {
+        self.diagonal
     }
 
     /// Record a correction of the coordinates by at most `largest` in any entry.
@@ -101,7 +118,7 @@ impl FloorBound {
     pub(crate) fn get(&self, tangent: &BandMatrix, reference: f64) -> (f64, f64) {
         // A margin for the round-off of the sums above (relative 1e-16 each).
         let scale = (self.start + self.moved) * (1.0 + 1e-12);
-        let floor = f64::EPSILON * tangent.diagonal_peak() * scale / reference;
+        let floor = f64::EPSILON * (tangent.diagonal_peak() + self.diagonal) * scale / reference;
         (scale, floor * (1.0 + 1e-12))
     }
 

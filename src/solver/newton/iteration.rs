@@ -193,17 +193,19 @@ impl<'a> Newton<'a> {
     }
 
     /// The coordinate scale of state `d` and the round-off floor of the relative residual there:
-    /// `eps max|K_ii| max|x| / reference`.
+    /// `eps (max|K_ii| + extra) max|x| / reference`, `extra` what the solve adds to the
+    /// diagonal (a snap's viscous stiffness).
     pub(crate) fn roundoff_floor(
         &self,
         tangent: &BandMatrix,
         d: &[f64],
         reference: f64,
+        extra: f64,
     ) -> (f64, f64) {
         let scale = self.structure.coordinate_scale(d);
         (
             scale,
-            f64::EPSILON * tangent.max_diagonal() * scale / reference,
+            f64::EPSILON * (tangent.max_diagonal() + extra) * scale / reference,
         )
     }
 
