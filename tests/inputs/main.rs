@@ -11,3 +11,4 @@ mod files;
 mod fuzz_scenes;
 mod input_campaign;
 mod scene;
+mod scene_sizes;
