@@ -159,7 +159,7 @@ impl Event {
                 "cut-back in increment {increment}: {reason}; now trying {fraction} of the step"
             ),
             Event::StretchCorrectionOn { increment } => format!(
-                "stretch correction on from increment {increment} (the run's first cut-back)"
+                "stretch correction on for every update from increment {increment} (the run's first cut-back)"
             ),
             Event::Snaps { increment, reason } => format!(
                 "the structure snaps from increment {increment}: no step finds an equilibrium near the last one ({reason}); the drive is held while it moves to the next stable state along a damped path (states marked snapping)"
