@@ -1,7 +1,7 @@
 //! Scaling report: one Newton increment of a long beam on rollers, loaded in every span, of 10
 //! to 10^5 elements of 1 m, in plain Newton iterations, timed in release builds (median of
-//! repeats), as time per element per iteration, with the process's peak resident memory after each size (Linux `VmHWM`),
-//! beside the yardstick: one iteration of a plain banded assemble-and-factor loop over a chain
+//! repeats), as time per element per iteration, with the process's peak resident memory after
+//! each size (Linux `VmHWM`), beside the yardstick: one iteration of a plain banded assemble-and-factor loop over a chain
 //! of as many elements.
 
 use crate::reports::plain_chain::PlainChain;

@@ -160,6 +160,17 @@ pub enum StretchCorrection {
     Always,
 }
 
+impl StretchCorrection {
+    /// Whether a run's first cut-back turns the correction on for every update from then on
+    /// (`AfterCutBack`, `WhereNeeded`).
+    pub fn on_after_a_cut_back(self) -> bool {
+        matches!(
+            self,
+            StretchCorrection::AfterCutBack | StretchCorrection::WhereNeeded
+        )
+    }
+}
+
 impl SolverParams {
     /// Contact element options for a given iteration.
     pub fn contact_options(&self, iteration: usize) -> ContactOptions {

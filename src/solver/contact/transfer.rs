@@ -9,6 +9,11 @@ use super::set::{ActiveContact, ContactSet};
 use crate::solver::assembly::current;
 use crate::solver::report::{ContactChange, ContactEvent, Event};
 
+/// How far chord fraction `t` lies beyond its element, in element lengths (negative inside).
+fn overshoot(t: f64) -> f64 {
+    (-t).max(t - 1.0)
+}
+
 impl ContactSet {
     pub(super) fn event(
         cv: &ContactView<'_>,
@@ -119,10 +124,7 @@ impl ContactSet {
         if m.beams[e2].body != body || self.is_active(tip, body) {
             return None;
         }
-        let outside = |e: usize| {
-            let t = Self::chord_fraction(cv, d, tip, e);
-            (-t).max(t - 1.0).max(0.0)
-        };
+        let outside = |e: usize| overshoot(Self::chord_fraction(cv, d, tip, e)).max(0.0);
         let e = if outside(e1) <= outside(e2) { e1 } else { e2 };
         if !Self::may_touch(cv, tip, body, e) {
             return None;
@@ -221,9 +223,8 @@ impl ContactSet {
                     // each of two elements towards the other. It rests on the one it overshoots
                     // less, whichever it came from, so that every pass finds the same.
                     if came_from == Some(e) {
-                        let outside = |t: f64| (-t).max(t - 1.0);
                         let q = pressed_point(cv, d, a.node, e, a.side);
-                        if outside(chord_fraction_of(q, oi, oj)) < outside(t) {
+                        if overshoot(chord_fraction_of(q, oi, oj)) < overshoot(t) {
                             a.beam = e;
                         }
                         break;

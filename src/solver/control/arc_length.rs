@@ -10,7 +10,6 @@ use std::time::Instant;
 use super::increments::GROW_ITERATIONS;
 use super::solver::Solver;
 use crate::solver::newton::{AttemptError, Constraint};
-use crate::solver::params::StretchCorrection;
 use crate::solver::report::{Event, IncrementRecord, Observer, SolveError};
 
 impl Solver {
@@ -83,10 +82,11 @@ impl Solver {
                         fraction: ds / nominal,
                     });
                     if !std::mem::replace(&mut self.state.cut_back, true)
-                        && matches!(
-                            self.structure.params.stretch_correction,
-                            StretchCorrection::AfterCutBack | StretchCorrection::WhereNeeded
-                        )
+                        && self
+                            .structure
+                            .params
+                            .stretch_correction
+                            .on_after_a_cut_back()
                     {
                         obs.event(&Event::StretchCorrectionOn { increment: number });
                     }

@@ -8,7 +8,6 @@ use std::time::Instant;
 
 use super::solver::Solver;
 use crate::solver::newton::{AttemptError, Constraint};
-use crate::solver::params::StretchCorrection;
 use crate::solver::report::{Event, Flow, IncrementRecord, Observer, SolveError};
 
 /// A contact within this fraction of its element from a free end slides off it when the
@@ -173,10 +172,11 @@ impl Solver {
                         fraction: h,
                     });
                     if !std::mem::replace(&mut self.state.cut_back, true)
-                        && matches!(
-                            self.structure.params.stretch_correction,
-                            StretchCorrection::AfterCutBack | StretchCorrection::WhereNeeded
-                        )
+                        && self
+                            .structure
+                            .params
+                            .stretch_correction
+                            .on_after_a_cut_back()
                     {
                         obs.event(&Event::StretchCorrectionOn { increment: number });
                     }

@@ -26,7 +26,6 @@ use super::constraint::{Constraint, Path};
 use super::convergence::STAGNATION;
 use super::failure::{AttemptError, Converged};
 use super::iteration::{Iterate, Newton};
-use super::stretch::Correction;
 use super::viscous::Viscous;
 use crate::solver::assembly::{assemble_into, AssemblyContext};
 use crate::solver::linear::reduce::sum_squares;
@@ -94,8 +93,7 @@ impl Newton<'_> {
         let mut it = self.first_iterate(increment, slide_off);
         if let Some(v) = viscous {
             // The viscous stiffness rounds with the residual it is part of.
-            it.bound
-                .add_diagonal(v.c * v.weight.iter().fold(0.0f64, |w, &x| w.max(x)));
+            it.bound.add_diagonal(v.peak());
         }
         it.unload_slips = unload_slips;
         let mut max_step = self.structure.params.max_step;
@@ -420,17 +418,8 @@ impl Newton<'_> {
             v.stiffen(&it.ordering, tangent);
         }
         // The stretch correction (`take_out_stretch`) starts from the displacements before the
-        // update; where each update is judged, it is made only where the gaps' loads exceed
-        // the unbalanced force the update removes.
-        let correction = if self.stretch_correcting() {
-            Some(Correction::Every)
-        } else if self.stretch_judging() && !path.counts_moves() && max_step == f64::MAX {
-            // Judged under prescribed displacements and loads, where no step limit cuts the
-            // update to a direction.
-            Some(Correction::Beyond(sum_squares(&it.rhs).sqrt()))
-        } else {
-            None
-        };
+        // update.
+        let correction = self.correction(path, max_step, &it.rhs);
         self.factor_and_solve(tangent, &it.ordering, &mut it.rhs)?;
         if correction.is_some() {
             it.before.clear();

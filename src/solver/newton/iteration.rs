@@ -53,21 +53,8 @@ impl<'a> Newton<'a> {
     /// Whether this attempt's Newton updates take the chords' stretch out
     /// (`SolverParams::stretch_correction`), every one of them.
     pub fn stretch_correcting(&self) -> bool {
-        match self.structure.params.stretch_correction {
-            StretchCorrection::Never => false,
-            StretchCorrection::AfterCutBack | StretchCorrection::WhereNeeded => self.state.cut_back,
-            StretchCorrection::Always => true,
-        }
-    }
-
-    /// Whether this attempt judges each update (`StretchCorrection::WhereNeeded` in a model
-    /// without contact, before the run's first cut-back).
-    pub(super) fn stretch_judging(&self) -> bool {
-        let s = self.structure;
-        s.params.stretch_correction == StretchCorrection::WhereNeeded
-            && !self.state.cut_back
-            && s.candidates.is_empty()
-            && s.obstacle_candidates.is_empty()
+        let mode = self.structure.params.stretch_correction;
+        mode == StretchCorrection::Always || (mode.on_after_a_cut_back() && self.state.cut_back)
     }
 
     /// The external force `fext` at its equations in `ord`, ascending (dofs that are not free

@@ -2,10 +2,12 @@
 //! update leaves (a turned chord comes out too long and turned by less) taken out with the
 //! tangent just factored.
 
+use super::constraint::Path;
 use super::iteration::Newton;
 use crate::solver::assembly::Ordering;
 use crate::solver::linear::reduce::sum_squares;
 use crate::solver::linear::{BandMatrix, NOT_FREE};
+use crate::solver::params::StretchCorrection;
 
 /// The largest turn of a chord (rad) a judged update is corrected for: beyond, the update is a
 /// direction (a buckling mode's at a bifurcation), not a turn meant.
@@ -23,6 +25,32 @@ pub(crate) enum Correction {
 }
 
 impl Newton<'_> {
+    /// Which updates of this attempt the stretch correction is made for
+    /// (`SolverParams::stretch_correction`): every one, or (`WhereNeeded` before the run's
+    /// first cut-back, in a model without contact, under prescribed displacements and loads
+    /// with no step limit to cut an update to a direction) those whose gaps' loads exceed
+    /// `unbalanced`, the force the update is solved from; `None`: no update.
+    pub(super) fn correction(
+        &self,
+        path: &Path,
+        max_step: f64,
+        unbalanced: &[f64],
+    ) -> Option<Correction> {
+        let s = self.structure;
+        let judged = s.params.stretch_correction == StretchCorrection::WhereNeeded
+            && s.candidates.is_empty()
+            && s.obstacle_candidates.is_empty()
+            && !path.counts_moves()
+            && max_step == f64::MAX;
+        if self.stretch_correcting() {
+            Some(Correction::Every)
+        } else if judged {
+            Some(Correction::Beyond(sum_squares(unbalanced).sqrt()))
+        } else {
+            None
+        }
+    }
+
     /// Take the chords' second-order errors out of the update from `before` to `d`.
     ///
     /// A linear update moves an element's end j by dc relative to i: dl along the old chord e

@@ -36,6 +36,11 @@ impl Viscous<'_> {
         asm.unbalanced_norm2 = sum_squares(&asm.unbalanced);
     }
 
+    /// The largest viscous stiffness `c w` the solve adds to the tangent's diagonal.
+    pub(crate) fn peak(&self) -> f64 {
+        self.c * self.weight.iter().fold(0.0f64, |w, &x| w.max(x))
+    }
+
     /// Add the viscous force's stiffness `c w` to the diagonal of `tangent` (over the free
     /// equations of `ord`).
     pub(crate) fn stiffen(&self, ord: &Ordering, tangent: &mut BandMatrix) {
