@@ -27,7 +27,10 @@ pub struct SolverParams {
     /// take_out_stretch`; one more band solve an iteration). A linear update that turns an
     /// element lengthens its chord by about l dpsi^2 / 2 and turns it by less than meant; on
     /// fine meshes of axially stiff beams in large rotation the spurious forces make Newton
-    /// zig-zag and load steps fail. Default: where needed (`StretchCorrection::WhereNeeded`).
+    /// zig-zag and load steps fail. Where every update is corrected, a frictionless contact on
+    /// the axis has its contact gap taken out too (`Newton::contact_gap_correction`: a node
+    /// sliding along a chord that turns). Default: where needed
+    /// (`StretchCorrection::WhereNeeded`).
     pub stretch_correction: StretchCorrection,
     /// Contact state changes allowed within one increment, beyond four per candidate node, before
     /// it is cut back (chattering). Cycling itself is caught earlier: a repeated active set

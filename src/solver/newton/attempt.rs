@@ -419,7 +419,8 @@ impl Newton<'_> {
         }
         // The stretch correction (`take_out_stretch`) starts from the displacements before the
         // update.
-        let correction = self.correction(path, max_step, &it.rhs);
+        let contact_gaps = viscous.is_none() && it.pass_iter > 0;
+        let correction = self.correction(path, max_step, &it.rhs, contact_gaps);
         self.factor_and_solve(tangent, &it.ordering, &mut it.rhs)?;
         if correction.is_some() {
             it.before.clear();

@@ -1,6 +1,6 @@
 //! The stretch correction of a Newton update: the chords' second-order gaps that a linear
 //! update leaves (a turned chord comes out too long and turned by less) taken out with the
-//! tangent just factored.
+//! tangent just factored, and after them the contact gaps of `contact_gap.rs`.
 
 use super::constraint::Path;
 use super::iteration::Newton;
@@ -16,8 +16,14 @@ const JUDGED_TURN: f64 = 1.0;
 /// Which updates the stretch correction is made for.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) enum Correction {
-    /// Every update.
+    /// Every update: the chords and the contact gaps (`contact_gap_correction`).
     Every,
+    /// Every update, the chords only: the first update of a pass, which follows the predictor
+    /// or a change of the contact set (a contact's offset there moves by the penetration the
+    /// update removes, and its linearisation is no closer than the gap), and every update on
+    /// the way of a snap, where the contacts move with the damped path. Measured on the
+    /// robustness campaign (`tsm-contact robust`), correcting their gaps costs cut-backs.
+    Chords,
     /// A judged update (`StretchCorrection::WhereNeeded`): only where the gaps' loads (their
     /// norm) exceed this unbalanced force, the one the update came to remove, and no chord
     /// turns by more than `JUDGED_TURN`.
@@ -30,11 +36,15 @@ impl Newton<'_> {
     /// first cut-back, in a model without contact, under prescribed displacements and loads
     /// with no step limit to cut an update to a direction) those whose gaps' loads exceed
     /// `unbalanced`, the force the update is solved from; `None`: no update.
+    ///
+    /// `contact_gaps`: whether this update may have its contact gaps taken out too (not the
+    /// first of a pass, not on the way of a snap: `Correction::Chords`).
     pub(super) fn correction(
         &self,
         path: &Path,
         max_step: f64,
         unbalanced: &[f64],
+        contact_gaps: bool,
     ) -> Option<Correction> {
         let s = self.structure;
         let judged = s.params.stretch_correction == StretchCorrection::WhereNeeded
@@ -43,7 +53,11 @@ impl Newton<'_> {
             && !path.counts_moves()
             && max_step == f64::MAX;
         if self.stretch_correcting() {
-            Some(Correction::Every)
+            Some(if contact_gaps {
+                Correction::Every
+            } else {
+                Correction::Chords
+            })
         } else if judged {
             Some(Correction::Beyond(sum_squares(unbalanced).sqrt()))
         } else {
@@ -64,7 +78,8 @@ impl Newton<'_> {
     /// displacements they produce: on a structure free to take them up (a tree), the turned
     /// chords exactly, up to the geometric stiffness; where supports hold the chords, what
     /// the structure really gives; a judged update (`Correction::Beyond`) only where it needs
-    /// it. `buf` is scratch (the right-hand side's storage, assembled afresh before it is read
+    /// it. With `Correction::Every`, a solve of their own takes out the contact gaps, measured
+    /// on the same update (`contact_gap_correction`). `buf` is scratch (the right-hand side's storage, assembled afresh before it is read
     /// again, so an update left plain may leave it part filled). Returns the norm of the
     /// displacements added.
     pub(crate) fn take_out_stretch(
@@ -130,14 +145,23 @@ impl Newton<'_> {
             any = true;
         }
         let needed = match correction {
-            Correction::Every => any,
+            Correction::Every | Correction::Chords => any,
             Correction::Beyond(force) => any && sum_squares(buf).sqrt() > force,
         };
-        if !needed {
-            return 0.0;
+        // The contact gaps, measured on the update itself, before the chords move it.
+        let gaps = matches!(correction, Correction::Every)
+            .then(|| self.contact_gap_correction(before, d, (ordering, factors)))
+            .flatten();
+        let mut moved = 0.0;
+        if needed {
+            factors.solve(buf);
+            ordering.add_scaled(d, 1.0, buf);
+            moved += sum_squares(buf);
         }
-        factors.solve(buf);
-        ordering.add_scaled(d, 1.0, buf);
-        sum_squares(buf).sqrt()
+        if let Some(gaps) = gaps {
+            ordering.add_scaled(d, 1.0, &gaps);
+            moved += sum_squares(&gaps);
+        }
+        moved.sqrt()
     }
 }

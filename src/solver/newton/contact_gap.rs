@@ -1,0 +1,169 @@
+//! The contact gaps of a Newton update: a contact node's offset from its element's chord
+//! that a linear update leaves off its linearised value (the node slides along a chord that
+//! turns), taken out with the tangent just factored, after the chords' stretch
+//! (`stretch.rs`).
+
+use super::iteration::Newton;
+use crate::solver::assembly::Ordering;
+use crate::solver::element::beam::BeamElement;
+use crate::solver::element::contact_element::{contact_compliance, contact_stiffness};
+use crate::solver::linear::reduce::sum_squares;
+use crate::solver::linear::{BandMatrix, NOT_FREE};
+
+/// The largest turn of a contact element's chord (rad) in an update whose contact gaps are
+/// taken out: beyond, the update is far from the solution, and its second-order gap no measure
+/// of its error (measured on the robustness campaign, `tsm-contact robust`: corrected there,
+/// drives of two cantilevers pressed by a pin cut back more often).
+const CONTACT_TURN: f64 = 1e-2;
+
+/// The largest share of an update a contact gap correction may add (norms over every dof):
+/// a correction that moves the structure more than half as far as the update is no
+/// second-order one but the tangent's soft direction near a limit point, which a small force
+/// moves far (a pin pressing two cantilevers, just past a snap: `tests/contact/snap.rs`).
+const GAP_SHARE: f64 = 0.5;
+
+impl Newton<'_> {
+    /// The displacements that take the contact gaps of the update from `before` to `d` out
+    /// (`take_out_contact_gaps`), solved with the tangent just factored; `None` where no
+    /// contact has a gap or where they would move the structure by more than `GAP_SHARE` of
+    /// the update.
+    pub(super) fn contact_gap_correction(
+        &self,
+        before: &[f64],
+        d: &[f64],
+        (ordering, factors): (&Ordering, &BandMatrix),
+    ) -> Option<Vec<f64>> {
+        let mut gaps = vec![0.0; ordering.n_eq];
+        if !self.take_out_contact_gaps(before, d, ordering, &mut gaps) {
+            return None;
+        }
+        factors.solve(&mut gaps);
+        let update: f64 = (ordering.free_dofs())
+            .map(|(g, _)| (d[g] - before[g]).powi(2))
+            .sum();
+        (sum_squares(&gaps) <= GAP_SHARE * GAP_SHARE * update).then_some(gaps)
+    }
+
+    /// The contact gaps of the update from `before` to `d`, loaded into `buf` as the contact
+    /// elements' forces for them: returns whether any contact had one.
+    ///
+    /// A contact node's offset from its element's chord, w = (c - i) . n, is linear in the
+    /// positions only for a chord that does not turn. A linear update that turns the chord by
+    /// dpsi while the node slides along it by ds leaves the node off the turned chord by about
+    /// ds dpsi (and w dpsi^2 / 2): times the contact element's stiffness against its contact
+    /// force (3 EI / li^3 near an end), a spurious force far above the residual the update came
+    /// to remove on fine meshes. The gap is measured from the chord turned as meant (the chord
+    /// correction turns it so), and its forces are the element's for its contact node moved
+    /// by the gap, end rotations held. Left as they are: contacts at a distance from the axis
+    /// (a radius, a thickness), frictional ones (whose stick spring has gaps of its own),
+    /// self-contacts (measured on the robustness campaign, coils rolled on themselves stop
+    /// more often with them corrected), a node that leaves its element or comes nearer its
+    /// end than it slid (the transfer takes it on), and chords turned by more than
+    /// `CONTACT_TURN`.
+    fn take_out_contact_gaps(
+        &self,
+        before: &[f64],
+        d: &[f64],
+        ordering: &Ordering,
+        buf: &mut [f64],
+    ) -> bool {
+        let s = self.structure;
+        let first = &s.dofs.first;
+        let nodes = &s.model.nodes;
+        let at = |d: &[f64], n: usize| [nodes[n].x + d[first[n]], nodes[n].y + d[first[n] + 1]];
+        let compliance_of = |beam: &BeamElement| {
+            contact_compliance(beam, s.params.contact_options(1).contact_stiffness)
+        };
+        let mut any = false;
+        for &e in &ordering.contact_beams {
+            let on = &ordering.on_beam[e];
+            let body = s.model.beams[e].body;
+            let left_as_is = |k: usize| {
+                let pair = (ordering.links[k].node, body);
+                ordering.links[k].rim != 0.0
+                    || s.friction.contains_key(&pair)
+                    || s.self_windows.contains_key(&pair)
+            };
+            if on.iter().any(|&k| left_as_is(k)) {
+                continue;
+            }
+            let beam = &s.model.beams[e];
+            let el = &s.elements[e];
+            let (pi, pj) = (at(before, beam.i), at(before, beam.j));
+            let (qi, qj) = (at(d, beam.i), at(d, beam.j));
+            let c = [pj[0] - pi[0], pj[1] - pi[1]];
+            let l = c[0].hypot(c[1]);
+            let t = [c[0] / l, c[1] / l];
+            let n = [-t[1], t[0]];
+            let dc = [qj[0] - qi[0] - c[0], qj[1] - qi[1] - c[1]];
+            let turn = (t[0] * dc[1] - t[1] * dc[0]) / l;
+            if turn == 0.0 || !turn.is_finite() || turn.abs() > CONTACT_TURN {
+                continue;
+            }
+            let (cos, sin) = (turn.cos(), turn.sin());
+            let turned = [n[0] * cos - t[0] * sin, n[1] * cos - t[1] * sin];
+            let mut xi = Vec::with_capacity(on.len());
+            let mut gaps = Vec::with_capacity(on.len());
+            for &k in on {
+                let node = ordering.links[k].node;
+                let (pc, qc) = (at(before, node), at(d, node));
+                let a = [pc[0] - pi[0], pc[1] - pi[1]];
+                let b = [qc[0] - qi[0], qc[1] - qi[1]];
+                let along = a[0] * t[0] + a[1] * t[1];
+                let q = [qj[0] - qi[0], qj[1] - qi[1]];
+                let along_after = (b[0] * q[0] + b[1] * q[1]) / (q[0] * q[0] + q[1] * q[1]);
+                let slide = (along_after - along / l).abs();
+                if !(0.0..=l).contains(&along) || along_after.min(1.0 - along_after) <= slide {
+                    // The node leaves the element, or comes nearer its end than it slid: the
+                    // transfer takes it on, and the element's stiffness against its contact
+                    // force, steep there, is no guide to the gap's.
+                    gaps.clear();
+                    break;
+                }
+                let linear = b[0] * n[0] + b[1] * n[1] - along * turn;
+                gaps.push(linear - (b[0] * turned[0] + b[1] * turned[1]));
+                xi.push((along / l).clamp(s.params.xi_min, 1.0 - s.params.xi_min));
+            }
+            if gaps.is_empty() || gaps.iter().all(|g| *g == 0.0 || !g.is_finite()) {
+                continue;
+            }
+            let kb = contact_stiffness(el, &xi, compliance_of(el));
+            let m = on.len();
+            // The bending forces (Mi, Mj, Y_1..Y_k) of the gaps.
+            let forces: Vec<f64> = (0..2 + m)
+                .map(|p| (0..m).map(|q| kb[(p, 2 + q)] * gaps[q]).sum())
+                .collect();
+            if forces.iter().any(|f| !f.is_finite()) {
+                continue;
+            }
+            // U = B^T S: the end moments, the contact forces along n on the nodes and against
+            // them at i, and the chord's turn, l dbeta/du = z = (-n at i, +n at j).
+            let push: f64 = forces[2..].iter().sum();
+            let turn_force =
+                -(forces[0] + forces[1]) / l - (0..m).map(|q| forces[2 + q] * xi[q]).sum::<f64>();
+            let eqs = &ordering.beam_eqs[e];
+            for (slot, value) in [
+                (0, -n[0] * (push + turn_force)),
+                (1, -n[1] * (push + turn_force)),
+                (2, forces[0]),
+                (3, n[0] * turn_force),
+                (4, n[1] * turn_force),
+                (5, forces[1]),
+            ] {
+                if eqs[slot] != NOT_FREE {
+                    buf[eqs[slot] as usize] += value;
+                }
+            }
+            for (q, &k) in on.iter().enumerate() {
+                let node = ordering.links[k].node;
+                for (o, along_n) in n.iter().enumerate() {
+                    if let Some(eq) = ordering.equation(first[node] + o) {
+                        buf[eq] += along_n * forces[2 + q];
+                    }
+                }
+            }
+            any = true;
+        }
+        any
+    }
+}
