@@ -78,10 +78,11 @@ impl Newton<'_> {
     /// displacements they produce: on a structure free to take them up (a tree), the turned
     /// chords exactly, up to the geometric stiffness; where supports hold the chords, what
     /// the structure really gives; a judged update (`Correction::Beyond`) only where it needs
-    /// it. With `Correction::Every`, a solve of their own takes out the contact gaps, measured
-    /// on the same update (`contact_gap_correction`). `buf` is scratch (the right-hand side's storage, assembled afresh before it is read
-    /// again, so an update left plain may leave it part filled). Returns the norm of the
-    /// displacements added.
+    /// it. With `Correction::Every`, a solve of its own takes out the contact gaps, measured
+    /// on the same update (`contact_gap_correction`). `buf` is scratch (the right-hand side's
+    /// storage, assembled afresh before it is read again, so an update left plain may leave it
+    /// part filled). Returns a bound on the norm of the displacements added: the sum of the
+    /// two solves' norms.
     pub(crate) fn take_out_stretch(
         &self,
         before: &[f64],
@@ -152,16 +153,17 @@ impl Newton<'_> {
         let gaps = matches!(correction, Correction::Every)
             .then(|| self.contact_gap_correction(before, d, (ordering, factors)))
             .flatten();
+        // The two moves' norms add up to a bound on the norm of their sum.
         let mut moved = 0.0;
         if needed {
             factors.solve(buf);
             ordering.add_scaled(d, 1.0, buf);
-            moved += sum_squares(buf);
+            moved += sum_squares(buf).sqrt();
         }
         if let Some(gaps) = gaps {
             ordering.add_scaled(d, 1.0, &gaps);
-            moved += sum_squares(&gaps);
+            moved += sum_squares(&gaps).sqrt();
         }
-        moved.sqrt()
+        moved
     }
 }

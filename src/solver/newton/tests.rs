@@ -2,7 +2,22 @@
 //! and the round-off floor's bound, each against an independent computation.
 
 use super::stretch::Correction;
+use crate::solver::assembly::Ordering;
+use crate::solver::linear::BandMatrix;
 use crate::solver::Silent;
+use std::sync::Arc;
+
+/// The ordering of `s`'s accepted state, its displacements and its tangent there, factored.
+fn factored_at_rest(s: &crate::solver::Solver) -> (Arc<Ordering>, Vec<f64>, BandMatrix) {
+    use crate::solver::assembly::assemble;
+    let ord = s.newton().ordering_for(&s.state.contacts);
+    let rest = s.state.d.clone();
+    let mut tangent = assemble(&s.structure.context(&ord), &rest, true, None)
+        .tangent
+        .expect("tangent");
+    tangent.factor(0.0).expect("regular");
+    (ord, rest, tangent)
+}
 
 /// The predictor of a load-driven increment starts from the assembly kept at the last
 /// converged state instead of assembling that state again: the increment must come out
@@ -48,15 +63,9 @@ fn reusing_the_converged_assembly_changes_nothing() {
 /// cantilever) and Timoshenko (the pin's cantilever, G = 0.4 E) elements.
 #[test]
 fn stretch_correction_turns_the_chords_of_a_tree_exactly() {
-    use crate::solver::assembly::assemble;
     for scene in ["mattiasson", "pin_on_cantilever"] {
         let s = crate::test_support::solver_after(scene, 0);
-        let ord = s.newton().ordering_for(&s.state.contacts);
-        let rest = s.state.d.clone();
-        let mut tangent = assemble(&s.structure.context(&ord), &rest, true, None)
-            .tangent
-            .expect("tangent");
-        tangent.factor(0.0).expect("regular");
+        let (ord, rest, tangent) = factored_at_rest(&s);
         let first = &s.structure.dofs.first;
         let at = |d: &[f64], n: usize| {
             let node = &s.structure.model.nodes[n];
@@ -187,7 +196,6 @@ fn a_stall_is_told_after_one_iteration_once_the_correction_is_round_off() {
 /// shrinks as the element's stiffness against its contact force grows).
 #[test]
 fn the_contact_gap_correction_puts_a_sliding_node_at_its_linearised_offset() {
-    use crate::solver::assembly::assemble;
     for (n, within) in [(16, 0.1), (64, 0.04)] {
         let mut s = crate::scene::builtin::with_elements("pin_on_cantilever.ron", n)
             .expect("one body")
@@ -204,12 +212,7 @@ fn the_contact_gap_correction_puts_a_sliding_node_at_its_linearised_offset() {
             .active
             .first()
             .expect("the pin rests on the beam");
-        let ord = s.newton().ordering_for(&s.state.contacts);
-        let rest = s.state.d.clone();
-        let mut tangent = assemble(&s.structure.context(&ord), &rest, true, None)
-            .tangent
-            .expect("tangent");
-        tangent.factor(0.0).expect("regular");
+        let (ord, rest, tangent) = factored_at_rest(&s);
         let first = &s.structure.dofs.first;
         let model = &s.structure.model;
         let at = |d: &[f64], n: usize| {
