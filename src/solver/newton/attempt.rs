@@ -447,7 +447,7 @@ impl Newton<'_> {
                 &mut it.d,
                 (&it.ordering, tangent),
                 correction,
-                &mut it.rhs,
+                (&mut it.rhs, &mut it.gap_rhs),
             );
             it.bound.moved(moved);
             if let Some(after) = after {

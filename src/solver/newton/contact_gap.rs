@@ -4,6 +4,7 @@
 //! (`stretch.rs`).
 
 use super::iteration::Newton;
+use super::stretch::ChordUpdate;
 use crate::solver::assembly::Ordering;
 use crate::solver::element::contact_element::{contact_compliance, contact_stiffness};
 use crate::solver::linear::reduce::sum_squares;
@@ -22,25 +23,27 @@ const CONTACT_TURN: f64 = 1e-2;
 const GAP_SHARE: f64 = 0.5;
 
 impl Newton<'_> {
-    /// The displacements that take the contact gaps of the update from `before` to `d` out
-    /// (`take_out_contact_gaps`), solved with the tangent just factored; `None` where no
-    /// contact has a gap or where they would move the structure by more than `GAP_SHARE` of
-    /// the update.
+    /// Solve into `gaps` for the displacements that take the contact gaps of the update from
+    /// `before` to `d` out (`take_out_contact_gaps`), with the tangent just factored; returns
+    /// whether they are to be added: not where no contact has a gap, nor where they would move
+    /// the structure by more than `GAP_SHARE` of the update.
     pub(super) fn contact_gap_correction(
         &self,
         before: &[f64],
         d: &[f64],
         (ordering, factors): (&Ordering, &BandMatrix),
-    ) -> Option<Vec<f64>> {
-        let mut gaps = vec![0.0; ordering.n_eq];
-        if !self.take_out_contact_gaps(before, d, ordering, &mut gaps) {
-            return None;
+        gaps: &mut Vec<f64>,
+    ) -> bool {
+        gaps.clear();
+        gaps.resize(ordering.n_eq, 0.0);
+        if !self.take_out_contact_gaps(before, d, ordering, gaps) {
+            return false;
         }
-        factors.solve(&mut gaps);
+        factors.solve(gaps);
         let update: f64 = (ordering.free_dofs())
             .map(|(g, _)| (d[g] - before[g]).powi(2))
             .sum();
-        (sum_squares(&gaps) <= GAP_SHARE * GAP_SHARE * update).then_some(gaps)
+        sum_squares(gaps) <= GAP_SHARE * GAP_SHARE * update
     }
 
     /// The contact gaps of the update from `before` to `d`, loaded into `buf` as the contact
@@ -116,18 +119,12 @@ impl Newton<'_> {
         ordering: &Ordering,
     ) -> Option<ElementGaps> {
         let s = self.structure;
-        let first = &s.dofs.first;
-        let nodes = &s.model.nodes;
-        let at = |d: &[f64], n: usize| [nodes[n].x + d[first[n]], nodes[n].y + d[first[n] + 1]];
+        let at = |d: &[f64], n: usize| self.node_at(d, n);
         let beam = &s.model.beams[e];
-        let (pi, pj) = (at(before, beam.i), at(before, beam.j));
-        let (qi, qj) = (at(d, beam.i), at(d, beam.j));
-        let c = [pj[0] - pi[0], pj[1] - pi[1]];
-        let l = c[0].hypot(c[1]);
-        let t = [c[0] / l, c[1] / l];
+        let (pi, qi, qj) = (at(before, beam.i), at(d, beam.i), at(d, beam.j));
+        let chord = ChordUpdate::new(pi, at(before, beam.j), qi, qj);
+        let (t, l, turn) = (chord.e, chord.l, chord.turn);
         let n = [-t[1], t[0]];
-        let dc = [qj[0] - qi[0] - c[0], qj[1] - qi[1] - c[1]];
-        let turn = (t[0] * dc[1] - t[1] * dc[0]) / l;
         if turn == 0.0 || !turn.is_finite() || turn.abs() > CONTACT_TURN {
             return None;
         }

@@ -233,6 +233,9 @@ pub(super) struct Iterate {
     /// The displacements before the last update, where the stretch correction starts from
     /// (kept for the attempt, refilled at each correction).
     pub(super) before: Vec<f64>,
+    /// The contact gaps' right-hand side and correction (`Newton::contact_gap_correction`;
+    /// kept for the attempt, refilled at each correction).
+    pub(super) gap_rhs: Vec<f64>,
     /// The equation ordering of `contacts`.
     pub(super) ordering: Arc<Ordering>,
     /// The assembly at `d` (its tangent taken out while it is factored).
@@ -292,6 +295,7 @@ impl Newton<'_> {
             predicts: false,
             unload_slips: false,
             before: Vec::new(),
+            gap_rhs: Vec::new(),
             log: IterationLog::default(),
             stall: Stall::new(),
             bound,

@@ -30,7 +30,38 @@ pub(crate) enum Correction {
     Beyond(f64),
 }
 
+/// An element's chord before an update and what a linear update does to it.
+pub(super) struct ChordUpdate {
+    /// The chord's unit vector before the update.
+    pub(super) e: [f64; 2],
+    /// Its length before the update.
+    pub(super) l: f64,
+    /// The update's move of end j relative to end i.
+    pub(super) dc: [f64; 2],
+    /// The update's linear turn of the chord: its move across the chord over l (rad).
+    pub(super) turn: f64,
+}
+
+impl ChordUpdate {
+    /// The chord from `pi` to `pj` and the update that moves its ends to `qi` and `qj`.
+    pub(super) fn new(pi: [f64; 2], pj: [f64; 2], qi: [f64; 2], qj: [f64; 2]) -> ChordUpdate {
+        let c = [pj[0] - pi[0], pj[1] - pi[1]];
+        let l = c[0].hypot(c[1]);
+        let e = [c[0] / l, c[1] / l];
+        let dc = [qj[0] - qi[0] - c[0], qj[1] - qi[1] - c[1]];
+        let turn = (e[0] * dc[1] - e[1] * dc[0]) / l;
+        ChordUpdate { e, l, dc, turn }
+    }
+}
+
 impl Newton<'_> {
+    /// The position of node `n` at the displacements `d`: its initial coordinates plus its
+    /// displacement.
+    pub(super) fn node_at(&self, d: &[f64], n: usize) -> [f64; 2] {
+        let (node, first) = (&self.structure.model.nodes[n], self.structure.dofs.first[n]);
+        [node.x + d[first], node.y + d[first + 1]]
+    }
+
     /// Which updates of this attempt the stretch correction is made for
     /// (`SolverParams::stretch_correction`): every one, or (`WhereNeeded` before the run's
     /// first cut-back, in a model without contact, under prescribed displacements and loads
@@ -81,19 +112,17 @@ impl Newton<'_> {
     /// it. With `Correction::Every`, a solve of its own takes out the contact gaps, measured
     /// on the same update (`contact_gap_correction`). `buf` is scratch (the right-hand side's
     /// storage, assembled afresh before it is read again, so an update left plain may leave it
-    /// part filled). Returns a bound on the norm of the displacements added: the sum of the
-    /// two solves' norms.
+    /// part filled); `gap_buf` the contact gaps' (any contents). Returns a bound on the norm of
+    /// the displacements added: the sum of the two solves' norms.
     pub(crate) fn take_out_stretch(
         &self,
         before: &[f64],
         d: &mut [f64],
         (ordering, factors): (&Ordering, &BandMatrix),
         correction: Correction,
-        buf: &mut Vec<f64>,
+        (buf, gap_buf): (&mut Vec<f64>, &mut Vec<f64>),
     ) -> f64 {
-        let first = &self.structure.dofs.first;
-        let nodes = &self.structure.model.nodes;
-        let at = |d: &[f64], n: usize| [nodes[n].x + d[first[n]], nodes[n].y + d[first[n] + 1]];
+        let at = |d: &[f64], n: usize| self.node_at(d, n);
         buf.clear();
         buf.resize(ordering.n_eq, 0.0);
         let mut any = false;
@@ -104,14 +133,13 @@ impl Newton<'_> {
             .iter()
             .zip(&self.structure.elements);
         for ((beam, el), eqs) in beams.zip(&ordering.beam_eqs) {
-            let (pi, pj) = (at(before, beam.i), at(before, beam.j));
-            let (qi, qj) = (at(d, beam.i), at(d, beam.j));
-            let c = [pj[0] - pi[0], pj[1] - pi[1]];
-            let l = c[0].hypot(c[1]);
-            let e = [c[0] / l, c[1] / l];
-            let dc = [qj[0] - qi[0] - c[0], qj[1] - qi[1] - c[1]];
+            let ChordUpdate { e, l, dc, turn } = ChordUpdate::new(
+                at(before, beam.i),
+                at(before, beam.j),
+                at(d, beam.i),
+                at(d, beam.j),
+            );
             let stretched = l + e[0] * dc[0] + e[1] * dc[1];
-            let turn = (e[0] * dc[1] - e[1] * dc[0]) / l;
             if turn == 0.0 || !turn.is_finite() {
                 continue;
             }
@@ -151,8 +179,7 @@ impl Newton<'_> {
         };
         // The contact gaps, measured on the update itself, before the chords move it.
         let gaps = matches!(correction, Correction::Every)
-            .then(|| self.contact_gap_correction(before, d, (ordering, factors)))
-            .flatten();
+            && self.contact_gap_correction(before, d, (ordering, factors), gap_buf);
         // The two moves' norms add up to a bound on the norm of their sum.
         let mut moved = 0.0;
         if needed {
@@ -160,9 +187,9 @@ impl Newton<'_> {
             ordering.add_scaled(d, 1.0, buf);
             moved += sum_squares(buf).sqrt();
         }
-        if let Some(gaps) = gaps {
-            ordering.add_scaled(d, 1.0, &gaps);
-            moved += sum_squares(&gaps).sqrt();
+        if gaps {
+            ordering.add_scaled(d, 1.0, gap_buf);
+            moved += sum_squares(gap_buf).sqrt();
         }
         moved
     }

@@ -109,8 +109,13 @@ fn stretch_correction_turns_the_chords_of_a_tree_exactly() {
             worst(&d)
         );
         let mut buf = Vec::new();
-        s.newton()
-            .take_out_stretch(&rest, &mut d, (&ord, &tangent), Correction::Every, &mut buf);
+        s.newton().take_out_stretch(
+            &rest,
+            &mut d,
+            (&ord, &tangent),
+            Correction::Every,
+            (&mut buf, &mut Vec::new()),
+        );
         assert!(worst(&d) < 1e-12, "{scene}: {}", worst(&d));
     }
 }
@@ -264,8 +269,13 @@ fn the_contact_gap_correction_puts_a_sliding_node_at_its_linearised_offset() {
         let corrected = |correction: Correction| {
             let mut d = d.clone();
             let mut buf = Vec::new();
-            s.newton()
-                .take_out_stretch(&rest, &mut d, (&ord, &tangent), correction, &mut buf);
+            s.newton().take_out_stretch(
+                &rest,
+                &mut d,
+                (&ord, &tangent),
+                correction,
+                (&mut buf, &mut Vec::new()),
+            );
             error(&d)
         };
         let chords = corrected(Correction::Chords);
