@@ -230,14 +230,19 @@ fn forces(
             c.force * c.normal[0] + c.tangential * t[0],
             c.force * c.normal[1] + c.tangential * t[1],
         ];
+        // It acts where the node's face touches the obstacle: off the node by the node's
+        // radius and half thickness, the friction there turns it.
         let s = slot[&c.node];
+        let x = pos(c.node);
+        let arm = [c.point[0] - x[0], c.point[1] - x[1]];
         on[s][0] += f[0];
         on[s][1] += f[1];
+        on[s][2] += arm[0] * f[1] - arm[1] * f[0];
         let pilot = (topology.obstacles.iter())
             .find(|o| o.name == c.obstacle)
             .and_then(|o| o.pilot);
         if let Some(p) = pilot {
-            at_points[group[slot[&p]]].push((pos(c.node), [-f[0], -f[1]]));
+            at_points[group[slot[&p]]].push((c.point, [-f[0], -f[1]]));
         }
     }
     let ea = topology.elements.iter().fold(0.0f64, |m, e| m.max(e.ea));

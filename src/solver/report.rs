@@ -251,7 +251,8 @@ pub struct ObstacleState {
     /// The gap (m): positive clear of the obstacle, negative inside it (within
     /// `SolverParams::obstacle_gap` of the model's size at an accepted state).
     pub gap: f64,
-    /// The point of the obstacle it touches, in the scene's coordinates (m).
+    /// The point of the obstacle it touches, in the scene's coordinates (m): where the node's
+    /// face touches, and where the contact's force acts.
     pub point: [f64; 2],
     /// The unit normal there, pointing to the free side.
     pub normal: [f64; 2],
@@ -262,8 +263,8 @@ pub struct ObstacleState {
     /// Whether the node sticks or slips.
     #[serde(default)]
     pub friction: Friction,
-    /// The stick point: a place along the obstacle (`Shape::place`, m); `None` where
-    /// frictionless.
+    /// The stick point: a place along the obstacle (`Shape::place`, m), moving with a rim
+    /// that rolls; `None` where frictionless.
     #[serde(default)]
     pub stick: Option<f64>,
 }

@@ -638,44 +638,54 @@ fn obstacle_friction_tangent_matches_central_differences() {
         },
     ];
     let (multiplier, penalty) = (3.0, 1.0e3);
-    for shape in &shapes {
-        // A point just inside the shape, near its curve.
-        let on = shape.gap([0.8, 0.1]).unwrap().point;
-        let n = shape.gap([0.8, 0.1]).unwrap().n;
-        let x = [on[0] - 1e-4 * n[0], on[1] - 1e-4 * n[1]];
-        let place = shape.place(on);
-        for (stick, slip) in [(place + 1e-4, None), (place - 0.3, Some(1.0))] {
-            let grip = ObstacleGrip {
-                mu: 0.4,
-                stiffness: 50.0,
-                stick,
-                slip,
-                period: shape.period(),
-            };
-            let at = |x: [f64; 2]| {
-                let gap = shape.gap(x).unwrap();
-                let normal = multiplier - penalty * gap.g;
-                obstacle_friction(&gap, shape.place(gap.point), (normal, penalty), &grip)
-            };
-            let (t, _, k) = at(x);
-            assert_eq!(t.mode(slip, false, 0.0), slip, "{shape:?}: the mode holds");
-            let h = 1e-7;
-            let mut worst = 0.0f64;
-            for q in 0..2 {
-                let (mut xp, mut xm) = (x, x);
-                xp[q] += h;
-                xm[q] -= h;
-                let (fp, fm) = (at(xp).1, at(xm).1);
-                for p in 0..2 {
-                    let fd = (fp[p] - fm[p]) / (2.0 * h);
-                    worst = worst.max((fd - k[p][q]).abs());
+    // On the axis, and a rim of radius 0.05 (the node 0.05 off the curve) with a rotation.
+    for reach in [0.0, 0.05] {
+        for shape in &shapes {
+            // A node whose face lies just inside the shape, near its curve.
+            let near = shape.gap([0.8, 0.1]).unwrap();
+            let (on, n) = (near.point, near.n);
+            let off = reach - 1e-4;
+            let x = [on[0] + off * n[0], on[1] + off * n[1], 0.3];
+            let place = shape.place(on);
+            let roll = 0.3 - n[1].atan2(n[0]);
+            for (stick, slip) in [(place + 1e-4, None), (place - 0.3, Some(1.0))] {
+                let grip = ObstacleGrip {
+                    mu: 0.4,
+                    stiffness: 50.0,
+                    stick,
+                    slip,
+                    period: shape.period(),
+                    reach,
+                    roll: roll + 0.01,
+                };
+                let at = |x: [f64; 3]| {
+                    let mut gap = shape.gap([x[0], x[1]]).unwrap();
+                    gap.g -= reach;
+                    let normal = multiplier - penalty * gap.g;
+                    let place = shape.place(gap.point);
+                    obstacle_friction(&gap, (place, x[2]), (normal, penalty), &grip)
+                };
+                let (t, _, k) = at(x);
+                assert_eq!(t.mode(slip, false, 0.0), slip, "{shape:?}: the mode holds");
+                let h = 1e-7;
+                let mut worst = 0.0f64;
+                // The node's u, v and rotation (entries 0, 1 and 4 of the forces).
+                for (q, kq) in [(0, 0), (1, 1), (2, 4)] {
+                    let (mut xp, mut xm) = (x, x);
+                    xp[q] += h;
+                    xm[q] -= h;
+                    let (fp, fm) = (at(xp).1, at(xm).1);
+                    for p in [0, 1, 4] {
+                        let fd = (fp[p] - fm[p]) / (2.0 * h);
+                        worst = worst.max((fd - k[p][kq]).abs());
+                    }
                 }
+                let scale = k.iter().flatten().fold(1e-30f64, |a, v| a.max(v.abs()));
+                assert!(
+                    worst < 1e-6 * scale,
+                    "{shape:?} {slip:?} reach {reach}: tangent off by {worst:e} of {scale:e}"
+                );
             }
-            let scale = k.iter().flatten().fold(1e-30f64, |a, v| a.max(v.abs()));
-            assert!(
-                worst < 1e-6 * scale,
-                "{shape:?} {slip:?}: tangent off by {worst:e} of {scale:e}"
-            );
         }
     }
 }
@@ -841,6 +851,7 @@ fn a_slip_within_the_slack_of_the_limit_goes_on_once_the_modes_come_back() {
         limit: 1.0,
         tangential: 0.0,
         normal: 1.0,
+        rolled: 0.0,
     };
     let slack = 0.1;
     for (trial, first, cautious) in [

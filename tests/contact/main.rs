@@ -21,6 +21,7 @@ mod obstacles;
 mod oracle;
 mod punch;
 mod rims;
+mod rolling;
 mod self_contact;
 mod snap;
 mod thickness;

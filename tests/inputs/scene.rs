@@ -334,14 +334,6 @@ fn bad_obstacles_are_refused_with_their_line_and_reason() {
             ),
             "rod",
         ),
-        (
-            strip_with(
-                "",
-                r#"(name: "peg", shape: Circle(centre: (0.5, 0.2), radius: 0.05), nodes: [100], mu: 0.3),"#,
-            )
-            .replace("rotation: false)", "rotation: false, radius: 0.1)"),
-            "node 100 touches it with a face 1e-1 m off its axis",
-        ),
     ];
     for (text, reason) in cases {
         let e = parse(&text, "bad.ron").expect_err("refused");

@@ -210,15 +210,13 @@ fn scene_of(case: &Case) -> Result<Scene, (String, String)> {
     for (pair, ok) in scene.model.contacts.iter_mut().zip(allowed) {
         pair.mu = if ok { case.mu } else { 0.0 };
     }
-    // An obstacle that touches elements: its friction where its pairs may carry it; and none
-    // where a node touches with a face off its axis (refused in a scene).
+    // An obstacle that touches elements: its friction where its pairs may carry it.
     let m = &scene.model;
     let obstacle_mu: Vec<f64> = (m.obstacles.iter())
         .map(|ob| {
             let carried = (m.contacts.iter())
                 .filter(|c| ob.touches_elements && c.nodes.iter().any(|&n| Some(n) == ob.pilot))
-                .all(|c| m.friction_allowed(c))
-                && ob.nodes.iter().all(|&n| m.nodes[n].clearance == 0.0);
+                .all(|c| m.friction_allowed(c));
             if carried {
                 case.mu
             } else {

@@ -125,23 +125,6 @@ pub(super) fn obstacles(
             }
             rollers.push(r);
         }
-        if o.mu > 0.0 {
-            // Its candidate nodes (a circle that touches elements has only its bodies' ends).
-            if let Some(&n) = nodes.iter().find(|&&n| g.nodes[n].clearance > 0.0) {
-                let node = &g.nodes[n];
-                return Err(ctx.err(
-                    leaf("mu"),
-                    here,
-                    format!(
-                        "node {} touches it with a face {:e} m off its axis (its radius and half \
-                         its thickness): friction there would put a moment on the node that the \
-                         obstacle's contact does not carry; set mu: 0, or the radius and \
-                         thickness to 0",
-                        node.id, node.clearance
-                    ),
-                ));
-            }
-        }
         out.push(Obstacle {
             name: o.name.clone(),
             shape,

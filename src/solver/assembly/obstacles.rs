@@ -77,7 +77,7 @@ pub(super) fn add_obstacles(
 ) {
     forces.clear();
     frictions.clear();
-    let mut gdofs = Vec::with_capacity(4);
+    let (mut gdofs, mut places) = (Vec::with_capacity(5), Vec::with_capacity(5));
     for link in links {
         if !link.active {
             forces.push(0.0);
@@ -89,39 +89,55 @@ pub(super) fn add_obstacles(
             frictions.push(None);
             continue;
         };
-        let (f, mut nodal, mut k) = obstacle_response(&gap, link.multiplier, penalty);
+        let (f, normal_nodal, normal_k) = obstacle_response(&gap, link.multiplier, penalty);
         forces.push(f);
+        let (mut nodal, mut k) = ([0.0; 5], [[0.0; 5]; 5]);
+        for a in 0..4 {
+            nodal[a] = normal_nodal[a];
+            k[a][..4].copy_from_slice(&normal_k[a]);
+        }
+        let rotation = (model.nodes[link.node].rotation).then(|| dofs.dof(link.node, 2));
         frictions.push(link.grip.map(|grip| {
             let shape = &model.obstacles[link.obstacle].shape;
             let t = obstacle_offset(model, dofs, d, link.obstacle);
             let place = shape.place([gap.point[0] - t[0], gap.point[1] - t[1]]);
-            // The place's gradient follows the node's own distance from the curve.
-            let centre = Gap {
-                g: gap.g + model.nodes[link.node].clearance,
-                ..gap
-            };
-            let (traction, fnodal, fk) = obstacle_friction(&centre, place, (f, penalty), &grip);
-            for a in 0..4 {
+            let phi = rotation.map_or(0.0, |r| d[r]);
+            let (traction, fnodal, fk) = obstacle_friction(&gap, (place, phi), (f, penalty), &grip);
+            for a in 0..5 {
                 nodal[a] += fnodal[a];
-                for b in 0..4 {
+                for b in 0..5 {
                     k[a][b] += fk[a][b];
                 }
             }
             traction
         }));
+        // The dofs in the order of `nodal`: the node's (u, v), the pilot's, and the node's
+        // rotation where its rim rolls under friction.
         gdofs.clear();
+        places.clear();
         gdofs.extend((0..2).map(|o| dofs.dof(link.node, o)));
+        places.extend([0, 1]);
         let pilot = model.obstacles[link.obstacle].pilot;
         if let Some(p) = pilot {
             gdofs.extend((0..2).map(|o| dofs.dof(p, o)));
+            places.extend([2, 3]);
         }
-        let k = with_tangent.then_some(move |a: usize, b: usize| k[a][b]);
+        if let Some(r) = rotation.filter(|_| link.grip.is_some_and(|g| g.reach > 0.0)) {
+            gdofs.push(r);
+            places.push(4);
+        }
+        let mut local = [0.0; 5];
+        for (l, &a) in local.iter_mut().zip(&places) {
+            *l = nodal[a];
+        }
+        let at = &places;
+        let k = with_tangent.then_some(move |a: usize, b: usize| k[at[a]][at[b]]);
         let sink = Sink {
             internal: &mut *internal,
             held: (held.0, &mut *held.1),
             tangent: band.as_deref_mut(),
             coupling: &mut *coupling,
         };
-        add_element(&gdofs, &nodal[..gdofs.len()], k, ord, dofs, dp, sink);
+        add_element(&gdofs, &local[..places.len()], k, ord, dofs, dp, sink);
     }
 }

@@ -110,13 +110,26 @@ impl ContactSet {
             return None;
         }
         let gap = cv.obstacle_gap(d, n, o)?;
-        let t = obstacle_offset(&cv.structure.model, &cv.structure.dofs, d, o);
+        let model = &cv.structure.model;
+        let t = obstacle_offset(model, &cv.structure.dofs, d, o);
+        let reach = model.nodes[n].clearance;
+        let phi = if model.nodes[n].rotation {
+            d[cv.structure.dofs.dof(n, 2)]
+        } else {
+            0.0
+        };
         Some(ObstacleGrip {
             mu: obstacle.mu,
             stiffness: obstacle_stick_stiffness(cv, n),
             stick: (obstacle.shape).place([gap.point[0] - t[0], gap.point[1] - t[1]]),
             slip: None,
             period: obstacle.shape.period(),
+            reach,
+            roll: if reach > 0.0 {
+                phi - gap.n[1].atan2(gap.n[0])
+            } else {
+                0.0
+            },
         })
     }
 
@@ -311,6 +324,12 @@ impl ContactSet {
             let (Some(mut grip), Some(Some(t))) = (link.grip, tractions.get(k)) else {
                 continue;
             };
+            // A rim's turn since the stick point moves into the place: the stick point stays
+            // where it is, and the turn is measured from the rim as it is now.
+            if grip.reach > 0.0 {
+                grip.stick -= t.rolled;
+                grip.roll += t.rolled / grip.reach;
+            }
             if t.slipping {
                 grip.stick += t.slip - t.force / grip.stiffness;
             }

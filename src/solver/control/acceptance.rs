@@ -157,8 +157,8 @@ impl Solver {
                     mu: grip.mu,
                     pressure: t.normal,
                     tangential: t.tangential,
-                    stick_before: was.map(|b| b.stick),
-                    stick_after: grip.stick,
+                    stick_before: was.map(|b| b.anchor()),
+                    stick_after: grip.anchor(),
                     period: grip.period.unwrap_or(0.0),
                 })
             })

@@ -54,6 +54,9 @@ pub struct Traction {
     pub tangential: f64,
     /// The normal pressure N (N, compressive positive).
     pub normal: f64,
+    /// The part of `slip` a rim's turn makes (m): on an obstacle, the rim's radius times the
+    /// node's rotation relative to the normal since the stick point; 0 on the axis.
+    pub rolled: f64,
 }
 
 /// The gradient of xi = (a . d) / (d . d), with a = x_c - x_i and d = x_j - x_i, over the
@@ -168,6 +171,7 @@ pub fn add_friction(
             limit,
             tangential: -force * g.span / l,
             normal,
+            rolled: 0.0,
         }));
     }
     out
@@ -186,28 +190,56 @@ pub struct ObstacleGrip {
     pub slip: Option<f64>,
     /// The length after which places repeat (`Shape::period`), if any.
     pub period: Option<f64>,
+    /// How far the node's face stands off its axis (m; its clearance, 0 on the axis): the
+    /// radius of the rim that rolls on the obstacle.
+    pub reach: f64,
+    /// The rim's turn at the stick point (rad): the node's rotation less the angle of the
+    /// obstacle's normal, `phi - theta_n`; 0 on the axis.
+    pub roll: f64,
 }
 
-/// The friction of a node at `place` along an obstacle (`Shape::place`), at gap `gap`, with
-/// normal force `normal` = multiplier - `penalty` g: as for a beam, f = kt (s - s0) in stick
-/// and sigma mu N in slip, conjugate to the place s, whose gradient is (1 - g k) t and whose
-/// Hessian is -(1 - g k) k (n t^T + t n^T) (k the gap's curvature, t = (n_y, -n_x)). Returns
-/// the traction and the internal forces and tangent over (u, v) of the node, then (u, v) of
-/// the obstacle's pilot (the place depends on their difference).
+impl ObstacleGrip {
+    /// The stick point with the rim's turn taken out, `stick + reach roll` (m): what a rim
+    /// that rolls without slipping keeps, and a slip moves.
+    pub fn anchor(&self) -> f64 {
+        self.stick + self.reach * self.roll
+    }
+}
+
+/// The friction of a node at `place` along an obstacle (`Shape::place`), its face at gap `gap`
+/// (the node's own distance from the curve less `grip.reach`), with rotation `phi` (rad; 0 for
+/// a node without a rotation, whose rim does not turn) and normal force `normal` = multiplier -
+/// `penalty` g. The tangential coordinate is the slip of the rim's point that touches,
+/// s = place + r (phi - theta_n) (r = `grip.reach`, theta_n the angle of the normal): a rim
+/// that rolls without slipping keeps s, on a flat face, about a disk and round a corner alike.
+/// As for a beam, f = kt (s - s0) in stick and sigma mu N in slip. The gradient of s over the
+/// node's position is (1 - g k) t (k the curvature of the gap's level line at the node,
+/// t = (n_y, -n_x)) and r over its rotation; its Hessian is -(1 - g k) k (n t^T + t n^T), the
+/// level line's curvature varying as -k^2 along the normal. Returns the traction and the
+/// internal forces and tangent over (u, v) of the node, (u, v) of the obstacle's pilot (the
+/// place depends on their difference), then the node's rotation.
 pub fn obstacle_friction(
     gap: &Gap,
-    place: f64,
+    (place, phi): (f64, f64),
     (normal, penalty): (f64, f64),
     grip: &ObstacleGrip,
-) -> (Traction, [f64; 4], [[f64; 4]; 4]) {
+) -> (Traction, [f64; 5], [[f64; 5]; 5]) {
     let n = gap.n;
     let t = [n[1], -n[0]];
     let a = 1.0 - gap.g * gap.curvature;
-    let grad = [a * t[0], a * t[1]];
+    let grad = [a * t[0], a * t[1], -a * t[0], -a * t[1], grip.reach];
     let mut slip = place - grip.stick;
     if let Some(p) = grip.period {
         slip -= p * (slip / p).round();
     }
+    let rolled = if grip.reach > 0.0 {
+        let turn = phi - n[1].atan2(n[0]) - grip.roll;
+        let tau = std::f64::consts::TAU;
+        grip.reach * (turn - tau * (turn / tau).round())
+    } else {
+        0.0
+    };
+    slip += rolled;
     let limit = grip.mu * normal;
     let trial = grip.stiffness * slip;
     let sign = grip.slip.unwrap_or(0.0);
@@ -217,29 +249,29 @@ pub fn obstacle_friction(
         trial
     };
     let grad_f = match grip.slip {
-        None => [grip.stiffness * grad[0], grip.stiffness * grad[1]],
-        Some(_) => [
-            -sign * grip.mu * penalty * n[0],
-            -sign * grip.mu * penalty * n[1],
-        ],
+        None => grad.map(|g| grip.stiffness * g),
+        Some(_) => {
+            let dn = -sign * grip.mu * penalty;
+            [dn * n[0], dn * n[1], -dn * n[0], -dn * n[1], 0.0]
+        }
     };
     let curl = -a * gap.curvature * force;
-    let mut k = [[0.0; 4]; 4];
-    for p in 0..2 {
-        for q in 0..2 {
-            let v = grad[p] * grad_f[q] + curl * (n[p] * t[q] + t[p] * n[q]);
-            k[p][q] = v;
-            k[p][2 + q] = -v;
-            k[2 + p][q] = -v;
-            k[2 + p][2 + q] = v;
+    let mut k = [[0.0; 5]; 5];
+    for (p, row) in k.iter_mut().enumerate() {
+        for (q, v) in row.iter_mut().enumerate() {
+            *v = grad[p] * grad_f[q];
         }
     }
-    let nodal = [
-        force * grad[0],
-        force * grad[1],
-        -force * grad[0],
-        -force * grad[1],
-    ];
+    for p in 0..2 {
+        for q in 0..2 {
+            let v = curl * (n[p] * t[q] + t[p] * n[q]);
+            k[p][q] += v;
+            k[p][2 + q] -= v;
+            k[2 + p][q] -= v;
+            k[2 + p][2 + q] += v;
+        }
+    }
+    let nodal = grad.map(|g| force * g);
     let traction = Traction {
         force,
         slip,
@@ -248,6 +280,7 @@ pub fn obstacle_friction(
         limit,
         tangential: -force * a,
         normal,
+        rolled,
     };
     (traction, nodal, k)
 }
