@@ -6,7 +6,7 @@
 use std::collections::HashMap;
 
 use crate::history::Topology;
-use crate::solver::{IncrementRecord, IncrementStatus, SolverParams};
+use crate::solver::{Friction, IncrementRecord, IncrementStatus, SolverParams};
 
 /// The external and contact forces of one record, by node slot, and the reference force.
 struct Forces {
@@ -197,6 +197,16 @@ fn forces(
         .iter()
         .fold(0.0f64, |m, p| m.max(p[0].abs()).max(p[1].abs()));
     let mut slack = 0.0;
+    // Which node slots turn: a 2-dof pin does not.
+    let turns: Vec<bool> = {
+        let mut t = vec![true; n];
+        for node in &topology.nodes {
+            if let Some(&k) = slot.get(&node.id) {
+                t[k] = node.rotation;
+            }
+        }
+        t
+    };
     for c in &r.contacts {
         let e = &topology.elements[c.element];
         let (a, b) = (pos(e.i), pos(e.j));
@@ -220,8 +230,25 @@ fn forces(
         on[s][0] += f[0];
         on[s][1] += f[1];
         // On the beam where it presses: the node, or the point of the axis under a node
-        // that stands off it.
-        let at = c.point.unwrap_or(pos(c.node));
+        // that stands off it; with friction, where the faces touch, the beam's half
+        // thickness from its axis towards the node (and the node turns with the friction
+        // there, if it can turn).
+        let x = pos(c.node);
+        let mut at = c.point.unwrap_or(x);
+        if c.point.is_some() && c.friction != Friction::Frictionless {
+            let arm = [x[0] - at[0], x[1] - at[1]];
+            let reach = arm[0].hypot(arm[1]);
+            let share = if reach > 0.0 {
+                0.5 * e.thickness / reach
+            } else {
+                0.0
+            };
+            at = [at[0] + share * arm[0], at[1] + share * arm[1]];
+            if turns[s] {
+                let to = [at[0] - x[0], at[1] - x[1]];
+                on[s][2] += to[0] * f[1] - to[1] * f[0];
+            }
+        }
         at_points[group[slot[&e.i]]].push((at, [-f[0], -f[1]]));
     }
     for c in &r.obstacle_contacts {
@@ -231,13 +258,16 @@ fn forces(
             c.force * c.normal[1] + c.tangential * t[1],
         ];
         // It acts where the node's face touches the obstacle: off the node by the node's
-        // radius and half thickness, the friction there turns it.
+        // radius and half thickness, the friction there turns it (a node without a rotation
+        // does not turn: what holds it holds the moment).
         let s = slot[&c.node];
         let x = pos(c.node);
         let arm = [c.point[0] - x[0], c.point[1] - x[1]];
         on[s][0] += f[0];
         on[s][1] += f[1];
-        on[s][2] += arm[0] * f[1] - arm[1] * f[0];
+        if turns[s] {
+            on[s][2] += arm[0] * f[1] - arm[1] * f[0];
+        }
         let pilot = (topology.obstacles.iter())
             .find(|o| o.name == c.obstacle)
             .and_then(|o| o.pilot);

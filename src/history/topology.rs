@@ -78,6 +78,20 @@ pub struct TopologyNode {
     /// elements.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub moves_with: Option<u32>,
+    /// Whether it has a rotation (false for a 2-dof pin, which does not turn: what holds it
+    /// holds the moment of a friction at its rim).
+    #[serde(default = "turns", skip_serializing_if = "is_true")]
+    pub rotation: bool,
+}
+
+/// A node's rotation where a file leaves it out: it has one.
+fn turns() -> bool {
+    true
+}
+
+/// Whether a flag is true (its default, left out of the file).
+fn is_true(v: &bool) -> bool {
+    *v
 }
 
 /// Whether a size is zero (left out of the file).
@@ -212,6 +226,7 @@ impl Topology {
                     y: n.y,
                     clearance: n.clearance,
                     moves_with: n.moves_with.map(id),
+                    rotation: n.rotation,
                 })
                 .collect(),
             elements: (model.beams.iter())

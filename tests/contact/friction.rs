@@ -77,6 +77,10 @@ fn friction_tangent_matches_central_differences_in_stick_and_slip() {
             span: -len,
             side: 1.0,
             slip: expect_slip.then_some(-1.0),
+            face: 0.0,
+            roll: 0.0,
+            turn: None,
+            rolled: 0.0,
         };
         let (f0, k, slipping) = response(&el, &x, grip);
         assert_eq!(slipping, expect_slip, "stick point {stick}");

@@ -203,29 +203,11 @@ fn scene_of(case: &Case) -> Result<Scene, (String, String)> {
         (None, None) => builtin(&case.scene).ok_or_else(unknown)?.map_err(refused)?,
     };
     scene.model.formulation = case.formulation;
-    // Friction only where the model carries it (`Model::friction_allowed`).
-    let allowed: Vec<bool> = (scene.model.contacts.iter())
-        .map(|c| scene.model.friction_allowed(c))
-        .collect();
-    for (pair, ok) in scene.model.contacts.iter_mut().zip(allowed) {
-        pair.mu = if ok { case.mu } else { 0.0 };
+    for pair in scene.model.contacts.iter_mut() {
+        pair.mu = case.mu;
     }
-    // An obstacle that touches elements: its friction where its pairs may carry it.
-    let m = &scene.model;
-    let obstacle_mu: Vec<f64> = (m.obstacles.iter())
-        .map(|ob| {
-            let carried = (m.contacts.iter())
-                .filter(|c| ob.touches_elements && c.nodes.iter().any(|&n| Some(n) == ob.pilot))
-                .all(|c| m.friction_allowed(c));
-            if carried {
-                case.mu
-            } else {
-                0.0
-            }
-        })
-        .collect();
-    for (ob, mu) in scene.model.obstacles.iter_mut().zip(obstacle_mu) {
-        ob.mu = mu;
+    for ob in scene.model.obstacles.iter_mut() {
+        ob.mu = case.mu;
     }
     Ok(scene)
 }

@@ -81,7 +81,7 @@ pub(super) fn contacts(
                 ),
             ));
         }
-        stand_off(ctx, k, (c.mu, c.own), (&cn, &cb), g)?;
+        stand_off(ctx, k, c.own, (&cn, &cb), g)?;
         contacts.push(ContactPair {
             nodes: cn,
             bodies: cb,
@@ -239,12 +239,11 @@ fn segments_cross(p: [f64; 2], q: [f64; 2], r: [f64; 2], s: [f64; 2]) -> bool {
 
 /// Contact entry `k`'s candidates that stand off the axes (a node's radius, the thickness of
 /// its own elements or of the bodies `cb`: the solver's contact distance) must start clear of
-/// the bodies by that distance, and touch them without friction: the friction of a surface
-/// off the axis would put a moment on the node and the beam that the contact does not carry.
+/// the bodies by that distance.
 fn stand_off(
     ctx: &Ctx,
     k: usize,
-    (mu, own): (f64, bool),
+    own: bool,
     (cn, cb): (&[usize], &[usize]),
     g: &Geometry,
 ) -> Result<(), SceneError> {
@@ -279,18 +278,6 @@ fn stand_off(
                     continue;
                 }
                 let node = &g.nodes[n];
-                if mu != 0.0 {
-                    return Err(ctx.err(
-                        format!("contacts[{k}].mu"),
-                        Some(format!("id:{}", node.id)),
-                        format!(
-                            "node {} stands {r:e} m off the axis of body {} (its radius and the \
-                             half thicknesses): contact at a distance is frictionless, set mu: 0 \
-                             or the radius and thicknesses to 0",
-                            node.id, g.bodies[b].name
-                        ),
-                    ));
-                }
                 let dist = segment_distance(at(n), at(g.beams[e].i), at(g.beams[e].j));
                 if dist < r * (1.0 - 1e-9) {
                     return Err(ctx.err(

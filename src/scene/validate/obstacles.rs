@@ -137,8 +137,7 @@ pub(super) fn obstacles(
     Ok((out, rollers))
 }
 
-/// An obstacle that touches its bodies' elements (`Touches::Elements`), frictionless, through
-/// points that act as pins on them (`Model::contact_distance`), the contact element carrying
+/// An obstacle that touches its bodies' elements (`Touches::Elements`), through points that act as pins on them (`Model::contact_distance`), the contact element carrying
 /// the force at the point of the element's deformed shape touched, sliding along the element
 /// and on to the next: a solid circle's centre with its radius (its pilot, which sits there,
 /// or for a fixed circle a centre node of its own, held, whose reactions are the force on
@@ -159,21 +158,13 @@ pub(super) struct Roller {
     pub(super) bodies: Vec<usize>,
     /// The radius its points touch with (m): a circle's, 0 for corners.
     pub(super) radius: f64,
-    /// The friction of its contacts: a polyline's on bodies without a thickness (its corners
-    /// touch on the axis); 0 for a circle.
+    /// The friction of its contacts: the obstacle's `mu`.
     pub(super) mu: f64,
 }
 
-/// Whether any of `bodies` has a thickness.
-fn thick(bodies: &[usize], g: &Geometry) -> bool {
-    (bodies.iter())
-        .flat_map(|&b| &g.bodies[b].elements)
-        .any(|&e| g.beams[e].section.thickness > 0.0)
-}
-
 /// Obstacle `k` (`o`, of shape `shape` and pilot `pilot`, touching `bodies`) as a `Roller`:
-/// a frictionless solid circle, its pilot, if any, at its centre, or a polyline with a convex
-/// corner (with friction only on bodies without a thickness), touching bodies.
+/// a solid circle, its pilot, if any, at its centre, or a polyline with a convex corner,
+/// touching bodies.
 fn roller(
     ctx: &Ctx,
     (k, o): (usize, &ObstacleDef),
@@ -191,11 +182,6 @@ fn roller(
              elements: other shapes touch the nodes"
                 .to_string(),
         )
-    } else if o.mu != 0.0 && thick(&bodies, g) {
-        Some(format!(
-            "on a body with a thickness it touches elements without friction: set mu: 0 (it is {:e})",
-            o.mu
-        ))
     } else if bodies.is_empty() {
         Some("it touches the elements of the bodies it names: name at least one".to_string())
     } else {

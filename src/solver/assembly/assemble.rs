@@ -9,8 +9,9 @@ use super::obstacles::{add_obstacles, ObstacleLink};
 use super::packed::PackedBeam;
 use crate::solver::element::beam::BeamElement;
 use crate::solver::element::contact_element::ContactOptions;
-use crate::solver::element::contact_law::rim_outcome;
 use crate::solver::element::friction::{Grip, Traction};
+use crate::solver::element::rim::friction::turns_node;
+use crate::solver::element::rim::rim_outcome;
 use crate::solver::linear::reduce::sum_squares;
 use crate::solver::linear::simd::{dispatch_wide, Avx2};
 use crate::solver::linear::BandMatrix;
@@ -284,18 +285,29 @@ pub(super) fn assemble_kernel(
                 gdofs.push(dofs.dof(c, 0));
                 gdofs.push(dofs.dof(c, 1));
             }
-            // No grips (a frictionless model): an empty slice, nothing to gather.
-            let grips: Vec<Option<Grip>> = if ctx.grips.is_empty() {
-                Vec::new()
-            } else {
-                on_this.iter().map(|&k| ctx.grips[k]).collect()
-            };
             // Contacts on the axis (every one in most scenes) take the plain element.
             let rims: Vec<f64> = if on_this.iter().all(|&k| ord.links[k].rim == 0.0) {
                 Vec::new()
             } else {
                 on_this.iter().map(|&k| ord.links[k].rim).collect()
             };
+            // No grips (a frictionless model): an empty slice, nothing to gather. A grip off
+            // the axis takes its node's rotation, which its rim turns with; where the rim
+            // takes the friction's moment, that rotation is a dof of the element, after the
+            // contact nodes' (u, v).
+            let grips: Vec<Option<Grip>> = if ctx.grips.is_empty() {
+                Vec::new()
+            } else {
+                on_this
+                    .iter()
+                    .map(|&k| turned_grip(model, dofs, d, ord, k, ctx.grips[k]))
+                    .collect()
+            };
+            for (m, &k) in on_this.iter().enumerate() {
+                if !rims.is_empty() && !grips.is_empty() && turns_node(rims[m], &grips[m]) {
+                    gdofs.push(dofs.dof(ord.links[k].node, 2));
+                }
+            }
             let out = rim_outcome(
                 &ctx.elements[e],
                 (xi, xj),
@@ -349,4 +361,22 @@ pub(super) fn assemble_kernel(
     }
     out.tangent = tangent;
     (out.unbalanced, out.unbalanced_norm2, out.unloaded) = internal.finish();
+}
+
+/// Contact link `k`'s grip `grip` with its node's rotation at displacements `d` where the
+/// contact stands off the axis and the node has one (`Grip::turn`).
+fn turned_grip(
+    model: &Model,
+    dofs: &DofMap,
+    d: &[f64],
+    ord: &Ordering,
+    k: usize,
+    grip: Option<Grip>,
+) -> Option<Grip> {
+    let link = &ord.links[k];
+    grip.map(|g| Grip {
+        turn: (link.rim != 0.0 && model.nodes[link.node].rotation)
+            .then(|| d[dofs.dof(link.node, 2)]),
+        ..g
+    })
 }

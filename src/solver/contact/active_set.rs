@@ -73,14 +73,14 @@ impl ContactSet {
                     Some(k) => self.release(cv, asm, &[k], increment, iteration, events),
                     None => {
                         crossings.retain(|c| (c.0, c.1) == key);
-                        self.activate(cv, &crossings, increment, iteration, events);
+                        self.activate(cv, d, &crossings, increment, iteration, events);
                     }
                 }
                 changes = 1;
             }
         } else {
             changes += self.release_tensile(cv, asm, increment, iteration, events);
-            changes += self.activate(cv, &crossings, increment, iteration, events);
+            changes += self.activate(cv, d, &crossings, increment, iteration, events);
         }
         if self.beams.too_deep.is_none() {
             self.beams.too_deep = (self.passed_out_of_reach(cv, d, &views, &held))
@@ -124,6 +124,7 @@ impl ContactSet {
     fn activate(
         &mut self,
         cv: &ContactView<'_>,
+        d: &[f64],
         crossings: &[(usize, usize, Probe, f64)],
         increment: usize,
         iteration: usize,
@@ -135,7 +136,7 @@ impl ContactSet {
                 beam: p.beam,
                 body: b,
                 side,
-                stick: Self::stick_at(cv, n, b, p.beam, p.xi),
+                stick: Self::stick_at(cv, d, (n, side), (b, p.beam), p.xi),
             };
             events.push(Self::event(
                 cv,
@@ -239,7 +240,7 @@ impl ContactSet {
             if p.gap.abs() > cv.structure.touching(SIDE, p.length) {
                 continue;
             }
-            let stick = Self::stick_at(cv, n, b, p.beam, p.xi);
+            let stick = Self::stick_at(cv, cv.d, (n, side), (b, p.beam), p.xi);
             self.beams.active.push(ActiveContact {
                 node: n,
                 beam: p.beam,

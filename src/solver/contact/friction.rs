@@ -10,8 +10,9 @@
 //! ([`Shape::place`]), kept in the obstacle link with the mode.
 
 use super::set::{ActiveContact, ContactSet, ContactView, Stick};
-use crate::solver::assembly::{obstacle_offset, Assembled};
+use crate::solver::assembly::{current, obstacle_offset, Assembled};
 use crate::solver::element::friction::{Grip, ObstacleGrip, Traction, STICK_ROUNDOFF_ULPS};
+use crate::solver::element::rim::friction::roll;
 use crate::solver::report::{ContactChange, Event, ObstacleEvent};
 
 /// The stiffness kt that holds sticking node `node` to beam `beam` (N/m): `friction_penalty`
@@ -65,6 +66,39 @@ fn least_axial(cv: &ContactView<'_>, node: usize, start: f64) -> f64 {
     own.fold(start, f64::min)
 }
 
+/// The rim's roll (`rim::friction::roll`) of node `n` on side `side` of `beam` (body span
+/// `span`) at displacements `d`: 0 for a node on the axis.
+fn rim_roll(
+    cv: &ContactView<'_>,
+    d: &[f64],
+    (n, side): (usize, f64),
+    beam: usize,
+    span: f64,
+) -> f64 {
+    let m = &cv.structure.model;
+    let r = if cv.structure.stands_off {
+        m.contact_distance(n, beam)
+    } else {
+        0.0
+    };
+    if r == 0.0 {
+        return 0.0;
+    }
+    let dofs = &cv.structure.dofs;
+    let (c, turn) = current(m, dofs, d, n);
+    let (xi, pi) = current(m, dofs, d, m.beams[beam].i);
+    let (xj, pj) = current(m, dofs, d, m.beams[beam].j);
+    let face = 0.5 * m.beams[beam].section.thickness;
+    let turn = m.nodes[n].rotation.then_some(turn);
+    let element = &cv.structure.elements[beam];
+    roll(
+        element,
+        ((xi, xj), [pi, pj]),
+        (c, side * r),
+        (face, turn, span),
+    )
+}
+
 /// The turns of a slip from one direction to the other a contact may take within an attempt;
 /// at the next it sticks first.
 const MAX_TURNS: usize = 2;
@@ -75,13 +109,14 @@ fn mode_code(slip: Option<f64>) -> i8 {
 }
 
 impl ContactSet {
-    /// The stick point of a new contact of node `n` on body `body` at fraction `xi` of `beam`:
-    /// there, sticking; `None` for a frictionless pair.
+    /// The stick point of a new contact of node `n` on side `side` of `beam` (of body `body`)
+    /// at fraction `xi` of it, at displacements `d`: there, sticking, with the rim's roll
+    /// there for a node that stands off the axis; `None` for a frictionless pair.
     pub(super) fn stick_at(
         cv: &ContactView<'_>,
-        n: usize,
-        body: usize,
-        beam: usize,
+        d: &[f64],
+        (n, side): (usize, f64),
+        (body, beam): (usize, usize),
         xi: f64,
     ) -> Option<Stick> {
         if cv.structure.friction.is_empty() || !cv.structure.friction.contains_key(&(n, body)) {
@@ -92,6 +127,7 @@ impl ContactSet {
             at: si + xi * (sj - si),
             slip: None,
             resolved: f64::INFINITY,
+            roll: rim_roll(cv, d, (n, side), beam, sj - si),
         })
     }
 
@@ -158,6 +194,10 @@ impl ContactSet {
             span,
             side: a.side,
             slip: stick.slip,
+            face: 0.5 * cv.structure.model.beams[a.beam].section.thickness,
+            roll: stick.roll,
+            turn: None,
+            rolled: 0.0,
         })
     }
 
@@ -297,6 +337,9 @@ impl ContactSet {
             let (Some(mut stick), Some(Some(t))) = (a.stick, tractions.get(k)) else {
                 continue;
             };
+            // A rim's roll since the stick point moves into it, as on an obstacle.
+            stick.at -= t.rolled;
+            stick.roll += t.rolled;
             if t.slipping {
                 stick.at += t.slip - t.force / stick_stiffness(cv, &a);
             }

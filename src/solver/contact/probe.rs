@@ -10,7 +10,7 @@ use super::set::ContactView;
 use super::set::{pressed_point, ContactSet};
 use crate::solver::assembly::current;
 use crate::solver::element::contact_element::{contact_response, deflection};
-use crate::solver::element::contact_law::rim_point;
+use crate::solver::element::rim::rim_point;
 use crate::solver::index_map::IndexMap;
 
 /// Beyond this many element lengths from an element's chord, a node's gap is its distance

@@ -11,7 +11,8 @@ use std::collections::HashMap;
 use super::cycle::CycleGuard;
 use crate::solver::assembly::{current, obstacle_gap, Assembled, ContactLink, ObstacleLink};
 use crate::solver::element::beam::Chord;
-use crate::solver::element::contact_law::{rim_point, surface_turn};
+use crate::solver::element::contact_law::surface_turn;
+use crate::solver::element::rim::rim_point;
 use crate::solver::index_map::IndexMap;
 use crate::solver::model::Gap;
 use crate::solver::model::Model;
@@ -46,6 +47,17 @@ pub struct Stick {
     /// The stiffest spring the Coulomb limit at the last accepted state resolves (N/m;
     /// infinite for a new contact): the stick spring is no stiffer.
     pub resolved: f64,
+    /// The rim's roll at the stick point (m, `rim::friction::roll`) of a contact at a distance
+    /// from the axes; 0 on the axis.
+    pub roll: f64,
+}
+
+impl Stick {
+    /// The stick point with the rim's roll taken out, `at + roll` (m): what a rim that rolls
+    /// without slipping keeps, and a slip moves.
+    pub fn anchor(&self) -> f64 {
+        self.at + self.roll
+    }
 }
 
 /// The contact set as its stages: node-on-beam contacts, contacts with rigid obstacles and the

@@ -154,7 +154,7 @@ impl ContactSet {
             beam: e,
             body,
             side: -a.side * cos.signum(),
-            stick: Self::stick_at(cv, tip, body, e, xi),
+            stick: Self::stick_at(cv, d, (tip, -a.side * cos.signum()), (body, e), xi),
         })
     }
 
@@ -278,9 +278,9 @@ impl ContactSet {
                             side: u.side,
                             stick: Self::stick_at(
                                 cv,
-                                a.node,
-                                u.body,
-                                u.beam,
+                                d,
+                                (a.node, u.side),
+                                (u.body, u.beam),
                                 Self::chord_fraction(cv, d, a.node, u.beam),
                             ),
                         });

@@ -130,8 +130,8 @@ impl Solver {
                     mu: *self.structure.friction.get(&(a.node, a.body))?,
                     pressure: t.normal,
                     tangential: t.tangential * (sj - si).signum(),
-                    stick_before: before.map(|b| b.at),
-                    stick_after: stick.at,
+                    stick_before: before.map(|b| b.anchor()),
+                    stick_after: stick.anchor(),
                     period: 0.0,
                 })
             })

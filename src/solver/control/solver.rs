@@ -41,9 +41,6 @@ impl Solver {
     /// Set up a solver at the undeformed state; fails if the structure is a mechanism or a
     /// contact candidate node starts on a body with no side to tell.
     pub fn new(model: Model, params: SolverParams) -> Result<Solver, SolveError> {
-        if let Some(reason) = friction_at_a_distance(&model) {
-            return Err(SolveError::Invalid { reason });
-        }
         let structure = Structure::new(model, params);
         let state = State {
             d: vec![0.0; structure.dofs.len()],
@@ -245,16 +242,4 @@ impl Solver {
             }
         }
     }
-}
-
-/// A frictional contact pair of `model` that may not have friction
-/// (`Model::friction_allowed`), named: a pin or a beam that stands off the axes has no rotation
-/// to hold the moment of a friction on its face.
-fn friction_at_a_distance(model: &Model) -> Option<String> {
-    let pair = (model.contacts.iter()).find(|c| c.mu != 0.0 && !model.friction_allowed(c))?;
-    Some(format!(
-        "{} has friction (mu {}) on a contact at a distance from the axes (a radius or a thickness): such contacts are frictionless, but for a circle that touches elements",
-        model.node_label(pair.nodes[0]),
-        pair.mu
-    ))
 }

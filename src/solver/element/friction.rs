@@ -35,6 +35,18 @@ pub struct Grip {
     pub side: f64,
     /// `Some(sigma)`: the contact slips with s - s0 of sign sigma; `None`: it sticks.
     pub slip: Option<f64>,
+    /// Half the thickness of the beam touched (m): the beam's part of a contact at a distance
+    /// from the axes (`rim/friction.rs`); 0 on the axis.
+    pub face: f64,
+    /// The rim's roll at the stick point (m; `rim::friction::roll`): its radius times the
+    /// node's rotation relative to the beam's surface normal; 0 on the axis.
+    pub roll: f64,
+    /// The contact node's rotation (rad, since rest), where it has one and its rim turns with
+    /// it; `None`: its rim does not turn. Set by the assembly.
+    pub turn: Option<f64>,
+    /// The slip the rim's roll adds since the stick point (m of body), set by the element
+    /// (`rim/friction.rs`); 0 on the axis.
+    pub rolled: f64,
 }
 
 /// The frictional state of one contact, from the return mapping.
@@ -54,8 +66,9 @@ pub struct Traction {
     pub tangential: f64,
     /// The normal pressure N (N, compressive positive).
     pub normal: f64,
-    /// The part of `slip` a rim's turn makes (m): on an obstacle, the rim's radius times the
-    /// node's rotation relative to the normal since the stick point; 0 on the axis.
+    /// The part of `slip` a rim's turn makes (m): its radius times the node's rotation
+    /// relative to the normal of the obstacle or of the beam's surface since the stick point;
+    /// 0 on the axis.
     pub rolled: f64,
 }
 
@@ -140,7 +153,7 @@ pub fn add_friction(
         };
         let a = Vector2::new(xc[m][0], xc[m][1]) - xi_pos;
         let xi = a.dot(&d) / d.dot(&d);
-        let slip = g.span * (xi - g.stick);
+        let slip = g.span * (xi - g.stick) + g.rolled;
         let normal = -g.side * r.forces[3 + m];
         // Not cut at zero: an iterate that pulls the contact keeps a smooth force (the pass
         // releases a tensile contact before its friction is judged).
@@ -171,7 +184,7 @@ pub fn add_friction(
             limit,
             tangential: -force * g.span / l,
             normal,
-            rolled: 0.0,
+            rolled: g.rolled,
         }));
     }
     out

@@ -351,20 +351,6 @@ impl Model {
         self.nodes[n].clearance + 0.5 * self.beams[e].section.thickness
     }
 
-    /// Whether the contacts of `pair` may have friction: on the axes (every contact distance
-    /// 0), or those of a rigid circle that touches elements (its pilot carries it) on bodies
-    /// without a thickness, whose rotation the obstacle holds against the friction's moment
-    /// about its centre. A pin or a beam that stands off the axes has no rotation to hold it.
-    pub fn friction_allowed(&self, pair: &ContactPair) -> bool {
-        let thick = |b: &usize| {
-            (self.bodies[*b].elements.iter()).any(|&e| self.beams[e].section.thickness > 0.0)
-        };
-        let rigid =
-            |n: usize| (self.obstacles.iter()).any(|o| o.touches_elements && o.pilot == Some(n));
-        !pair.bodies.iter().any(thick)
-            && (pair.nodes.iter()).all(|&n| self.nodes[n].clearance == 0.0 || rigid(n))
-    }
-
     /// The ids of node `n` and of the nodes that move with it (a moving polyline's corners,
     /// [`Node::moves_with`]), whose reactions together are the force that drives it.
     pub fn moving_with(&self, n: usize) -> Vec<u32> {
