@@ -197,16 +197,28 @@ fn forces(
         .iter()
         .fold(0.0f64, |m, p| m.max(p[0].abs()).max(p[1].abs()));
     let mut slack = 0.0;
-    // Which node slots turn: a 2-dof pin does not.
+    // Which node slots turn with a moment: a node with a rotation on an element or held in
+    // it. A 2-dof pin (a rigid circle's centre) does not: what holds it holds the moment of a
+    // friction at its rim (and so for a node of a history that does not say, on no element).
     let turns: Vec<bool> = {
-        let mut t = vec![true; n];
+        let mut t = vec![false; n];
+        for e in &topology.elements {
+            for id in [e.i, e.j] {
+                if let Some(&k) = slot.get(&id) {
+                    t[k] = true;
+                }
+            }
+        }
         for node in &topology.nodes {
             if let Some(&k) = slot.get(&node.id) {
-                t[k] = node.rotation;
+                t[k] = node.rotation && (t[k] || held.contains(&(node.id, 2)));
             }
         }
         t
     };
+    let clearance: HashMap<u32, f64> = (topology.nodes.iter())
+        .map(|node| (node.id, node.clearance))
+        .collect();
     for c in &r.contacts {
         let e = &topology.elements[c.element];
         let (a, b) = (pos(e.i), pos(e.j));
@@ -258,14 +270,14 @@ fn forces(
             c.force * c.normal[1] + c.tangential * t[1],
         ];
         // It acts where the node's face touches the obstacle: off the node by the node's
-        // radius and half thickness, the friction there turns it (a node without a rotation
-        // does not turn: what holds it holds the moment).
+        // radius and half thickness, its friction there turns the node (one that turns).
         let s = slot[&c.node];
         let x = pos(c.node);
         let arm = [c.point[0] - x[0], c.point[1] - x[1]];
         on[s][0] += f[0];
         on[s][1] += f[1];
-        if turns[s] {
+        let rim = clearance.get(&c.node).copied().unwrap_or(0.0) > 0.0;
+        if turns[s] && rim && c.friction != Friction::Frictionless {
             on[s][2] += arm[0] * f[1] - arm[1] * f[0];
         }
         let pilot = (topology.obstacles.iter())

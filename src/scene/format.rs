@@ -335,9 +335,10 @@ pub enum Touches {
     /// lie along it, as a strip wrapped round a drum).
     #[default]
     Nodes,
-    /// Any point of the bodies' elements, at one place of each body: a frictionless solid
-    /// circle (a roller, a peg) touching as a pin of its radius at its centre, the contact
-    /// element carrying its force where it touches the element's deformed shape.
+    /// Any point of the bodies' elements, at one place of each body: a solid circle (a
+    /// roller, a peg) touching as a pin of its radius at its centre, or a polyline's convex
+    /// corners, the contact element carrying the force where it touches the element's
+    /// deformed shape.
     Elements,
 }
 

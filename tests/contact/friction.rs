@@ -80,7 +80,7 @@ fn friction_tangent_matches_central_differences_in_stick_and_slip() {
             face: 0.0,
             roll: 0.0,
             turn: None,
-            rolled: 0.0,
+            rolled: (0.0, 0.0),
         };
         let (f0, k, slipping) = response(&el, &x, grip);
         assert_eq!(slipping, expect_slip, "stick point {stick}");
@@ -549,8 +549,25 @@ fn the_friction_law_check_finds_each_kind_of_violation() {
         stick_before: Some(0.2),
         stick_after: 0.25,
         period: 0.0,
+        scale: 0.0,
     };
     assert_eq!(friction_law(&[ok]), None);
+    // A sticking rim whose stick point is worked from a roll of 1 m: a move of two units in
+    // the last place of that is its round-off, and a sticking contact may make it; without
+    // the roll, it is a slip below the limit.
+    let rolled = FrictionRecord {
+        tangential: 4.0,
+        stick_before: Some(1e-3),
+        stick_after: 1e-3 + 2.0 * f64::EPSILON,
+        scale: 1.0,
+        ..ok
+    };
+    assert_eq!(friction_law(&[rolled]), None);
+    assert!(friction_law(&[FrictionRecord {
+        scale: 0.0,
+        ..rolled
+    }])
+    .is_some());
     let sticking = FrictionRecord {
         tangential: 4.0,
         stick_after: 0.2,
@@ -856,6 +873,7 @@ fn a_slip_within_the_slack_of_the_limit_goes_on_once_the_modes_come_back() {
         tangential: 0.0,
         normal: 1.0,
         rolled: 0.0,
+        rim_roll: 0.0,
     };
     let slack = 0.1;
     for (trial, first, cautious) in [

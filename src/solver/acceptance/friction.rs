@@ -35,6 +35,9 @@ pub struct FrictionRecord {
     /// arc's circle, its places taken modulo it: `Shape::period`), 0 where they do not: its
     /// round-off is theirs too.
     pub period: f64,
+    /// The size of what else a stick point is worked from (m; a rim's roll), 0 where none:
+    /// its round-off is the stick point's too.
+    pub scale: f64,
 }
 
 /// A contact that breaks the friction law.
@@ -74,7 +77,9 @@ pub fn friction_law(records: &[FrictionRecord]) -> Option<FrictionViolation> {
         // A stick point is a place along a body: a move within a few units in the last place
         // of it (or of the period it is taken modulo) is the round-off of recomputing it, not
         // a slip with a direction.
-        let size = before.abs().max(r.stick_after.abs()).max(r.period);
+        let size = (before.abs().max(r.stick_after.abs()))
+            .max(r.period)
+            .max(r.scale);
         let roundoff = STICK_ROUNDOFF_ULPS * f64::EPSILON * size;
         let moved = slipped.abs() > roundoff;
         let short = moved && t < limit * (1.0 - FRICTION_LAW_TOLERANCE);

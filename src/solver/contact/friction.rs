@@ -67,13 +67,14 @@ fn least_axial(cv: &ContactView<'_>, node: usize, start: f64) -> f64 {
 }
 
 /// The rim's roll (`rim::friction::roll`) of node `n` on side `side` of `beam` (body span
-/// `span`) at displacements `d`: 0 for a node on the axis.
+/// `span`) at displacements `d`, its stick point at fraction `stick` of `beam`: 0 for a node
+/// on the axis.
 fn rim_roll(
     cv: &ContactView<'_>,
     d: &[f64],
     (n, side): (usize, f64),
-    beam: usize,
-    span: f64,
+    (beam, span): (usize, f64),
+    stick: f64,
 ) -> f64 {
     let m = &cv.structure.model;
     let r = if cv.structure.stands_off {
@@ -85,18 +86,11 @@ fn rim_roll(
         return 0.0;
     }
     let dofs = &cv.structure.dofs;
-    let (c, turn) = current(m, dofs, d, n);
-    let (xi, pi) = current(m, dofs, d, m.beams[beam].i);
-    let (xj, pj) = current(m, dofs, d, m.beams[beam].j);
+    let turn = current(m, dofs, d, n).1;
+    let phi = [m.beams[beam].i, m.beams[beam].j].map(|k| current(m, dofs, d, k).1);
     let face = 0.5 * m.beams[beam].section.thickness;
     let turn = m.nodes[n].rotation.then_some(turn);
-    let element = &cv.structure.elements[beam];
-    roll(
-        element,
-        ((xi, xj), [pi, pj]),
-        (c, side * r),
-        (face, turn, span),
-    )
+    roll(phi, (side * r, face, turn), (span, stick))
 }
 
 /// The turns of a slip from one direction to the other a contact may take within an attempt;
@@ -127,7 +121,7 @@ impl ContactSet {
             at: si + xi * (sj - si),
             slip: None,
             resolved: f64::INFINITY,
-            roll: rim_roll(cv, d, (n, side), beam, sj - si),
+            roll: rim_roll(cv, d, (n, side), (beam, sj - si), xi),
         })
     }
 
@@ -197,7 +191,7 @@ impl ContactSet {
             face: 0.5 * cv.structure.model.beams[a.beam].section.thickness,
             roll: stick.roll,
             turn: None,
-            rolled: 0.0,
+            rolled: (0.0, 0.0),
         })
     }
 
@@ -239,7 +233,9 @@ impl ContactSet {
                 continue;
             };
             let kt = stick_stiffness(cv, a);
-            let want = want((a.node, a.body, false), stick.slip, t, slack(kt, stick.at));
+            // The stick point and a rim's roll, what the slip is worked from.
+            let size = stick.at.abs().max(stick.roll.abs());
+            let want = want((a.node, a.body, false), stick.slip, t, slack(kt, size));
             if want != stick.slip {
                 changes.push((k, want));
             }
@@ -249,7 +245,8 @@ impl ContactSet {
             let (Some(grip), Some(Some(t))) = (link.grip, obstacle_tractions.get(k)) else {
                 continue;
             };
-            let place = slack(grip.stiffness, grip.stick);
+            let size = grip.stick.abs().max(grip.reach * grip.roll.abs());
+            let place = slack(grip.stiffness, size);
             let want = want((link.node, link.obstacle, true), grip.slip, t, place);
             if want != grip.slip {
                 changes.push((self.beams.active.len() + k, want));
@@ -313,14 +310,14 @@ impl ContactSet {
         stuck
     }
 
-    /// At the accepted pass of an increment (assembled in `asm`): the stick point of every
+    /// At the accepted pass of an increment (at displacements `d`, assembled in `asm`): the stick point of every
     /// slipping contact, with a beam or an obstacle, moves to where its spring carries the
     /// Coulomb force, s - f / kt, and every contact that changed between stick and slip since
     /// the last accepted state (`cv`) is an event.
     pub(crate) fn settle_friction(
         &mut self,
         cv: &ContactView<'_>,
-        asm: &Assembled,
+        (d, asm): (&[f64], &Assembled),
         increment: usize,
         iteration: usize,
         events: &mut Vec<Event>,
@@ -337,11 +334,16 @@ impl ContactSet {
             let (Some(mut stick), Some(Some(t))) = (a.stick, tractions.get(k)) else {
                 continue;
             };
-            // A rim's roll since the stick point moves into it, as on an obstacle.
+            // A rim's roll since the stick point moves into it, as on an obstacle, and the
+            // roll is measured afresh from where it now sticks.
             stick.at -= t.rolled;
-            stick.roll += t.rolled;
             if t.slipping {
                 stick.at += t.slip - t.force / stick_stiffness(cv, &a);
+            }
+            if t.rim_roll != 0.0 || stick.roll != 0.0 {
+                let [si, sj] = cv.structure.body_length_at[a.beam];
+                let at = (stick.at - si) / (sj - si);
+                stick.roll = rim_roll(cv, d, (a.node, a.side), (a.beam, sj - si), at);
             }
             let before = (cv.contacts.beams.active.iter())
                 .find(|b| b.node == a.node && b.body == a.body)
@@ -371,7 +373,7 @@ impl ContactSet {
             // where it is, and the turn is measured from the rim as it is now.
             if grip.reach > 0.0 {
                 grip.stick -= t.rolled;
-                grip.roll += t.rolled / grip.reach;
+                grip.roll += t.rim_roll / grip.reach;
             }
             if t.slipping {
                 grip.stick += t.slip - t.force / grip.stiffness;

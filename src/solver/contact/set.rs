@@ -52,14 +52,6 @@ pub struct Stick {
     pub roll: f64,
 }
 
-impl Stick {
-    /// The stick point with the rim's roll taken out, `at + roll` (m): what a rim that rolls
-    /// without slipping keeps, and a slip moves.
-    pub fn anchor(&self) -> f64 {
-        self.at + self.roll
-    }
-}
-
 /// The contact set as its stages: node-on-beam contacts, contacts with rigid obstacles and the
 /// friction modes of both, each with what it keeps through an attempt.
 #[derive(Clone, Debug, Default)]

@@ -105,7 +105,8 @@ impl Solver {
 
     /// The frictional contacts of a converged attempt as the friction law's check reads them:
     /// pressure, friction force along the body, and the stick points before and after (none
-    /// before for a contact that began in the increment).
+    /// before for a contact that began in the increment); after, with the rim's roll of the
+    /// increment put back: a rim that rolls without slipping moves its stick point with it.
     fn friction_records(&self, c: &Converged) -> Vec<FrictionRecord> {
         let tractions = &c.assembled.elements.contact_friction;
         let began = |node: usize, body: usize| {
@@ -130,9 +131,10 @@ impl Solver {
                     mu: *self.structure.friction.get(&(a.node, a.body))?,
                     pressure: t.normal,
                     tangential: t.tangential * (sj - si).signum(),
-                    stick_before: before.map(|b| b.anchor()),
-                    stick_after: stick.anchor(),
+                    stick_before: before.map(|b| b.at),
+                    stick_after: stick.at + t.rolled,
                     period: 0.0,
+                    scale: t.rolled.abs(),
                 })
             })
             .chain(self.obstacle_friction_records(c))
@@ -157,9 +159,10 @@ impl Solver {
                     mu: grip.mu,
                     pressure: t.normal,
                     tangential: t.tangential,
-                    stick_before: was.map(|b| b.anchor()),
-                    stick_after: grip.anchor(),
+                    stick_before: was.map(|b| b.stick),
+                    stick_after: grip.stick + t.rolled,
                     period: grip.period.unwrap_or(0.0),
+                    scale: t.rolled.abs(),
                 })
             })
             .collect()

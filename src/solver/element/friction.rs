@@ -44,9 +44,9 @@ pub struct Grip {
     /// The contact node's rotation (rad, since rest), where it has one and its rim turns with
     /// it; `None`: its rim does not turn. Set by the assembly.
     pub turn: Option<f64>,
-    /// The slip the rim's roll adds since the stick point (m of body), set by the element
-    /// (`rim/friction.rs`); 0 on the axis.
-    pub rolled: f64,
+    /// The rim's roll since the stick point (m along the surface) and the slip it adds (m of
+    /// body), set by the element (`rim/friction.rs`); 0 on the axis.
+    pub rolled: (f64, f64),
 }
 
 /// The frictional state of one contact, from the return mapping.
@@ -66,10 +66,12 @@ pub struct Traction {
     pub tangential: f64,
     /// The normal pressure N (N, compressive positive).
     pub normal: f64,
-    /// The part of `slip` a rim's turn makes (m): its radius times the node's rotation
-    /// relative to the normal of the obstacle or of the beam's surface since the stick point;
-    /// 0 on the axis.
+    /// The part of `slip` a rim's roll makes (m of the coordinate: of body for a beam, along
+    /// the curve for an obstacle); 0 on the axis.
     pub rolled: f64,
+    /// The rim's roll since the stick point (m along the surface): its radius times the
+    /// node's rotation relative to the normal of the obstacle or of the beam's surface.
+    pub rim_roll: f64,
 }
 
 /// The gradient of xi = (a . d) / (d . d), with a = x_c - x_i and d = x_j - x_i, over the
@@ -153,7 +155,7 @@ pub fn add_friction(
         };
         let a = Vector2::new(xc[m][0], xc[m][1]) - xi_pos;
         let xi = a.dot(&d) / d.dot(&d);
-        let slip = g.span * (xi - g.stick) + g.rolled;
+        let slip = g.span * (xi - g.stick) + g.rolled.1;
         let normal = -g.side * r.forces[3 + m];
         // Not cut at zero: an iterate that pulls the contact keeps a smooth force (the pass
         // releases a tensile contact before its friction is judged).
@@ -184,7 +186,8 @@ pub fn add_friction(
             limit,
             tangential: -force * g.span / l,
             normal,
-            rolled: g.rolled,
+            rolled: g.rolled.1,
+            rim_roll: g.rolled.0,
         }));
     }
     out
@@ -209,14 +212,6 @@ pub struct ObstacleGrip {
     /// The rim's turn at the stick point (rad): the node's rotation less the angle of the
     /// obstacle's normal, `phi - theta_n`; 0 on the axis.
     pub roll: f64,
-}
-
-impl ObstacleGrip {
-    /// The stick point with the rim's turn taken out, `stick + reach roll` (m): what a rim
-    /// that rolls without slipping keeps, and a slip moves.
-    pub fn anchor(&self) -> f64 {
-        self.stick + self.reach * self.roll
-    }
 }
 
 /// The friction of a node at `place` along an obstacle (`Shape::place`), its face at gap `gap`
@@ -294,6 +289,7 @@ pub fn obstacle_friction(
         tangential: -force * a,
         normal,
         rolled,
+        rim_roll: rolled,
     };
     (traction, nodal, k)
 }

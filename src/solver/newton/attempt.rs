@@ -365,7 +365,8 @@ impl Newton<'_> {
         let view = self.view();
         let iterations = it.iterations;
         (it.contacts).obstacle_settle(&view, increment, iterations, &mut it.events);
-        (it.contacts).settle_friction(&view, &it.asm, increment, iterations, &mut it.events);
+        let accepted = (&it.d[..], &it.asm);
+        (it.contacts).settle_friction(&view, accepted, increment, iterations, &mut it.events);
         let max_penetration = it.contacts.max_penetration(&view, &it.d);
         // A snap's step: its state's own assembly, and how far that is from equilibrium.
         let equilibrium_residual = viscous.map(|v| {

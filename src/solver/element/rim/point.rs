@@ -60,7 +60,19 @@ pub fn point_jacobian(
     let (l, e) = (ch.l, Vector2::new(ch.c, ch.s));
     let d = Vector2::new(ends.1[0] - ends.0[0], ends.1[1] - ends.0[1]);
     for (m, (&(p, xi, t), &rim)) in points.iter().zip(rims).enumerate() {
-        if rim == 0.0 || t.abs() >= MAX_TURN {
+        if rim == 0.0 {
+            continue;
+        }
+        if t.abs() >= MAX_TURN {
+            // The turn held at its bound: c' = c - rim nu(beta + t) turns with the chord
+            // alone, dc' = dc + rim tau dbeta.
+            let (st, ct) = t.sin_cos();
+            let tau = e * ct + Vector2::new(-ch.s, ch.c) * st;
+            let row = 6 + 2 * m;
+            for (q, z) in ch.z.iter().enumerate() {
+                j[(row, q)] += rim * tau[0] * z * ch.inv_l;
+                j[(row + 1, q)] += rim * tau[1] * z * ch.inv_l;
+            }
             continue;
         }
         let dtheta = tj - ti;
@@ -97,4 +109,31 @@ pub fn point_jacobian(
         }
     }
     j
+}
+
+/// The worst entry of tangent `k` at the dofs `u0` against central differences (step 1e-6) of
+/// the nodal forces `nodal`, relative to the tangent's largest entry: the error and its row
+/// and column. For the tangent tests of the elements off the axis.
+#[cfg(test)]
+pub(crate) fn tangent_error(
+    nodal: impl Fn(&[f64]) -> nalgebra::DVector<f64>,
+    k: &DMatrix<f64>,
+    u0: &[f64],
+) -> (f64, usize, usize) {
+    let h = 1e-6;
+    let scale = k.amax();
+    let mut worst = (0.0, 0, 0);
+    for q in 0..u0.len() {
+        let (mut up, mut um) = (u0.to_vec(), u0.to_vec());
+        up[q] += h;
+        um[q] -= h;
+        let fd = (nodal(&up) - nodal(&um)) / (2.0 * h);
+        for p in 0..u0.len() {
+            let err = (fd[p] - k[(p, q)]).abs() / scale;
+            if err > worst.0 {
+                worst = (err, p, q);
+            }
+        }
+    }
+    worst
 }
