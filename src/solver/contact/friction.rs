@@ -9,7 +9,7 @@
 //! onto the neighbouring element keeps it. On an obstacle it is a place along the curve
 //! ([`Shape::place`]), kept in the obstacle link with the mode.
 
-use super::set::{ActiveContact, ContactSet, ContactView, Stick};
+use super::set::{contact_reach, ActiveContact, ContactSet, ContactView, Stick};
 use crate::solver::assembly::{current, obstacle_offset, Assembled};
 use crate::solver::element::friction::{Grip, ObstacleGrip, Traction, STICK_ROUNDOFF_ULPS};
 use crate::solver::element::rim::friction::roll;
@@ -77,11 +77,7 @@ fn rim_roll(
     stick: f64,
 ) -> f64 {
     let m = &cv.structure.model;
-    let r = if cv.structure.stands_off {
-        m.contact_distance(n, beam)
-    } else {
-        0.0
-    };
+    let r = contact_reach(cv, n, beam);
     if r == 0.0 {
         return 0.0;
     }

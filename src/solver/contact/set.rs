@@ -238,6 +238,17 @@ impl ContactView<'_> {
     }
 }
 
+/// How far node `n` stands off the axis of beam `e` when it touches it
+/// (`Model::contact_distance`; 0 at once in a model where nothing stands off).
+#[inline]
+pub(super) fn contact_reach(cv: &ContactView<'_>, n: usize, e: usize) -> f64 {
+    if cv.structure.stands_off {
+        cv.structure.model.contact_distance(n, e)
+    } else {
+        0.0
+    }
+}
+
 /// Where node `n`, on side `side` of beam `e` and touching it, presses on the beam's axis at
 /// displacements `d`: the node itself, or for a node that stands off the axis
 /// (`Model::contact_distance`), the point of the axis under it along the surface normal
@@ -252,11 +263,7 @@ pub(super) fn pressed_point(
 ) -> [f64; 2] {
     let m = &cv.structure.model;
     let c = current(m, &cv.structure.dofs, d, n).0;
-    let r = if cv.structure.stands_off {
-        m.contact_distance(n, e)
-    } else {
-        0.0
-    };
+    let r = contact_reach(cv, n, e);
     if r == 0.0 {
         return c;
     }

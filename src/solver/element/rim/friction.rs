@@ -41,7 +41,12 @@ use crate::solver::element::friction::{xi_gradient, Grip};
 /// and a node with a rotation. Such a contact's element has that rotation among its dofs,
 /// after every contact node's (u, v), in the order of the contacts.
 pub fn turns_node(rim: f64, grip: &Option<Grip>) -> bool {
-    grip.is_some_and(|g| rim != 0.0 && g.turn.is_some() && rim.abs() > g.face)
+    grip.is_some_and(|g| rim != 0.0 && g.turn.is_some() && node_part(rim, g.face) > 0.0)
+}
+
+/// The node's part r of a contact distance `|rim|` whose beam's part is `face` (m).
+fn node_part(rim: f64, face: f64) -> f64 {
+    (rim.abs() - face).max(0.0)
 }
 
 /// The rim's roll `rho` (m) of a contact node with signed contact distance `rim`, the beam's
@@ -54,7 +59,7 @@ pub fn roll(
     (rim, face, turn): (f64, f64, Option<f64>),
     (span, stick): (f64, f64),
 ) -> f64 {
-    let r = (rim.abs() - face).max(0.0);
+    let r = node_part(rim, face);
     let a = (1.0 - stick) * phi[0] + stick * phi[1];
     span.signum() * rim.signum() * r * (turn.unwrap_or(0.0) - a)
 }
@@ -146,7 +151,7 @@ pub fn rim_friction_outcome(
         }
         let (p, xi, t) = points[m];
         let side = rims[m].signum();
-        let (q_beam, q_node) = (side * g.face, side * (rims[m].abs() - g.face).max(0.0));
+        let (q_beam, q_node) = (side * g.face, side * node_part(rims[m], g.face));
         let extra = turning.iter().position(|&k| k == m).map(|k| nd + k);
         let (st, ct) = t.sin_cos();
         let nu = n * ct - e * st;
