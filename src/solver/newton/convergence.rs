@@ -20,7 +20,11 @@ const STALL_STEP: f64 = 1e-10;
 /// Units in the last place of the coordinates that a correction may come to, on the average
 /// over its entries (its norm within `ROUNDOFF_ULPS eps sqrt(n)` of their size), and still be
 /// round-off: such a correction moves the state by little more than its coordinates resolve,
-/// so one iteration without halving the residual after it is a stall.
+/// so one iteration without halving the residual after it is a stall. A pass whose next
+/// correction, extrapolated from the last two at their own rate of contraction
+/// (`step^2 / previous`), comes to that has stalled already: Newton's corrections contract at
+/// least as fast as that (linearly at the rate seen, or faster), so what is left to correct
+/// lies below what the coordinates resolve, and the residual that remains is round-off.
 const ROUNDOFF_ULPS: f64 = 16.0;
 
 /// The factor by which the round-off of a residual norm over `n_eq` equations can exceed the
@@ -32,13 +36,15 @@ fn norm_spread(n_eq: usize) -> f64 {
 
 /// Round-off stagnation of one Newton pass: once the residual has stopped falling (no halving
 /// of the best value for `STALL_ITERATIONS` iterations, or for one where the last correction
-/// was round-off itself: `ROUNDOFF_ULPS` of the coordinates on the average) while the
-/// corrections have vanished, and lies within `STAGNATION` times the round-off a residual norm
+/// was round-off itself: `ROUNDOFF_ULPS` of the coordinates on the average), or the next
+/// correction would be round-off, while the corrections have vanished, and lies within `STAGNATION` times the round-off a residual norm
 /// over all the equations can have (the floor estimate times `norm_spread`), Newton cannot get
 /// closer: the state is accepted and its residual reported.
 pub(crate) struct Stall {
     best: f64,
     count: usize,
+    /// The correction before the last one recorded (infinite before the second).
+    previous: f64,
 }
 
 impl Stall {
@@ -46,6 +52,7 @@ impl Stall {
         Stall {
             best: f64::INFINITY,
             count: 0,
+            previous: f64::INFINITY,
         }
     }
 
@@ -67,8 +74,16 @@ impl Stall {
         }
         self.best = self.best.min(rel);
         let roundoff_step = ROUNDOFF_ULPS * f64::EPSILON * norm_spread(n_eq) * scale;
-        let stalled = self.count >= STALL_ITERATIONS || (self.count >= 1 && step <= roundoff_step);
-        stalled && rel <= STAGNATION * norm_spread(n_eq) * floor && step <= STALL_STEP * scale
+        let next = if self.previous.is_finite() && step < self.previous {
+            step * (step / self.previous)
+        } else {
+            f64::INFINITY
+        };
+        self.previous = step;
+        let stagnated =
+            self.count >= STALL_ITERATIONS || (self.count >= 1 && step <= roundoff_step);
+        let stalled = (stagnated && step <= STALL_STEP * scale) || next <= roundoff_step;
+        stalled && rel <= STAGNATION * norm_spread(n_eq) * floor
     }
 }
 
