@@ -83,3 +83,23 @@ pub(crate) fn lay_out(app: &mut TsmApp, ui: &mut egui::Ui, gpu: Option<&egui_wgp
     menus::drop_hint(ctx);
     table::window(&app.study, app.playback.selected, &mut app.look, ctx);
 }
+
+#[cfg(test)]
+mod tests {
+    /// The convergence plot's decade marks all lie within the range shown (a mark below its
+    /// foot would be labelled outside the frame), one every power of two decades, 1e-8 among
+    /// them: from 1e-12.3 to 1e3.5, every second decade from 1e-12 to 1e2.
+    #[test]
+    fn decade_marks_lie_within_the_range_shown() {
+        let input = egui_plot::GridInput {
+            bounds: (-12.3, 3.5),
+            base_step_size: 0.1,
+        };
+        let marks: Vec<f64> = super::plots::decades(input)
+            .iter()
+            .map(|m| m.value)
+            .collect();
+        let expected: Vec<f64> = (0..8).map(|k| -12.0 + 2.0 * k as f64).collect();
+        assert_eq!(marks, expected);
+    }
+}

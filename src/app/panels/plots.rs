@@ -44,7 +44,7 @@ fn lg(v: f64) -> f64 {
 }
 
 /// Decade grid marks (integers of log10).
-fn decades(input: GridInput) -> Vec<GridMark> {
+pub(crate) fn decades(input: GridInput) -> Vec<GridMark> {
     let (lo, hi) = input.bounds;
     // Powers of two keep 1e-8 (the usual tolerance) on a labelled line.
     let raw = (hi - lo) / 8.0;
@@ -52,7 +52,9 @@ fn decades(input: GridInput) -> Vec<GridMark> {
         .into_iter()
         .find(|s| *s >= raw)
         .unwrap_or(128.0);
-    let mut v = (lo / step).floor() * step;
+    // The first mark at or above the range's foot: one below it would be labelled outside
+    // the frame.
+    let mut v = (lo / step).ceil() * step;
     let mut out = Vec::new();
     while v <= hi && out.len() < 200 {
         out.push(GridMark {
