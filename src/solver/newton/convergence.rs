@@ -21,12 +21,12 @@ const STALL_STEP: f64 = 1e-10;
 /// over its entries (its norm within `ROUNDOFF_ULPS eps sqrt(n)` of their size), and still be
 /// round-off: such a correction moves the state by little more than its coordinates resolve,
 /// so one iteration without halving the residual after it is a stall. So is one after a
-/// correction however large, where the next correction, extrapolated from the last two at
-/// their own rate of contraction (`step^2 / previous`), comes to that: Newton's corrections
-/// contract at least as fast as that (linearly at the rate seen, or faster), so what is left
-/// to correct lies below what the coordinates resolve. The residual must have stopped halving
-/// too: in the stiff directions of a contact it can still fall tenfold an iteration under
-/// corrections that small.
+/// larger correction (still below `STALL_STEP` of the coordinates) where the next correction,
+/// extrapolated from the last two at their own rate of contraction (`step^2 / previous`),
+/// comes to that: Newton's corrections contract at least as fast as that (linearly at the
+/// rate seen, or faster), so what is left to correct lies below what the coordinates resolve.
+/// The residual must have stopped halving too: in the stiff directions of a contact it can
+/// still fall tenfold an iteration under corrections that small.
 const ROUNDOFF_ULPS: f64 = 16.0;
 
 /// The factor by which the round-off of a residual norm over `n_eq` equations can exceed the
@@ -38,11 +38,10 @@ fn norm_spread(n_eq: usize) -> f64 {
 
 /// Round-off stagnation of one Newton pass: once the residual has stopped falling (no halving
 /// of the best value for `STALL_ITERATIONS` iterations, or for one where the last correction
-/// was round-off itself: `ROUNDOFF_ULPS` of the coordinates on the average) while the
-/// corrections have vanished, or for one where the next correction would be round-off, and
-/// lies within `STAGNATION` times the round-off a residual norm over all the equations can
-/// have (the floor estimate times `norm_spread`), Newton cannot get closer: the state is
-/// accepted and its residual reported.
+/// was round-off itself, or where the next one would be: `ROUNDOFF_ULPS` of the coordinates
+/// on the average) while the corrections have vanished, and lies within `STAGNATION` times
+/// the round-off a residual norm over all the equations can have (the floor estimate times
+/// `norm_spread`), Newton cannot get closer: the state is accepted and its residual reported.
 pub(crate) struct Stall {
     best: f64,
     count: usize,
@@ -83,11 +82,9 @@ impl Stall {
             f64::INFINITY
         };
         self.previous = step;
-        let stagnated =
-            self.count >= STALL_ITERATIONS || (self.count >= 1 && step <= roundoff_step);
         let stalled =
-            (stagnated && step <= STALL_STEP * scale) || (self.count >= 1 && next <= roundoff_step);
-        stalled && rel <= STAGNATION * norm_spread(n_eq) * floor
+            self.count >= STALL_ITERATIONS || (self.count >= 1 && step.min(next) <= roundoff_step);
+        stalled && rel <= STAGNATION * norm_spread(n_eq) * floor && step <= STALL_STEP * scale
     }
 }
 

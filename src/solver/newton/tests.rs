@@ -194,10 +194,10 @@ fn a_stall_is_told_after_one_iteration_once_the_correction_is_round_off() {
 
 /// A pass whose corrections contract so fast that the next one, extrapolated at their rate
 /// (`step^2 / previous`), would be round-off is told stalled after one iteration without
-/// halving its residual, however large its last correction; not where the residual has just
-/// halved (a residual in the stiff directions of contact still falls while the corrections are
-/// tiny), nor where the extrapolated correction is larger, the corrections grow, or the
-/// residual lies beyond the floor's band.
+/// halving its residual; not where the residual has just halved (a residual in the stiff
+/// directions of contact still falls while the corrections are tiny), nor where the
+/// extrapolated correction is larger, the corrections grow, the last correction is above
+/// `STALL_STEP` (1e-10) of the coordinates, or the residual lies beyond the floor's band.
 #[test]
 fn a_stall_is_told_once_the_next_correction_would_be_round_off() {
     use super::convergence::Stall;
@@ -218,6 +218,10 @@ fn a_stall_is_told_once_the_next_correction_would_be_round_off() {
     // The first correction of a pass has nothing to extrapolate from.
     let mut stall = Stall::new();
     assert!(!stall.at_floor(3.0e-8, floor, n_eq, 2.0 * roundoff, scale));
+    // 1, then 1e-7: the next would be 1e-14, but the correction has not vanished.
+    let mut stall = Stall::new();
+    assert!(!stall.at_floor(4.0e-8, floor, n_eq, 1.0, scale));
+    assert!(!stall.at_floor(3.0e-8, floor, n_eq, 1e-7, scale));
     // Growing corrections do not extrapolate.
     let mut stall = Stall::new();
     assert!(!stall.at_floor(4.0e-8, floor, n_eq, 1e-13, scale));
