@@ -30,8 +30,8 @@
 
 use nalgebra::{DVector, Vector2};
 
-use super::point::point_jacobian;
-use crate::solver::element::beam::{BeamElement, Chord};
+use super::point::{point_jacobian, RimPoints};
+use crate::solver::element::beam::Chord;
 use crate::solver::element::contact_element::ContactOptions;
 use crate::solver::element::contact_law::{contact_outcome, ContactOutcome, MAX_TURN};
 use crate::solver::element::friction::{xi_gradient, Grip};
@@ -104,17 +104,13 @@ fn stretch_log_gradient(
 /// notes): the contact element on the axis points `points` (`rim_point`'s), the rims' rolls in
 /// the slips, the friction's moments on the beam's end rotations and on the rotations of the
 /// nodes that turn (`turns_node`), appended to the dofs.
-#[allow(clippy::too_many_arguments)]
 pub fn rim_friction_outcome(
-    beam: &BeamElement,
-    ends: ([f64; 2], [f64; 2]),
-    phi: [f64; 2],
-    points: &[([f64; 2], f64, f64)],
-    rims: &[f64],
+    at: &RimPoints<'_>,
     opts: ContactOptions,
     grips: &[Option<Grip>],
     with_tangent: bool,
 ) -> ContactOutcome {
+    let (beam, ends, phi, points, rims) = (at.beam, at.ends, at.phi, at.points, at.rims);
     let ch = Chord::new(ends.0, ends.1, beam.alpha0, 0.5 * (phi[0] + phi[1]));
     let mut grips = grips.to_vec();
     let (ti, tj) = (phi[0] - ch.beta, phi[1] - ch.beta);
@@ -134,7 +130,7 @@ pub fn rim_friction_outcome(
         .filter(|&m| turns_node(rims[m], &grips[m]))
         .collect();
     let total = nd + turning.len();
-    let jacobian = with_tangent.then(|| point_jacobian(beam, ends, phi, points, rims));
+    let jacobian = with_tangent.then(|| point_jacobian(at));
     let r = &mut out.response;
     r.nodal = r.nodal.clone().resize_vertically(total, 0.0);
     if let (Some(k), Some(j)) = (r.tangent.take(), jacobian.as_ref()) {

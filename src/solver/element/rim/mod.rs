@@ -28,7 +28,7 @@ use super::contact_element::ContactOptions;
 use super::contact_law::{contact_outcome, ContactOutcome};
 use super::friction::Grip;
 use friction::rim_friction_outcome;
-pub use point::{point_jacobian, rim_point};
+pub use point::{point_jacobian, rim_point, RimPoints};
 
 /// `contact_outcome` for contact nodes at `xc` standing off the axis by the signed contact
 /// distances `rims` (side times distance; all 0: none): the element evaluated at the points on
@@ -56,13 +56,20 @@ pub fn rim_outcome(
     let points: Vec<([f64; 2], f64, f64)> = (xc.iter().zip(rims))
         .map(|(&c, &rim)| rim_point(beam, ends, phi, c, rim))
         .collect();
+    let at = RimPoints {
+        beam,
+        ends,
+        phi,
+        points: &points,
+        rims,
+    };
     if (grips.iter().zip(rims)).any(|(g, &rim)| g.is_some() && rim != 0.0) {
-        return rim_friction_outcome(beam, ends, phi, &points, rims, opts, grips, with_tangent);
+        return rim_friction_outcome(&at, opts, grips, with_tangent);
     }
     let on: Vec<[f64; 2]> = points.iter().map(|p| p.0).collect();
     let mut out = contact_outcome(beam, ends, phi, &on, opts, grips, with_tangent);
     if let Some(k) = out.response.tangent.as_mut() {
-        let j = point_jacobian(beam, ends, phi, &points, rims);
+        let j = point_jacobian(&at);
         *k = &*k * j;
     }
     out

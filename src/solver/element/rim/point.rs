@@ -45,14 +45,26 @@ pub fn rim_point(
     (p, xi, t)
 }
 
+/// One contact element's points on the axis: the beam with its ends at `ends` and rotations
+/// `phi`, and for each of its contact nodes the point it presses on (`rim_point`'s: c', its
+/// fraction along the chord, the surface turn there) with its signed contact distance.
+#[derive(Clone, Copy)]
+pub struct RimPoints<'a> {
+    /// The beam element.
+    pub beam: &'a BeamElement,
+    /// Its end positions (m).
+    pub ends: ([f64; 2], [f64; 2]),
+    /// Its end rotations (rad).
+    pub phi: [f64; 2],
+    /// Per contact node, `rim_point` of it.
+    pub points: &'a [([f64; 2], f64, f64)],
+    /// Per contact node, its signed contact distance (side times distance).
+    pub rims: &'a [f64],
+}
+
 /// d(ends, c'_1..c'_k) / d(ends, c_1..c_k): the identity but in the rows of each c'.
-pub fn point_jacobian(
-    beam: &BeamElement,
-    ends: ([f64; 2], [f64; 2]),
-    phi: [f64; 2],
-    points: &[([f64; 2], f64, f64)],
-    rims: &[f64],
-) -> DMatrix<f64> {
+pub fn point_jacobian(at: &RimPoints<'_>) -> DMatrix<f64> {
+    let (beam, ends, phi, points, rims) = (at.beam, at.ends, at.phi, at.points, at.rims);
     let nd = 6 + 2 * points.len();
     let mut j = DMatrix::identity(nd, nd);
     let ch = Chord::new(ends.0, ends.1, beam.alpha0, 0.5 * (phi[0] + phi[1]));
