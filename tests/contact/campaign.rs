@@ -285,3 +285,55 @@ fn a_thick_node_over_a_convex_mesh_node_rests_on_one_element() {
     assert_eq!(outcome.stop, None, "{case:?} stops");
     audited_at_least(&outcome, 2 * case.steps);
 }
+
+/// A frictional coil unloading (`rolled_past_a_turn`, Timoshenko, 16 elements, mu 0.94, two
+/// steps of 7.7 times the scene's, down and back; drive 0xe377_9b99_f4a7_c151 of the campaign
+/// of 24 drives per scene, seed 1): as the end moment falls from 1.52, a turn stuck on the one
+/// inside it lets go, and no quasi-static step follows it however short. The coil snaps as any
+/// structure does, the load held: each snap's states are marked and out of equilibrium by what
+/// they record, and each ends in a state in equilibrium. The drive completes, every state
+/// audited, on the right side of its own turns.
+#[test]
+fn a_frictional_coil_that_lets_go_of_its_own_turn_snaps_through_and_completes() {
+    let case = drawn(24, 1, 0xe377_9b99_f4a7_c151);
+    let outcome = run_keeping(&case, true);
+    assert_eq!(outcome.stop, None, "{case:?} stops");
+    audited_at_least(&outcome, 2 * case.steps);
+    let records = &outcome.records;
+    let snapping = |r: &tsm_contact::solver::IncrementRecord| {
+        matches!(r.status, IncrementStatus::Snapping { .. })
+    };
+    let starts: Vec<usize> = (1..records.len())
+        .filter(|&k| snapping(&records[k]) && !snapping(&records[k - 1]))
+        .collect();
+    assert!(!starts.is_empty(), "the coil never snaps");
+    for &first in &starts {
+        let end = first + (records[first..].iter().position(|r| !snapping(r))).expect("an end");
+        for r in &records[first..=end] {
+            assert_eq!(
+                r.load_factor, records[first].load_factor,
+                "increment {}",
+                r.increment
+            );
+            if let IncrementStatus::Snapping { residual } = r.status {
+                assert!(residual > case_tolerance() && residual == r.relative_residual);
+            }
+        }
+        let tolerance = case_tolerance();
+        let in_equilibrium = match records[end].status {
+            IncrementStatus::Converged => records[end].relative_residual <= tolerance,
+            IncrementStatus::RoundOff { ratio } => ratio * tolerance <= 1e-5,
+            IncrementStatus::Snapping { .. } => false,
+        };
+        assert!(
+            in_equilibrium,
+            "the snap from increment {} ends out of equilibrium: {:?}",
+            records[first].increment, records[end].status
+        );
+    }
+}
+
+/// The Newton tolerance of the built-in scenes (`control.tolerance`'s default).
+fn case_tolerance() -> f64 {
+    tsm_contact::solver::SolverParams::default().tolerance
+}

@@ -367,7 +367,7 @@ pub fn report(outcomes: &[Outcome], per_scene: usize, seed: u64) -> String {
             of.iter().map(|o| o.findings.len()).sum::<usize>()
         );
     }
-    text += "\nEvery stop, with its drive (seed, formulation, elements per segment, step factor, steps, down and up, mu; `tsm-contact robust --drive SEED` runs one again). A stop without convergence also gives the least real part of the eigenvalues of the tangent over the free dofs (the drive held, models of up to 1500 free dofs): one that falls towards zero, or below, from the drive's first step to the last accepted state marks a limit point of the drive (where the structure snaps, a snap that found no stable state, or a model with self-contact, which does not snap); one that does not, a failure of the solve. States on the way of a snap are counted among the accepted increments and audited like every state:\n\n";
+    text += "\nEvery stop, with its drive (seed, formulation, elements per segment, step factor, steps, down and up, mu; `tsm-contact robust --drive SEED` runs one again). A stop without convergence also gives the least real part of the eigenvalues of the tangent over the free dofs (the drive held, models of up to 1500 free dofs): one that falls towards zero, or below, from the drive's first step to the last accepted state marks a limit point of the drive (where the structure snaps, or a snap that found no stable state); one that does not, a failure of the solve. States on the way of a snap are counted among the accepted increments and audited like every state:\n\n";
     for o in outcomes
         .iter()
         .filter(|o| o.stop.is_some() || !o.findings.is_empty())

@@ -141,13 +141,11 @@ impl Solver {
                             slide_off = Some(TIP_SLIDE_OFF);
                             continue;
                         }
-                        // A body that touches itself keeps its sides through the small steps of
-                        // a drive, not through a snap's long motion: it stops here, as does a
-                        // step refused for what it found (a crossing, a feature through a body).
-                        if !self.structure.params.snap
-                            || self.structure.model.has_self_contact()
-                            || !e.finds_no_state()
-                        {
+                        // A step refused for what it found (a crossing, a feature through a
+                        // body) stops here. A body that touches itself snaps as any other: a
+                        // snap's steps move no node more than a fifth of an element, and each
+                        // is checked for sides as a drive's step is.
+                        if !self.structure.params.snap || !e.finds_no_state() {
                             return Err(self.give_up(number, cutbacks, e));
                         }
                         // No step finds an equilibrium near this one: the structure snaps.
