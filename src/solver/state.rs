@@ -1,4 +1,4 @@
-//! The converged state of a run: displacements, prescribed values, load factors, contact set,
+//! The converged state of a run: displacements (with their rounding residues), prescribed values, load factors, contact set,
 //! increment count, steps along the load path, and what the increment control remembers between increments (the arc
 //! length and its direction, whether the run has cut back).
 
@@ -17,8 +17,11 @@ pub struct ArcState {
 /// The last converged state.
 #[derive(Clone, Debug, Default)]
 pub struct State {
-    /// Displacements over all dofs.
+    /// Displacements over all dofs: the nearest doubles to the state's coordinates.
     pub d: Vec<f64>,
+    /// What the coordinates hold beyond `d`: the rounding residues of the corrections that
+    /// reached them (`assembly::add_carried`); empty: none.
+    pub residue: Vec<f64>,
     /// Values of the prescribed displacements, one per `Model::prescribed`.
     pub prescribed: Vec<f64>,
     /// Load factors, one per load group (`Model::group_count`).
@@ -34,4 +37,15 @@ pub struct State {
     /// Whether the run has cut an increment back (`StretchCorrection::AfterCutBack`,
     /// `WhereNeeded`).
     pub cut_back: bool,
+}
+
+impl State {
+    /// The residues of the displacements over all dofs (zeros where none is carried).
+    pub fn residue_or_zeros(&self) -> Vec<f64> {
+        if self.residue.len() == self.d.len() {
+            self.residue.clone()
+        } else {
+            vec![0.0; self.d.len()]
+        }
+    }
 }

@@ -274,6 +274,7 @@ impl Structure {
             obstacles: &[],
             obstacle_penalty: self.obstacle_penalty,
             grips: &[],
+            residue: &[],
         }
     }
 

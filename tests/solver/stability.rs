@@ -288,7 +288,11 @@ fn slender_and_stubby_members_match_their_references() {
                 "{f:?} L/h {s}: {w} vs {exact}"
             );
         }
-        for ratio in [1e1, 1e2] {
+        // Up to element lengths 1000 : 1: the short elements' relative positions come from
+        // the differences of the carried coordinates (`assembly/coordinates.rs`), so their
+        // stiffness (10^9 times the long ones') does not lift the residual's round-off floor
+        // above the bound for acceptance at round-off (1e-5).
+        for ratio in [1e1, 1e2, 1e3] {
             let r = stress::short_next_to_long(ratio, f);
             let (_, w, w_ref) = r.row.measure.clone().expect("converged");
             assert!(
@@ -296,15 +300,6 @@ fn slender_and_stubby_members_match_their_references() {
                 "{f:?} ratio {ratio}: w/L {w} vs {w_ref}"
             );
         }
-        // Element lengths 1000 : 1: the residual's round-off floor (about 2e-4) lies above the
-        // bound for acceptance at round-off (1e-5), so the run stops with that typed error
-        // instead of accepting a state out of equilibrium.
-        let r = stress::short_next_to_long(1e3, f);
-        let e = r.row.error.clone().unwrap_or_default();
-        assert!(
-            e.contains("Newton stalls") && e.contains("above the bound"),
-            "{f:?}: {e}"
-        );
     }
 }
 

@@ -2,7 +2,8 @@
 //! by block as the elements finish with it) and the band tangent summed from beam and contact
 //! elements and the follower loads, at one state. The per-element adds are `internal.rs`.
 
-use super::dofs::{relative, DofMap, Ordering};
+use super::coordinates::between;
+use super::dofs::{DofMap, Ordering};
 use super::follower::follower_response;
 use super::internal::{add_element, add_plain_beam, Internal, Sink};
 use super::obstacles::{add_obstacles, ObstacleLink};
@@ -101,6 +102,9 @@ pub struct AssemblyContext<'a> {
     pub obstacle_penalty: f64,
     /// The friction of every contact link (`ContactSet::grips`); empty: all frictionless.
     pub grips: &'a [Option<Grip>],
+    /// The rounding residues of the displacements (`coordinates.rs`), over all dofs; empty:
+    /// none.
+    pub residue: &'a [f64],
 }
 
 /// Assemble internal forces (and the tangent) at displacements `d`.
@@ -235,7 +239,7 @@ pub(super) fn assemble_kernel(
         #[cfg(target_arch = "x86_64")]
         if let Some(cpu) = group {
             let pb: [&PackedBeam; 4] = std::array::from_fn(|k| &ctx.packed[e + k]);
-            let ends = pb.map(|b| b.ends(d));
+            let ends = pb.map(|b| b.ends(d, ctx.residue));
             let c = pb.map(|b| &b.constants);
             let lanes = super::super::element::beam_lanes::evaluate4(cpu, c, ends);
             if let Some(g) = lanes {
@@ -253,15 +257,16 @@ pub(super) fn assemble_kernel(
             one_by_one = e + 4;
         }
         let beam = &model.beams[e];
-        // Positions relative to node i's initial position: the element only uses differences,
-        // and (X_j - X_i) + (u_j - u_i) rounds to eps |u| where X_j + u_j rounds to eps |X|.
-        // That keeps the round-off floor of the residual low for lightly loaded states.
+        // Positions relative to node i's (`coordinates::between`): the element only uses
+        // differences, and (X_j - X_i) + ((u_j - u_i) + (r_j - r_i)) rounds to eps |x_j - x_i|
+        // where X_j + u_j rounds to eps |X| and u_j to eps |u|. That keeps the residual's
+        // round-off floor that of the elements' deformations.
         if contact_beams.next_if_eq(&e).is_none() {
             // A plain beam (both ends carry rotations): its closed-form tangent goes straight
-            // into the band. Everything it needs is in its packed record (as `relative` would
-            // have it: node i at 0 + u_i, node j at (X_j - X_i) + u_j).
+            // into the band. Everything it needs is in its packed record (as `between` would
+            // have it: node i at 0, node j at (X_j - X_i) + ((u_j - u_i) + (r_j - r_i))).
             let pb = &ctx.packed[e];
-            let (xi, xj, phi) = pb.ends(d);
+            let (xi, xj, phi) = pb.ends(d, ctx.residue);
             let (r, t) = pb
                 .constants
                 .evaluate_entries(xi, xj, phi[0], phi[1], with_tangent);
@@ -271,15 +276,12 @@ pub(super) fn assemble_kernel(
             add_plain_beam(e, pb, &nodal, t, (ord, dofs, dp), &mut k6, sink);
         } else {
             let on_this = &ord.on_beam[e];
-            let (xi, phi_i) = relative(model, dofs, d, beam.i, beam.i);
-            let (xj, phi_j) = relative(model, dofs, d, beam.j, beam.i);
+            let at = |n: usize| between(model, &dofs.first, (d, ctx.residue), n, beam.i);
+            let ((xi, phi_i), (xj, phi_j)) = (at(beam.i), at(beam.j));
             gdofs.clear();
             gdofs.extend((0..3).map(|o| dofs.dof(beam.i, o)));
             gdofs.extend((0..3).map(|o| dofs.dof(beam.j, o)));
-            let xc: Vec<[f64; 2]> = on_this
-                .iter()
-                .map(|&k| relative(model, dofs, d, ord.links[k].node, beam.i).0)
-                .collect();
+            let xc: Vec<[f64; 2]> = on_this.iter().map(|&k| at(ord.links[k].node).0).collect();
             for &k in on_this {
                 let c = ord.links[k].node;
                 gdofs.push(dofs.dof(c, 0));
@@ -338,9 +340,8 @@ pub(super) fn assemble_kernel(
         if let Some(factors) = ctx.follower {
             let on = model.distributed_on(e);
             if on.iter().any(|l| l.follower) {
-                let (xi, _) = relative(model, dofs, d, beam.i, beam.i);
-                let (xj, _) = relative(model, dofs, d, beam.j, beam.i);
-                let (nodal, k) = follower_response(on, [xj[0] - xi[0], xj[1] - xi[1]], factors);
+                let (chord, _) = between(model, &dofs.first, (d, ctx.residue), beam.j, beam.i);
+                let (nodal, k) = follower_response(on, chord, factors);
                 gdofs.clear();
                 gdofs.extend(
                     [beam.i, beam.j]

@@ -2,6 +2,8 @@
 //! displacements, and the equation ordering: reverse Cuthill-McKee over the current element
 //! graph, contact links included, with each beam's equations.
 
+use super::coordinates::add_carried;
+use crate::solver::linear::simd::dispatch;
 use crate::solver::linear::{consecutive_first, reverse_cuthill_mckee, NOT_FREE};
 use crate::solver::model::Model;
 
@@ -219,18 +221,30 @@ impl Ordering {
     }
 
     /// `d[dof_of[e]] += scale x[e]` for every equation e (x over the equations, d over the
-    /// dofs): in one run over slices where the dofs are in a row (`dofs_in_a_row`), the same
-    /// arithmetic either way.
-    pub fn add_scaled(&self, d: &mut [f64], scale: f64, x: &[f64]) {
+    /// dofs), each sum carried with its residue (`coordinates::add_carried`): in one run over
+    /// slices where the dofs are in a row (`dofs_in_a_row`), the same arithmetic either way.
+    pub fn add_scaled(&self, (d, residue): (&mut [f64], &mut [f64]), scale: f64, x: &[f64]) {
+        dispatch(
+            #[inline(always)]
+            || self.add_scaled_here((d, residue), scale, x),
+        );
+    }
+
+    /// `add_scaled` in the build it is dispatched to.
+    #[inline(always)]
+    fn add_scaled_here(&self, (d, residue): (&mut [f64], &mut [f64]), scale: f64, x: &[f64]) {
         match self.dofs_in_a_row {
             Some(g) => {
-                for (v, x) in d[g..g + x.len()].iter_mut().zip(x) {
-                    *v += scale * x;
+                let n = x.len();
+                let (d, r) = (&mut d[g..g + n], &mut residue[g..g + n]);
+                for ((v, r), x) in d.iter_mut().zip(r.iter_mut()).zip(x) {
+                    add_carried(v, r, scale * x);
                 }
             }
             None => {
                 for (&g, x) in self.dof_of.iter().zip(x) {
-                    d[g as usize] += scale * x;
+                    let g = g as usize;
+                    add_carried(&mut d[g], &mut residue[g], scale * x);
                 }
             }
         }
@@ -265,24 +279,4 @@ pub fn current(model: &Model, dofs: &DofMap, d: &[f64], n: usize) -> ([f64; 2], 
         0.0
     };
     ([p[0] + d[f], p[1] + d[f + 1]], phi)
-}
-
-/// Position of node `n` relative to the initial position of node `origin`, and its rotation:
-/// `(X_n - X_origin) + u_n`.
-#[inline]
-pub fn relative(
-    model: &Model,
-    dofs: &DofMap,
-    d: &[f64],
-    n: usize,
-    origin: usize,
-) -> ([f64; 2], f64) {
-    let f = dofs.first[n];
-    let (p, o) = (model.position(n), model.position(origin));
-    let phi = if model.nodes[n].rotation {
-        d[f + 2]
-    } else {
-        0.0
-    };
-    ([(p[0] - o[0]) + d[f], (p[1] - o[1]) + d[f + 1]], phi)
 }

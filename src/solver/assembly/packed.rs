@@ -1,6 +1,7 @@
 //! A beam element packed for the assembly: what the assembly reads of a beam with no contact on
 //! it, in one cache line.
 
+use super::coordinates::residue_at;
 use super::dofs::DofMap;
 use crate::solver::element::beam::{BeamElement, ForceConstants};
 use crate::solver::model::Model;
@@ -37,19 +38,16 @@ impl PackedBeam {
             .collect()
     }
 
-    /// The beam's ends at displacements `d`, as `relative` has them: end i at 0 + u_i, end j
-    /// at (X_j - X_i) + u_j, and the end rotations (i, j).
+    /// The beam's ends at displacements `d` with their residues `residue` (empty: none), as
+    /// `coordinates::between` has them: end i at (0, 0), end j at `(X_j - X_i) + ((u_j - u_i) +
+    /// (r_j - r_i))`, and the end rotations (i, j).
     #[inline(always)]
-    pub fn ends(&self, d: &[f64]) -> ([f64; 2], [f64; 2], [f64; 2]) {
-        let u = |end: usize| {
-            let f = self.first[end] as usize;
-            &d[f..f + 3]
+    pub fn ends(&self, d: &[f64], residue: &[f64]) -> ([f64; 2], [f64; 2], [f64; 2]) {
+        let (fi, fj) = (self.first[0] as usize, self.first[1] as usize);
+        let along = |k: usize| {
+            let carried = residue_at(residue, fj + k) - residue_at(residue, fi + k);
+            self.span[k] + ((d[fj + k] - d[fi + k]) + carried)
         };
-        let (ui, uj) = (u(0), u(1));
-        (
-            [0.0 + ui[0], 0.0 + ui[1]],
-            [self.span[0] + uj[0], self.span[1] + uj[1]],
-            [ui[2], uj[2]],
-        )
+        ([0.0, 0.0], [along(0), along(1)], [d[fi + 2], d[fj + 2]])
     }
 }

@@ -2,10 +2,12 @@
 //! with faster equivalents, bit for bit.
 
 use super::assemble::*;
+use super::coordinates::add_carried;
 use crate::solver::linear::reduce::sum_squares;
 use crate::solver::linear::NOT_FREE;
 
-/// `add_scaled` adds what the equation-by-equation loop over `dof_of` adds, bit for bit,
+/// `add_scaled` adds what the equation-by-equation loop of `add_carried` over `dof_of` adds
+/// (displacements and residues), bit for bit,
 /// both where the dofs are in a row (the Mattiasson cantilever: clamped at its first node)
 /// and where they are not (Example 3.2: bodies, supports at both ends, contacts).
 #[test]
@@ -18,14 +20,16 @@ fn a_scaled_correction_lands_on_the_dofs_of_its_equations() {
         let d0: Vec<f64> = (0..s.structure.dofs.len())
             .map(|g| (g as f64).sin())
             .collect();
-        let mut expected = d0.clone();
+        let (mut expected, mut expected_residue) = (d0.clone(), vec![0.0; d0.len()]);
         for (e, &g) in ord.dof_of.iter().enumerate() {
-            expected[g as usize] += 0.7 * x[e];
+            let g = g as usize;
+            add_carried(&mut expected[g], &mut expected_residue[g], 0.7 * x[e]);
         }
-        let mut d = d0;
-        ord.add_scaled(&mut d, 0.7, &x);
+        let (mut d, mut residue) = (d0, vec![0.0; expected.len()]);
+        ord.add_scaled((&mut d, &mut residue), 0.7, &x);
         let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
         assert_eq!(bits(&d), bits(&expected), "{scene}");
+        assert_eq!(bits(&residue), bits(&expected_residue), "{scene}");
     }
 }
 
@@ -212,7 +216,7 @@ fn avx2_build_assembles_bit_for_bit_like_the_baseline() {
                     s.state.d[at] += std::f64::consts::TAU;
                 }
                 let ends: [_; 4] =
-                    std::array::from_fn(|k| s.structure.packed[8 + k].ends(&s.state.d));
+                    std::array::from_fn(|k| s.structure.packed[8 + k].ends(&s.state.d, &[]));
                 let c = std::array::from_fn(|k| &s.structure.packed[8 + k].constants);
                 let lanes = crate::solver::element::beam_lanes::evaluate4(cpu, c, ends);
                 assert!(lanes.is_none(), "handed back");

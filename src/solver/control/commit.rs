@@ -43,6 +43,7 @@ impl Solver {
     ) -> IncrementRecord {
         self.state.increment += 1;
         self.work.spare.get_mut().d = std::mem::replace(&mut self.state.d, c.d);
+        self.state.residue = c.residue;
         self.state.contacts = c.contacts;
         self.state.prescribed = tp;
         self.state.load_factors = c.load_factors;

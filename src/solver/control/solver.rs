@@ -132,6 +132,26 @@ impl Solver {
         &self,
         d: &[f64],
     ) -> (Vec<f64>, nalgebra::DMatrix<f64>, Vec<usize>) {
+        self.unbalanced_force_and_tangent_carried(d, &[])
+    }
+
+    /// `unbalanced_force_and_tangent` at the converged state itself: its displacements with
+    /// the rounding residues the solver carries with them (`assembly::add_carried`), the state
+    /// whose residual the increment's record reports.
+    pub fn state_unbalanced_force_and_tangent(
+        &self,
+    ) -> (Vec<f64>, nalgebra::DMatrix<f64>, Vec<usize>) {
+        let residue = self.state.residue_or_zeros();
+        self.unbalanced_force_and_tangent_carried(&self.state.d, &residue)
+    }
+
+    /// `unbalanced_force_and_tangent` at displacements `d` with residues `residue` (empty:
+    /// none).
+    fn unbalanced_force_and_tangent_carried(
+        &self,
+        d: &[f64],
+        residue: &[f64],
+    ) -> (Vec<f64>, nalgebra::DMatrix<f64>, Vec<usize>) {
         let ord = self
             .work
             .ordering_for(&self.structure, &self.state.contacts);
@@ -141,6 +161,7 @@ impl Solver {
                 .then_some(&self.state.load_factors[..]),
             obstacles: &self.state.contacts.obstacles.links,
             grips: &grips,
+            residue,
             ..self.structure.context(&ord)
         };
         let asm = assemble(&ctx, d, true, None);

@@ -174,6 +174,7 @@ impl Newton<'_> {
                 follower: (self.structure.model.has_followers()).then(|| path.load_factors()),
                 obstacles: &it.contacts.obstacles.links,
                 grips: &grips,
+                residue: &it.residue,
                 ..self.structure.context(&it.ordering)
             };
             let dp = path.dp().filter(|_| it.predictor);
@@ -379,6 +380,7 @@ impl Newton<'_> {
         Converged {
             max_penetration,
             d: it.d,
+            residue: it.residue,
             load_factors: path.load_factors().to_vec(),
             contacts: it.contacts,
             assembled: it.asm,
@@ -397,6 +399,7 @@ impl Newton<'_> {
     /// again with the contacts' new modes (the iterations done stay counted).
     fn repredict(&self, it: &mut Iterate) {
         it.d.copy_from_slice(&self.state.d);
+        it.residue = self.state.residue_or_zeros();
         it.predictor = true;
         it.pass_iter = 0;
         it.last_step = 0.0;
@@ -433,7 +436,7 @@ impl Newton<'_> {
             &it.ordering,
             tangent,
             &it.rhs,
-            &mut it.d,
+            (&mut it.d, &mut it.residue),
             max_step,
             it.iterations,
             &mut it.log,
@@ -445,7 +448,7 @@ impl Newton<'_> {
             let after = path.counts_moves().then(|| it.d.clone());
             let moved = self.take_out_stretch(
                 &it.before,
-                &mut it.d,
+                (&mut it.d, &mut it.residue),
                 (&it.ordering, tangent),
                 correction,
                 (&mut it.rhs, &mut it.gap_rhs),

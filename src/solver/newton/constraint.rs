@@ -7,7 +7,7 @@
 use super::convergence::{FloorBound, IterationLog};
 use super::failure::AttemptError;
 use super::iteration::Newton;
-use crate::solver::assembly::{DofKind, ExternalForce, Ordering};
+use crate::solver::assembly::{add_carried, DofKind, ExternalForce, Ordering};
 use crate::solver::linear::reduce::sum_squares;
 use crate::solver::linear::BandMatrix;
 
@@ -145,7 +145,7 @@ impl Path {
         ordering: &Ordering,
         tangent: &BandMatrix,
         rhs: &[f64],
-        d: &mut [f64],
+        (d, residue): (&mut [f64], &mut [f64]),
         max_step: f64,
         iterations: usize,
         log: &mut IterationLog,
@@ -163,7 +163,7 @@ impl Path {
                 } else {
                     1.0
                 };
-                ordering.add_scaled(d, scale, rhs);
+                ordering.add_scaled((&mut *d, &mut *residue), scale, rhs);
                 // No entry moved further than the (scaled) correction's norm; the predictor's
                 // prescribed part, which is not scaled, by at most as much again.
                 bound.moved(if predictor { 2.0 * step } else { scale * step });
@@ -172,7 +172,7 @@ impl Path {
                     // move with it (`Node::moves_with`).
                     for &g in &n.structure.dofs.held {
                         if let DofKind::Prescribed(k) = n.structure.dofs.kind[g] {
-                            d[g] += dp[k];
+                            add_carried(&mut d[g], &mut residue[g], dp[k]);
                         }
                     }
                 }
@@ -230,7 +230,7 @@ impl Path {
                     } else {
                         qr[g] + delta * qf[g]
                     };
-                    d[g] += step;
+                    add_carried(&mut d[g], &mut residue[g], step);
                     dd[g] += step;
                     step2 += step * step;
                 }

@@ -241,6 +241,8 @@ impl AttemptError {
 pub struct Converged {
     /// Displacements.
     pub d: Vec<f64>,
+    /// Their rounding residues (`State::residue`).
+    pub residue: Vec<f64>,
     /// Load factors, one per load group (the target's, or the one arc length found).
     pub load_factors: Vec<f64>,
     /// Contact state.

@@ -217,6 +217,8 @@ impl<'a> Newton<'a> {
 pub(super) struct Iterate {
     /// The displacements.
     pub(super) d: Vec<f64>,
+    /// The rounding residues of `d` (`assembly::add_carried`): `d + residue` is the iterate.
+    pub(super) residue: Vec<f64>,
     /// The right-hand side of the last solve (the correction).
     pub(super) rhs: Vec<f64>,
     /// The contact set the iterate is assembled with.
@@ -272,6 +274,7 @@ impl Newton<'_> {
         };
         d.clear();
         d.extend_from_slice(&self.state.d);
+        let residue = self.state.residue_or_zeros();
         let mut contacts = self.state.contacts.clone();
         contacts.begin_attempt();
         let mut events = Vec::new();
@@ -281,6 +284,7 @@ impl Newton<'_> {
         let bound = FloorBound::new(self.structure.coordinate_scale(&d));
         Iterate {
             d,
+            residue,
             rhs,
             ordering: self.ordering_for(&contacts),
             contacts,

@@ -117,7 +117,7 @@ impl Newton<'_> {
     pub(crate) fn take_out_stretch(
         &self,
         before: &[f64],
-        d: &mut [f64],
+        (d, residue): (&mut [f64], &mut [f64]),
         (ordering, factors): (&Ordering, &BandMatrix),
         correction: Correction,
         (buf, gap_buf): (&mut Vec<f64>, &mut Vec<f64>),
@@ -184,11 +184,11 @@ impl Newton<'_> {
         let mut moved = 0.0;
         if needed {
             factors.solve(buf);
-            ordering.add_scaled(d, 1.0, buf);
+            ordering.add_scaled((&mut *d, &mut *residue), 1.0, buf);
             moved += sum_squares(buf).sqrt();
         }
         if gaps {
-            ordering.add_scaled(d, 1.0, gap_buf);
+            ordering.add_scaled((&mut *d, &mut *residue), 1.0, gap_buf);
             moved += sum_squares(gap_buf).sqrt();
         }
         moved

@@ -109,9 +109,10 @@ fn stretch_correction_turns_the_chords_of_a_tree_exactly() {
             worst(&d)
         );
         let mut buf = Vec::new();
+        let mut residue = vec![0.0; d.len()];
         s.newton().take_out_stretch(
             &rest,
-            &mut d,
+            (&mut d, &mut residue),
             (&ord, &tangent),
             Correction::Every,
             (&mut buf, &mut Vec::new()),
@@ -310,9 +311,10 @@ fn the_contact_gap_correction_puts_a_sliding_node_at_its_linearised_offset() {
         let corrected = |correction: Correction| {
             let mut d = d.clone();
             let mut buf = Vec::new();
+            let mut residue = vec![0.0; d.len()];
             s.newton().take_out_stretch(
                 &rest,
-                &mut d,
+                (&mut d, &mut residue),
                 (&ord, &tangent),
                 correction,
                 (&mut buf, &mut Vec::new()),
