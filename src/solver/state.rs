@@ -1,6 +1,7 @@
-//! The converged state of a run: displacements (with their rounding residues), prescribed values, load factors, contact set,
-//! increment count, steps along the load path, and what the increment control remembers between increments (the arc
-//! length and its direction, whether the run has cut back).
+//! The converged state of a run: displacements (with their rounding residues), prescribed
+//! values, load factors, contact set, increment count, steps along the load path, and what the
+//! increment control remembers between increments (the arc length and its direction, whether
+//! the run has cut back).
 
 use super::contact::ContactSet;
 

@@ -43,7 +43,7 @@ impl Checkpoint {
     pub fn bytes(&self) -> usize {
         let s = &self.state;
         let arc = s.arc.last.as_ref().map_or(0, Vec::len);
-        (s.d.len() + s.prescribed.len() + s.load_factors.len() + arc) * 8
+        (s.d.len() + s.residue.len() + s.prescribed.len() + s.load_factors.len() + arc) * 8
             + s.contacts.beams.active.len() * 32
             + self.crossing.bytes()
             + std::mem::size_of::<Checkpoint>()
