@@ -20,8 +20,8 @@ pub struct ArcState {
 pub struct State {
     /// Displacements over all dofs: the nearest doubles to the state's coordinates.
     pub d: Vec<f64>,
-    /// What the coordinates hold beyond `d`: the rounding residues of the corrections that
-    /// reached them (`assembly::add_carried`); empty: none.
+    /// What the coordinates hold beyond `d`, over the same dofs: the rounding residues of the
+    /// corrections that reached them (`assembly::add_carried`).
     pub residue: Vec<f64>,
     /// Values of the prescribed displacements, one per `Model::prescribed`.
     pub prescribed: Vec<f64>,
@@ -38,15 +38,4 @@ pub struct State {
     /// Whether the run has cut an increment back (`StretchCorrection::AfterCutBack`,
     /// `WhereNeeded`).
     pub cut_back: bool,
-}
-
-impl State {
-    /// The residues of the displacements over all dofs (zeros where none is carried).
-    pub fn residue_or_zeros(&self) -> Vec<f64> {
-        if self.residue.len() == self.d.len() {
-            self.residue.clone()
-        } else {
-            vec![0.0; self.d.len()]
-        }
-    }
 }

@@ -7,9 +7,9 @@
 use crate::common;
 
 use tsm_contact::history::History;
-use tsm_contact::scene::parse;
+use tsm_contact::scene::{parse, Scene};
 use tsm_contact::solver::report::ContactChange;
-use tsm_contact::solver::{Event, IncrementRecord, IncrementStatus, Silent};
+use tsm_contact::solver::{Event, IncrementRecord, IncrementStatus};
 
 /// The pin of `pin_on_cantilever` (L = 1 m, EA L^2 / EI = 1e6, 0.03 m a step) over a
 /// cantilever of `n` elements of formulation `formulation`.
@@ -33,6 +33,16 @@ fn pin_on_a_fine_cantilever_with(formulation: &str, n: usize, control: &str) -> 
     )
 }
 
+/// The history of `scene` solved through its steps, every one converging.
+fn solved(scene: &Scene) -> History {
+    let mut solver = scene.solver().unwrap();
+    let mut history = History::default();
+    for _ in 0..scene.steps {
+        solver.step(&mut history).expect("converges");
+    }
+    history
+}
+
 /// The elements the contact is moved onto in increment `r`, in order.
 fn transfers(r: &IncrementRecord) -> Vec<usize> {
     (r.events.iter())
@@ -52,11 +62,7 @@ fn transfers(r: &IncrementRecord) -> Vec<usize> {
 fn a_contact_that_slides_several_elements_in_one_increment_gets_there_in_one_transfer() {
     for formulation in ["Timoshenko", "BernoulliEuler"] {
         let scene = parse(&pin_on_a_fine_cantilever(formulation, 256), "pin").unwrap();
-        let mut solver = scene.solver().unwrap();
-        let mut records = Vec::new();
-        for _ in 0..scene.steps {
-            records.extend(solver.step(&mut Silent).expect("converges"));
-        }
+        let records = solved(&scene).increments;
         common::assert_audited(&scene, &records);
         let mut long = 0;
         for w in records.windows(2) {
@@ -97,11 +103,7 @@ fn the_pin_sliding_along_a_fine_cantilever_converges_in_a_few_iterations() {
         let run = |control: &str| {
             let text = pin_on_a_fine_cantilever_with(formulation, 256, control);
             let scene = parse(&text, "pin").unwrap();
-            let mut solver = scene.solver().unwrap();
-            let mut history = History::default();
-            for _ in 0..scene.steps {
-                solver.step(&mut history).expect("converges");
-            }
+            let history = solved(&scene);
             common::assert_audited(&scene, &history.increments);
             history
         };
@@ -156,11 +158,7 @@ fn the_pin_sliding_along_a_fine_cantilever_converges_in_a_few_iterations() {
 fn the_pin_on_a_fine_cantilever_converges_to_the_tolerance_not_to_the_floor() {
     for formulation in ["Timoshenko", "BernoulliEuler"] {
         let scene = parse(&pin_on_a_fine_cantilever(formulation, 256), "pin").unwrap();
-        let mut solver = scene.solver().unwrap();
-        let mut history = History::default();
-        for _ in 0..scene.steps {
-            solver.step(&mut history).expect("converges");
-        }
+        let history = solved(&scene);
         let records = &history.increments;
         common::assert_audited(&scene, records);
         let at_floor = (records.iter())

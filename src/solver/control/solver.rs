@@ -44,6 +44,7 @@ impl Solver {
         let structure = Structure::new(model, params);
         let state = State {
             d: vec![0.0; structure.dofs.len()],
+            residue: vec![0.0; structure.dofs.len()],
             prescribed: vec![0.0; structure.model.prescribed.len()],
             load_factors: vec![0.0; structure.model.group_count()],
             ..State::default()
@@ -141,8 +142,7 @@ impl Solver {
     pub fn state_unbalanced_force_and_tangent(
         &self,
     ) -> (Vec<f64>, nalgebra::DMatrix<f64>, Vec<usize>) {
-        let residue = self.state.residue_or_zeros();
-        self.unbalanced_force_and_tangent_carried(&self.state.d, &residue)
+        self.unbalanced_force_and_tangent_carried(&self.state.d, &self.state.residue)
     }
 
     /// `unbalanced_force_and_tangent` at displacements `d` with residues `residue` (empty:

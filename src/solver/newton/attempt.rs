@@ -399,7 +399,7 @@ impl Newton<'_> {
     /// again with the contacts' new modes (the iterations done stay counted).
     fn repredict(&self, it: &mut Iterate) {
         it.d.copy_from_slice(&self.state.d);
-        it.residue = self.state.residue_or_zeros();
+        it.residue.copy_from_slice(&self.state.residue);
         it.predictor = true;
         it.pass_iter = 0;
         it.last_step = 0.0;

@@ -274,7 +274,7 @@ impl Newton<'_> {
         };
         d.clear();
         d.extend_from_slice(&self.state.d);
-        let residue = self.state.residue_or_zeros();
+        let residue = self.state.residue.clone();
         let mut contacts = self.state.contacts.clone();
         contacts.begin_attempt();
         let mut events = Vec::new();
