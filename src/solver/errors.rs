@@ -136,6 +136,28 @@ pub enum SolveError {
         /// The limit of the strain change.
         max_strain: f64,
     },
+    /// A snap (no step of the drive finds an equilibrium near the last one) whose every step
+    /// bends an element beyond what the element's theory follows: the shape the structure
+    /// moves to needs more elements than the body has.
+    #[error(
+        "increment {increment}: the structure snaps from increment {snap_from}, and every step of the snap bends {body} element {element} by {turn:.2} rad against its chord (a snap's limit: {limit} rad) after {cutbacks} cut-backs: the shape it moves to needs a finer mesh of {body}"
+    )]
+    MeshTooCoarse {
+        /// Increment number.
+        increment: usize,
+        /// Cut-backs tried before the snap.
+        cutbacks: usize,
+        /// The increment the snap started at.
+        snap_from: usize,
+        /// Name of the body.
+        body: String,
+        /// The place in its body (from 1) of the element.
+        element: usize,
+        /// Its end rotation against its chord in the snap's softest step (rad).
+        turn: f64,
+        /// The most a snap's element may turn against its chord (rad).
+        limit: f64,
+    },
     /// A contact candidate node starts on a body's line with the neighbouring nodes of its own
     /// beam not all clear on one side of it: which side it is on cannot be told.
     #[error(

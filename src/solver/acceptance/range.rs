@@ -34,15 +34,15 @@ pub fn spun(model: &Model, before: &[NodeState], after: &[NodeState]) -> Option<
         .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
 }
 
-/// The largest end rotation of an element of `model` against its chord at node states `s`
-/// (rad; `elements`: the beams' initial geometry).
-pub fn most_bent(model: &Model, elements: &[BeamElement], s: &[NodeState]) -> f64 {
+/// The element of `model` whose end turns furthest against its chord at node states `s`, and
+/// that turn (rad; `elements`: the beams' initial geometry); (0, 0) without elements.
+pub fn most_bent(model: &Model, elements: &[BeamElement], s: &[NodeState]) -> (usize, f64) {
     (elements.iter().enumerate())
         .map(|(e, el)| {
             let t = Chord::at(model, el.alpha0, e, s).turns();
-            wrapped(t[0]).abs().max(wrapped(t[1]).abs())
+            (e, wrapped(t[0]).abs().max(wrapped(t[1]).abs()))
         })
-        .fold(0.0, f64::max)
+        .fold((0, 0.0), |a, b| if b.1 > a.1 { b } else { a })
 }
 
 /// An element that moves too far within one increment.

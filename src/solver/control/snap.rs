@@ -10,7 +10,10 @@
 //! bends an element beyond [`MAX_BEND`], is taken again with a stiffer one, and
 //! one that moves less than [`MIN_MOTION`] lets the next go faster. The snap ends at the first
 //! state in equilibrium without the viscous force: a step's own, or an attempt without it
-//! from a state that hardly moves.
+//! from a state that hardly moves. A snap whose steps are all refused stops with what refused
+//! the softest of them (the stiffer ones after it only hold the structure still): an element
+//! bent too far names the body whose mesh is too coarse for the shape
+//! ([`SolveError::MeshTooCoarse`]); a failed attempt gives its reason.
 
 use std::time::Instant;
 
@@ -54,6 +57,17 @@ const MAX_BEND: f64 = 0.5;
 /// the viscosity, so the last ones hardly move.
 const MAX_FAILED_STEPS: usize = 12;
 
+/// What refused the first step of the last run of refused steps: what the snap's softest
+/// attempt met, before the viscosity grew to hold the structure still.
+enum Refused {
+    /// The attempt failed.
+    Failed(AttemptError),
+    /// The step bent an element (index) beyond [`MAX_BEND`] (rad).
+    Bent(usize, f64),
+    /// The step went too far, or left a contact off its element.
+    TooFar,
+}
+
 /// How a snap ended.
 pub(super) struct Snapped {
     /// The states committed, the last in equilibrium unless the observer stopped the run.
@@ -96,6 +110,7 @@ impl Solver {
         let mut travelled = 0.0;
         let mut failed_at = 0.0f64;
         let mut failed = 0;
+        let mut first_refusal = None;
         for _ in 0..MAX_SNAP_STEPS {
             if failed >= MAX_FAILED_STEPS {
                 break;
@@ -118,26 +133,37 @@ impl Solver {
                 Ok(accepted) => accepted,
                 Err(AttemptError::Stopped) => return Err(SolveError::Stopped),
                 Err(e) => {
-                    last_error = Some(e);
                     if !std::mem::take(&mut settle) {
+                        if failed == 0 {
+                            first_refusal = Some(Refused::Failed(e.clone()));
+                        }
                         failed_at = failed_at.max(c);
                         c *= 4.0;
                         failed += 1;
                     }
+                    last_error = Some(e);
                     continue;
                 }
             };
             let motion = self.largest_motion(&conv.d) / shortest;
-            let bent =
-                most_bent(&self.structure.model, &self.structure.elements, &checked.1) > MAX_BEND;
+            let (element, turn) =
+                most_bent(&self.structure.model, &self.structure.elements, &checked.1);
+            let bent = turn > MAX_BEND;
             if motion > MAX_MOTION || bent || off_its_element(&conv) {
                 if !std::mem::take(&mut settle) {
+                    if failed == 0 {
+                        first_refusal = Some(match bent {
+                            true => Refused::Bent(element, turn),
+                            false => Refused::TooFar,
+                        });
+                    }
                     c *= 4.0;
                     failed += 1;
                 }
                 continue;
             }
             failed = 0;
+            first_refusal = None;
             if let Some(residual) = conv.equilibrium_residual {
                 conv.relative_residual = residual;
             }
@@ -167,6 +193,15 @@ impl Solver {
             settle = motion < SETTLING && travelled > MAX_MOTION;
         }
         let number = self.state.increment + 1;
+        // The reason is what met the softest attempt of the last run of refused steps: the
+        // stiffer ones after it only hold the structure still.
+        let telling = match first_refusal {
+            Some(Refused::Bent(element, turn)) => {
+                return Err(self.mesh_too_coarse(number, cutbacks, start, (element, turn)));
+            }
+            Some(Refused::Failed(e)) => Some(e),
+            Some(Refused::TooFar) | None => None,
+        };
         Err(match last_error {
             // A state refused for what it is stops the run as it would without the snap.
             Some(e) if !e.finds_no_state() => self.give_up(number, cutbacks, e),
@@ -176,10 +211,34 @@ impl Solver {
                 reason: format!(
                     "the structure snaps from increment {start} and finds no stable state in {} steps{}",
                     number - start,
-                    last.map_or(String::new(), |e| format!(": {}", self.failure_reason(&e)))
+                    telling.or(last).map_or(String::new(), |e| format!(": {}", self.failure_reason(&e)))
                 ),
             },
         })
+    }
+
+    /// The error of a snap from increment `start` that stops at increment `number` because
+    /// every step bends an element (index, turn in rad) beyond [`MAX_BEND`].
+    fn mesh_too_coarse(
+        &self,
+        number: usize,
+        cutbacks: usize,
+        start: usize,
+        (element, turn): (usize, f64),
+    ) -> SolveError {
+        let model = &self.structure.model;
+        let body = model.beams[element].body;
+        SolveError::MeshTooCoarse {
+            increment: number,
+            cutbacks,
+            snap_from: start,
+            body: model.bodies[body].name.clone(),
+            element: (model.bodies[body].elements.iter())
+                .position(|&e| e == element)
+                .map_or(element, |k| k + 1),
+            turn,
+            limit: MAX_BEND,
+        }
     }
 
     /// The largest distance a node moves from the converged state to displacements `d`.

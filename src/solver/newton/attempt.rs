@@ -199,7 +199,7 @@ impl Newton<'_> {
         if released == 0 {
             return Ok(false);
         }
-        it.changes = self.count_changes(it.changes, released)?;
+        it.changes = self.count_changes(it.changes, released, &it.events)?;
         it.ordering = self.ordering_for(&it.contacts);
         Ok(true)
     }
@@ -287,7 +287,7 @@ impl Newton<'_> {
         if changed == 0 {
             return Ok(false);
         }
-        it.changes = self.count_changes(it.changes, changed)?;
+        it.changes = self.count_changes(it.changes, changed, &it.events)?;
         it.ordering = self.ordering_for(&it.contacts);
         it.new_pass();
         Ok(true)
@@ -338,7 +338,7 @@ impl Newton<'_> {
             it.springback |= it.events.iter().any(|e| {
                 matches!(e, Event::Contact(c) if matches!(c.change, ContactChange::Released | ContactChange::SlidOff))
             });
-            it.changes = self.count_changes(it.changes, changed)?;
+            it.changes = self.count_changes(it.changes, changed, &it.events)?;
             it.ordering = self.ordering_for(&it.contacts);
             it.new_pass();
             return Ok(Verdict::Again);

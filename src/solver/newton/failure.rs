@@ -7,6 +7,7 @@ use crate::solver::acceptance::{
 };
 use crate::solver::contact::ContactSet;
 use crate::solver::model::Model;
+use crate::solver::report::{ContactChange, Event};
 
 /// Why an attempt failed.
 #[derive(Clone, Debug, PartialEq)]
@@ -41,6 +42,8 @@ pub enum AttemptError {
     Chattering {
         /// Changes counted.
         changes: usize,
+        /// The contact that changed most often, where one did.
+        most: Option<Chatter>,
     },
     /// A node was found deeper through a body than `SolverParams::max_penetration` before its
     /// contact was detected.
@@ -151,8 +154,12 @@ impl AttemptError {
                 format!("non-finite residual at iteration {iteration}")
             }
             AttemptError::Singular { dof } => format!("singular tangent at {dof}"),
-            AttemptError::Chattering { changes } => {
-                format!("{changes} contact state changes in one increment (chattering)")
+            AttemptError::Chattering { changes, most } => {
+                let text = format!("{changes} contact state changes in one increment (chattering)");
+                match most {
+                    Some(c) => format!("{text}, {c}"),
+                    None => text,
+                }
             }
             AttemptError::TooDeep { node, body, depth } => format!(
                 "{} went {depth:.2} element lengths through {} before contact was detected",
@@ -234,6 +241,68 @@ impl AttemptError {
             ),
             AttemptError::Stopped => "stopped by the caller".into(),
         }
+    }
+}
+
+/// The contact that changes state most often in a chattering attempt: where the contact
+/// passes cycle.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Chatter {
+    /// User id of its node.
+    pub node: u32,
+    /// The surface: "cantilever element 30" or "obstacle floor".
+    pub surface: String,
+    /// Its changes in the attempt.
+    pub changes: usize,
+    /// The kinds of change it went through, in the order first seen.
+    pub kinds: Vec<ContactChange>,
+}
+
+impl Chatter {
+    /// The contact of `events` (an attempt's) with the most changes; ties go to the one seen
+    /// first. Element indices are named from `model`.
+    pub fn most_changed(events: &[Event], model: &Model) -> Option<Chatter> {
+        let mut all: Vec<Chatter> = Vec::new();
+        for e in events {
+            let (node, surface, kind) = match e {
+                Event::Contact(c) => (c.node, model.element_label(c.element), c.change),
+                Event::Obstacle(o) => (o.node, format!("obstacle {}", o.obstacle), o.change),
+                _ => continue,
+            };
+            match all
+                .iter_mut()
+                .find(|c| c.node == node && c.surface == surface)
+            {
+                Some(c) => {
+                    c.changes += 1;
+                    if !c.kinds.contains(&kind) {
+                        c.kinds.push(kind);
+                    }
+                }
+                None => all.push(Chatter {
+                    node,
+                    surface,
+                    changes: 1,
+                    kinds: vec![kind],
+                }),
+            }
+        }
+        let most = all.iter().map(|c| c.changes).max()?;
+        all.into_iter().find(|c| c.changes == most)
+    }
+}
+
+impl std::fmt::Display for Chatter {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let kinds: Vec<&str> = self.kinds.iter().map(|k| k.verb()).collect();
+        write!(
+            f,
+            "{} of them by node {} on {} ({})",
+            self.changes,
+            self.node,
+            self.surface,
+            kinds.join(", ")
+        )
     }
 }
 

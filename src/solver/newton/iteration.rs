@@ -7,7 +7,7 @@
 use std::sync::Arc;
 
 use super::convergence::{FloorBound, IterationLog, Stall};
-use super::failure::AttemptError;
+use super::failure::{AttemptError, Chatter};
 use super::workspace::Workspace;
 use crate::solver::assembly::{Assembled, DofKind, ExternalForce, Ordering};
 use crate::solver::contact::{ContactSet, ContactView};
@@ -167,14 +167,23 @@ impl<'a> Newton<'a> {
         Ok(())
     }
 
-    /// Add `more` contact state changes to `so_far`; too many in one increment is chattering.
-    pub(super) fn count_changes(&self, so_far: usize, more: usize) -> Result<usize, AttemptError> {
+    /// Add `more` contact state changes to `so_far`; too many in one increment is chattering,
+    /// located at the contact of `events` (the attempt's) that changed most.
+    pub(super) fn count_changes(
+        &self,
+        so_far: usize,
+        more: usize,
+        events: &[Event],
+    ) -> Result<usize, AttemptError> {
         let total = so_far + more;
         // Every candidate node may touch, let go and touch again (one change per pass once an
         // active set repeats); beyond that, the allowance is for chattering.
         let candidates = self.structure.candidate_nodes + self.structure.obstacle_candidates.len();
         if total > self.structure.params.max_active_set_changes + 4 * candidates {
-            return Err(AttemptError::Chattering { changes: total });
+            return Err(AttemptError::Chattering {
+                changes: total,
+                most: Chatter::most_changed(events, &self.structure.model),
+            });
         }
         Ok(total)
     }

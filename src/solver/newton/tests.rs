@@ -333,3 +333,63 @@ fn the_contact_gap_correction_puts_a_sliding_node_at_its_linearised_offset() {
         );
     }
 }
+
+/// A chattering attempt is located at the contact with the most changes among its events,
+/// counted here by hand: node 12 on the cantilever's element 30 touches, lets go and touches
+/// again (3), node 5 on the same element slips twice (2); obstacle events count apart from beam
+/// ones.
+#[test]
+fn chattering_names_the_contact_that_changed_most() {
+    use super::failure::Chatter;
+    use crate::solver::report::{ContactChange, ContactEvent, Event, ObstacleEvent};
+    let solver = (crate::scene::builtin::builtin("rolled_past_a_turn"))
+        .expect("a built-in scene")
+        .expect("valid")
+        .solver()
+        .expect("stable");
+    let model = &solver.structure.model;
+    let beam = |node: u32, change: ContactChange| {
+        Event::Contact(ContactEvent {
+            change,
+            increment: 1,
+            iteration: 0,
+            node,
+            element: 29,
+            body: "cantilever".into(),
+            xi: 0.0,
+            force: 0.0,
+        })
+    };
+    let floor = Event::Obstacle(ObstacleEvent {
+        change: ContactChange::Activated,
+        increment: 1,
+        iteration: 0,
+        node: 12,
+        obstacle: "floor".into(),
+        force: 0.0,
+    });
+    let events = [
+        beam(5, ContactChange::Slips),
+        beam(12, ContactChange::Activated),
+        floor.clone(),
+        beam(12, ContactChange::Released),
+        beam(5, ContactChange::Slips),
+        floor,
+        beam(12, ContactChange::Activated),
+    ];
+    let most = Chatter::most_changed(&events, model).expect("contact events");
+    assert_eq!(
+        most,
+        Chatter {
+            node: 12,
+            surface: "cantilever element 30".into(),
+            changes: 3,
+            kinds: vec![ContactChange::Activated, ContactChange::Released],
+        }
+    );
+    assert_eq!(
+        most.to_string(),
+        "3 of them by node 12 on cantilever element 30 (touches, releases from)"
+    );
+    assert_eq!(Chatter::most_changed(&events[..0], model), None);
+}
