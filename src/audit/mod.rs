@@ -82,11 +82,14 @@ fn audit_with(
         run.params.obstacle_gap * size + ROUNDOFF_ULPS * f64::EPSILON * size.max(1.0);
     let mut sides = SideAudit::new(topology, &chains);
     let mut found = Vec::new();
+    // Where each contact presses on its element: the node, or for a node off the axis (a
+    // radius, a thickness) the point of the axis it presses on.
     let contacts_of = |r: &IncrementRecord| -> Vec<(u32, usize, [f64; 2])> {
         (r.contacts.iter())
             .filter_map(|c| {
                 let s = chains.slot.get(&c.node)?;
-                Some((c.node, c.element, [r.nodes[*s][0], r.nodes[*s][1]]))
+                let at = c.point.unwrap_or([r.nodes[*s][0], r.nodes[*s][1]]);
+                Some((c.node, c.element, at))
             })
             .collect()
     };

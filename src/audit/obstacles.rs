@@ -23,6 +23,16 @@ fn shape_scale(shape: &Shape) -> f64 {
     }
 }
 
+/// The angles (rad, counter-clockwise from the first to the second) within which an
+/// obstacle's convex features are kept out of the bodies: an arc's centre only within the
+/// arc; `None`, every direction.
+pub fn feature_reach(shape: &Shape) -> Option<[f64; 2]> {
+    match shape {
+        Shape::Arc { from, to, .. } => Some([*from, *to]),
+        _ => None,
+    }
+}
+
 /// The convex features of `shape` at rest, which fit between two nodes: the centre of a disk
 /// (a circle or an arc nodes stay out of), and each corner of a polyline where it turns right
 /// (juts into the free side).

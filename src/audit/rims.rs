@@ -5,12 +5,15 @@
 //! end rotations against the chord (a quarter of the length a radian, as a cubic with those end
 //! slopes stays within) plus the sag of its distributed load: a node is found only where it
 //! overlaps whatever the shape. Past a free end of a body that an obstacle carried by the node
-//! touches, the end's corner is left to the obstacle check (the end node touches it).
+//! touches, the end's corner is left to the obstacle check (the end node touches it). A node
+//! with a reach (a solid arc's centre) is judged only where its way to the element lies within
+//! its angles.
 
 use std::collections::HashMap;
 
 use super::finding::Finding;
 use super::geometry::Chains;
+use super::sides::within_angles;
 use crate::history::Topology;
 use crate::solver::IncrementRecord;
 
@@ -33,6 +36,9 @@ pub fn overlapping(
     let clearance: HashMap<u32, f64> = (topology.nodes.iter())
         .filter(|n| n.clearance != 0.0)
         .map(|n| (n.id, n.clearance))
+        .collect();
+    let reaches: HashMap<u32, [f64; 2]> = (topology.nodes.iter())
+        .filter_map(|n| Some((n.id, n.reach?)))
         .collect();
     let thick = topology.elements.iter().any(|e| e.thickness != 0.0);
     if clearance.is_empty() && !thick {
@@ -80,19 +86,25 @@ pub fn overlapping(
                 (topology.obstacles.iter())
                     .any(|o| o.pilot == Some(pair.node) && o.nodes.contains(&end))
             };
-            let dist = if s < 0.0 {
+            // The way from the node to the element's nearest point.
+            let (dist, way) = if s < 0.0 {
                 if place == 0 && !ring && obstacle_holds(el.i) {
                     continue;
                 }
-                v[0].hypot(v[1])
+                (v[0].hypot(v[1]), [-v[0], -v[1]])
             } else if s > 1.0 {
                 if place == last && !ring && obstacle_holds(el.j) {
                     continue;
                 }
-                (c[0] - z[0]).hypot(c[1] - z[1])
+                ((c[0] - z[0]).hypot(c[1] - z[1]), [z[0] - c[0], z[1] - c[1]])
             } else {
-                (u[0] * v[1] - u[1] * v[0]).abs() / l
+                let h = (u[0] * v[1] - u[1] * v[0]) / l;
+                (h.abs(), [h.signum() * u[1], -h.signum() * u[0]])
             };
+            // A node with a reach (a solid arc's centre) touches only within its angles.
+            if (reaches.get(&pair.node)).is_some_and(|&[from, to]| !within_angles(way, from, to)) {
+                continue;
+            }
             let chord = u[1].atan2(u[0]);
             let turn = |phi: f64| {
                 let t = phi + chains.angle0[e] - chord;

@@ -10,7 +10,7 @@
 
 use super::finding::Finding;
 use super::geometry::{Chains, Place};
-use super::obstacles::convex_features;
+use super::obstacles::{convex_features, feature_reach};
 use crate::history::Topology;
 use crate::solver::report::ContactState;
 use crate::solver::IncrementRecord;
@@ -52,6 +52,10 @@ struct Pair {
     declared: Option<f64>,
     /// Self-contact: the places along its own body that the node leaves out.
     window: Option<(usize, usize)>,
+    /// The polar angles (rad, from the first counter-clockwise to the second) of the ways
+    /// from the point to the body in which it is kept out: a solid arc's centre goes past the
+    /// body freely in any other.
+    reach: Option<[f64; 2]>,
 }
 
 /// The side audit of a sequence of states.
@@ -81,6 +85,7 @@ impl<'a> SideAudit<'a> {
                     )),
                     _ => None,
                 };
+                let reach = (topology.nodes.iter()).find(|n| n.id == c.node)?.reach;
                 Some(Pair {
                     node: c.node,
                     point: Point::Node(slot),
@@ -88,6 +93,7 @@ impl<'a> SideAudit<'a> {
                     body,
                     declared: c.side,
                     window,
+                    reach,
                 })
             })
             .collect();
@@ -131,10 +137,12 @@ impl<'a> SideAudit<'a> {
         sag: &dyn Fn(usize) -> f64,
     ) -> Vec<Finding> {
         let body_of = |name: &str| self.topology.bodies.iter().position(|b| b.name == name);
+        // Where each contact presses on its element (for a node off the axis, the point of the
+        // axis it presses on).
         let resting1: Vec<(usize, [f64; 2])> = (contacts.iter())
             .filter_map(|c| {
                 let slot = self.chains.slot.get(&c.node)?;
-                Some((c.element, [s1[*slot][0], s1[*slot][1]]))
+                Some((c.element, c.point.unwrap_or([s1[*slot][0], s1[*slot][1]])))
             })
             .collect();
         let mut found = Vec::new();
@@ -203,6 +211,9 @@ impl<'a> SideAudit<'a> {
                     continue;
                 };
                 match judge(&t, &at) {
+                    Verdict::Flipped if !pair.kept_out(&s, self.chains, t.side, at.at) => {
+                        apply(&mut t, &at, Verdict::Reassign, increment)
+                    }
                     Verdict::Flipped => {
                         crossed = Some(at);
                         break;
@@ -244,6 +255,26 @@ impl<'a> SideAudit<'a> {
 }
 
 impl Pair {
+    /// Whether the point, on side `side` (with the place it was measured over) of its body,
+    /// is kept out of the body's element at place `at` in state `s`: always, but for a point
+    /// with a reach (a solid arc's centre), whose way to the element (against the element's
+    /// chord normal on that side) must lie within its angles.
+    fn kept_out(
+        &self,
+        s: &[[f64; 3]],
+        chains: &Chains,
+        side: Option<(f64, usize)>,
+        at: usize,
+    ) -> bool {
+        let (Some([from, to]), Some((side, _))) = (self.reach, side) else {
+            return true;
+        };
+        let chain = &chains.nodes[self.body];
+        let (a, z) = (s[chain[at]], s[chain[at + 1]]);
+        let u = [z[0] - a[0], z[1] - a[1]];
+        within_angles([side * u[1], -side * u[0]], from, to)
+    }
+
     /// Where the node or feature is in state `s`.
     fn at(&self, s: &[[f64; 3]], chains: &Chains) -> [f64; 2] {
         match self.point {
@@ -324,6 +355,7 @@ fn features(topology: &Topology, chains: &Chains) -> Vec<Pair> {
                     .any(|n| ob.nodes.contains(n))
             })
             .collect();
+        let reach = feature_reach(&ob.shape);
         for &p in &points {
             for &body in &touching {
                 out.push(Pair {
@@ -333,6 +365,7 @@ fn features(topology: &Topology, chains: &Chains) -> Vec<Pair> {
                     body,
                     declared: None,
                     window: None,
+                    reach,
                 });
             }
         }
@@ -396,4 +429,11 @@ fn apply(track: &mut Track, at: &Place, verdict: Verdict, increment: usize) {
             track.side = Some((side, at.at));
         }
     }
+}
+
+/// Whether direction `dir` has a polar angle within [`from`, `to`] (rad, counter-clockwise
+/// from `from`).
+pub(super) fn within_angles(dir: [f64; 2], from: f64, to: f64) -> bool {
+    let tau = std::f64::consts::TAU;
+    (dir[1].atan2(dir[0]) - from).rem_euclid(tau) <= (to - from).rem_euclid(tau)
 }

@@ -142,7 +142,7 @@ pub(super) enum Command {
         /// Drives per built-in scene.
         #[arg(long, default_value_t = 24)]
         per_scene: usize,
-        /// The campaign's seed.
+        /// The campaign's seed (2k and 2k + 1 draw the same drives: each drive's draw starts odd).
         #[arg(long, default_value_t = 1)]
         seed: u64,
         /// Run only the drive with this seed (as the report prints it, 0x...) and print how it

@@ -78,6 +78,11 @@ pub struct TopologyNode {
     /// elements.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub moves_with: Option<u32>,
+    /// The polar angles (rad, counter-clockwise from the first to the second) of the
+    /// directions from it to the points it touches beams at, where they are bounded: a solid
+    /// arc's centre, which touches its bodies' elements only within the arc.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reach: Option<[f64; 2]>,
     /// Whether it has a rotation (false for a 2-dof pin, which does not turn: what holds it
     /// holds the moment of a friction at its rim).
     #[serde(default = "turns", skip_serializing_if = "is_true")]
@@ -226,6 +231,7 @@ impl Topology {
                     y: n.y,
                     clearance: n.clearance,
                     moves_with: n.moves_with.map(id),
+                    reach: n.reach.map(|r| [r.from, r.to]),
                     rotation: n.rotation,
                 })
                 .collect(),

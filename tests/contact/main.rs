@@ -5,6 +5,7 @@
 mod common;
 
 mod acceptance;
+mod arcs;
 mod bar_on_a_beam_floor;
 #[cfg(feature = "reports")]
 mod campaign;

@@ -142,7 +142,7 @@ fn two_strips_with_a_thickness_press_with_their_axes_the_thickness_apart() {
 /// The nearest point to `p` of the deformed body whose elements run from node id `first` to
 /// `first + n` along x, each a cubic through its end nodes with their recorded rotations
 /// (sampled): the distance and the slope angle of the beam there.
-fn nearest_on_strip(
+pub(crate) fn nearest_on_strip(
     r: &IncrementRecord,
     slot: &dyn Fn(u32) -> usize,
     (first, n): (u32, u32),
@@ -330,7 +330,7 @@ fn one_step_loads_onto_a_peg_and_a_roller_on_ten_elements_touch_on_the_right_sid
 }
 
 /// `touches: Elements` is refused, naming the obstacle's field, on a shape other than a solid
-/// circle or a polyline, and with its pilot off its centre.
+/// circle, a solid arc or a polyline (a line, a hollow arc), and with its pilot off its centre.
 #[test]
 fn touching_elements_is_refused_where_it_cannot_be_carried() {
     let scene = |obstacle: &str| {
@@ -352,6 +352,10 @@ fn touching_elements_is_refused_where_it_cannot_be_carried() {
         (
             r#"(name: "peg", shape: Circle(centre: (0.5, 0.2), radius: 0.1), bodies: ["beam"], pilot: 100, touches: Elements)"#,
             "must sit at its centre",
+        ),
+        (
+            r#"(name: "ring", shape: Arc(centre: (0.5, 0.0), radius: 0.4, from_deg: 200.0, to_deg: 340.0, hollow: true), bodies: ["beam"], touches: Elements)"#,
+            "only a solid circle",
         ),
     ] {
         let err = parse(&scene(obstacle), "bad.ron").unwrap_err().to_string();

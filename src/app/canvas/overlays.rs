@@ -1,7 +1,8 @@
 //! The viewport's egui overlays (egui's own feathering): clamps, pins and rollers (a pin with a
-//! radius with its rim), contact nodes with force arrows scaled by Yc (and their friction,
-//! coloured by stick or slip), body names, the handle of each prescribed dof, and the nodal and
-//! the distributed loads. The legend and the scale bar are `legend.rs`'s.
+//! radius with its rim, a solid arc's centre with the rim of its arc), contact nodes with force
+//! arrows scaled by Yc (and their friction, coloured by stick or slip), body names, the handle
+//! of each prescribed dof, and the nodal and the distributed loads. The legend and the scale
+//! bar are `legend.rs`'s.
 
 use egui::{Align2, Color32, FontId, Pos2, Rect, Shape, Stroke, Vec2};
 
@@ -130,9 +131,24 @@ pub(crate) fn contacts(
         if !node.rotation {
             let x = [r.nodes[n][0], r.nodes[n][1]];
             let at = s(x);
-            if node.clearance > 0.0 {
-                let rim = (s([x[0] + node.clearance, x[1]]) - at).length();
-                p.circle_stroke(at, rim, Stroke::new(1.5, INK));
+            match (node.clearance > 0.0, node.reach) {
+                (false, _) => {}
+                (true, None) => {
+                    let rim = (s([x[0] + node.clearance, x[1]]) - at).length();
+                    p.circle_stroke(at, rim, Stroke::new(1.5, INK));
+                }
+                // A solid arc's centre: its rim only over the arc.
+                (true, Some(reach)) => {
+                    let span = (reach.to - reach.from).rem_euclid(std::f64::consts::TAU);
+                    let rim: Vec<Pos2> = (0..=48)
+                        .map(|k| {
+                            let a = reach.from + span * k as f64 / 48.0;
+                            let r = node.clearance;
+                            s([x[0] + r * a.cos(), x[1] + r * a.sin()])
+                        })
+                        .collect();
+                    p.add(Shape::line(rim, Stroke::new(1.5, INK)));
+                }
             }
             p.circle(at, 5.5, INK, Stroke::new(1.5, Color32::WHITE));
         }

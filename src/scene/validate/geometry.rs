@@ -118,6 +118,7 @@ pub(super) fn geometry<'a>(
             // meshed (`clearances`).
             clearance: radius,
             moves_with: None,
+            reach: None,
         });
     }
     let explicit = nodes.len();
@@ -247,6 +248,7 @@ pub(super) fn geometry<'a>(
                         rotation: true,
                         clearance: 0.0,
                         moves_with: None,
+                        reach: None,
                     });
                     nodes.len() - 1
                 }

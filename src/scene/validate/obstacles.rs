@@ -8,6 +8,7 @@ use std::collections::{HashMap, HashSet};
 use super::errors::{sized, Ctx, SceneError};
 use super::geometry::Geometry;
 use crate::scene::format::{ObstacleDef, SceneFile, Touches};
+use crate::solver::model::Reach;
 use crate::solver::{Dof, Obstacle, Prescribed, Shape, Support};
 
 /// How far inside its obstacle (in units of the model's size) a candidate node may start:
@@ -137,29 +138,55 @@ pub(super) fn obstacles(
     Ok((out, rollers))
 }
 
-/// An obstacle that touches its bodies' elements (`Touches::Elements`), through points that act as pins on them (`Model::contact_distance`), the contact element carrying
-/// the force at the point of the element's deformed shape touched, sliding along the element
-/// and on to the next: a solid circle's centre with its radius (its pilot, which sits there,
-/// or for a fixed circle a centre node of its own, held, whose reactions are the force on
-/// it), or each convex corner of a polyline (a node of its own, held where the polyline is
-/// fixed and moving with its pilot where it has one; its faces keep touching the nodes).
+/// An obstacle that touches its bodies' elements (`Touches::Elements`), through points that
+/// act as pins on them (`Model::contact_distance`), the contact element carrying the force at
+/// the point of the element's deformed shape touched, sliding along the element and on to the
+/// next: a solid circle's centre with its radius (its pilot, which sits there, or for a fixed
+/// circle a centre node of its own, held, whose reactions are the force on it), a solid arc's
+/// the same way, touching only within the arc's angles, or each convex corner of a polyline (a
+/// node of its own, held where the polyline is fixed and moving with its pilot where it has
+/// one; its faces keep touching the nodes).
 pub(super) struct Roller {
     /// Index of the obstacle.
     pub(super) obstacle: usize,
     /// The obstacle's pilot node (index), if it has one: a circle's centre node, or the node
     /// a polyline's corners move with.
     pub(super) pilot: Option<usize>,
-    /// The points that touch, at rest (m): a circle's centre, a polyline's convex corners.
-    pub(super) points: Vec<[f64; 2]>,
-    /// Whether it is a circle (its pilot is its centre's node; its bodies' nodes touch it only
-    /// through the contact element).
+    /// The points that touch: a circle's or an arc's centre (first), an arc's ends, a
+    /// polyline's convex corners.
+    pub(super) points: Vec<TouchPoint>,
+    /// Whether it is a solid circle or arc (its pilot is its centre's node; its bodies' nodes
+    /// touch it only through the contact element, but for their free ends).
     pub(super) circle: bool,
     /// The bodies it touches (indices).
     pub(super) bodies: Vec<usize>,
-    /// The radius its points touch with (m): a circle's, 0 for corners.
-    pub(super) radius: f64,
     /// The friction of its contacts: the obstacle's `mu`.
     pub(super) mu: f64,
+}
+
+/// A point of an obstacle that touches elements as a contact node of its own.
+pub(super) struct TouchPoint {
+    /// Where it is at rest (m).
+    pub(super) at: [f64; 2],
+    /// The radius it touches with (m): a circle's or an arc's at its centre, 0 at a corner.
+    pub(super) radius: f64,
+    /// The directions its contacts hold in: an arc's angles at its centre (`None`: every
+    /// direction).
+    pub(super) reach: Option<Reach>,
+    /// Whether it is the centre of a circle or arc (its pilot's node, where it has one).
+    pub(super) centre: bool,
+}
+
+impl TouchPoint {
+    /// A corner: a point of radius 0 that touches in every direction.
+    fn corner(at: [f64; 2]) -> TouchPoint {
+        TouchPoint {
+            at,
+            radius: 0.0,
+            reach: None,
+            centre: false,
+        }
+    }
 }
 
 /// Obstacle `k` (`o`, of shape `shape` and pilot `pilot`, touching `bodies`) as a `Roller`:
@@ -176,10 +203,11 @@ fn roller(
     let here = Some(format!("name: \"{}\"", o.name));
     let field = format!("obstacles[{k}].touches (obstacle \"{}\")", o.name);
     let corners = shape.convex_corners();
-    let why = if shape.disk().is_none() && corners.is_empty() {
+    let round = shape.disk().is_some() || shape.solid_arc().is_some();
+    let why = if !round && corners.is_empty() {
         Some(
-            "only a solid circle (a roller, a peg) or a polyline's convex corners touch \
-             elements: other shapes touch the nodes"
+            "only a solid circle (a roller, a peg), a solid arc or a polyline's convex corners \
+             touch elements: other shapes touch the nodes"
                 .to_string(),
         )
     } else if bodies.is_empty() {
@@ -190,16 +218,48 @@ fn roller(
     if let Some(why) = why {
         return Err(ctx.err(field, here, why));
     }
-    let Some((centre, radius)) = shape.disk() else {
-        return Ok(Roller {
-            obstacle: k,
-            pilot,
-            points: corners,
-            circle: false,
-            bodies,
-            radius: 0.0,
-            mu: o.mu,
-        });
+    // A solid arc touches with its centre within its angles, and with its two ends, corners
+    // beyond which the way from the centre leaves them.
+    let (centre, radius, reach, ends) = match (shape.disk(), shape.solid_arc()) {
+        (Some((centre, radius)), _) => (centre, radius, None, Vec::new()),
+        (_, Some((centre, radius, [from, to]))) => {
+            // Each end touches where the way from the centre has left the arc: over the
+            // quarter turn between the arc's normal there and the normal of the radius to it.
+            let end = |a: f64, reach: Reach| TouchPoint {
+                at: [centre[0] + radius * a.cos(), centre[1] + radius * a.sin()],
+                radius: 0.0,
+                reach: Some(reach),
+                centre: false,
+            };
+            let quarter = std::f64::consts::FRAC_PI_2;
+            let ends = vec![
+                end(
+                    from,
+                    Reach {
+                        from: from - quarter,
+                        to: from,
+                    },
+                ),
+                end(
+                    to,
+                    Reach {
+                        from: to,
+                        to: to + quarter,
+                    },
+                ),
+            ];
+            (centre, radius, Some(Reach { from, to }), ends)
+        }
+        _ => {
+            return Ok(Roller {
+                obstacle: k,
+                pilot,
+                points: corners.into_iter().map(TouchPoint::corner).collect(),
+                circle: false,
+                bodies,
+                mu: o.mu,
+            })
+        }
     };
     if let Some(p) = pilot {
         let at = [g.nodes[p].x, g.nodes[p].y];
@@ -218,10 +278,16 @@ fn roller(
     Ok(Roller {
         obstacle: k,
         pilot,
-        points: vec![centre],
+        points: std::iter::once(TouchPoint {
+            at: centre,
+            radius,
+            reach,
+            centre: true,
+        })
+        .chain(ends)
+        .collect(),
         circle: true,
         bodies,
-        radius,
         mu: o.mu,
     })
 }

@@ -184,30 +184,33 @@ fn build(sf: SceneFile, text: &str, file: &str) -> Result<Scene, SceneError> {
     let (mut obstacles, rollers) = obstacles(&ctx, &sf, &g, (&c.supports, &c.prescribed))?;
     let (mut g, mut c) = (g, c);
     for r in rollers {
-        for &at in &r.points {
-            // A circle's pilot, or a node of its own for a fixed circle's centre or a corner:
-            // the next id after the scene's largest, held, or moving with the polyline's pilot.
-            let node = r.pilot.filter(|_| r.circle).unwrap_or_else(|| {
+        for point in &r.points {
+            // A circle's or arc's pilot, or a node of its own for a fixed one's centre, an
+            // arc's end or a polyline's corner: the next id after the scene's largest, held, or
+            // moving with the obstacle's pilot.
+            let node = r.pilot.filter(|_| point.centre).unwrap_or_else(|| {
                 let id = g.nodes.iter().map(|n| n.id).max().unwrap_or(0) + 1;
                 g.nodes.push(Node {
                     id,
-                    x: at[0],
-                    y: at[1],
+                    x: point.at[0],
+                    y: point.at[1],
                     rotation: false,
                     clearance: 0.0,
                     moves_with: r.pilot,
+                    reach: None,
                 });
                 let n = g.nodes.len() - 1;
                 if r.pilot.is_none() {
                     c.supports
                         .extend([Dof::U, Dof::V].map(|dof| Support { node: n, dof }));
                 }
-                if r.circle {
+                if point.centre {
                     obstacles[r.obstacle].pilot = Some(n);
                 }
                 n
             });
-            g.nodes[node].clearance += r.radius;
+            g.nodes[node].clearance += point.radius;
+            g.nodes[node].reach = point.reach;
             contacts.push(ContactPair {
                 nodes: vec![node],
                 bodies: r.bodies.clone(),

@@ -47,6 +47,14 @@ impl Chord {
         [self.ends[0] - angle, self.ends[1] - angle]
     }
 
+    /// Whether node `n` of `model`, on side `side` of this chord (+1: left of i -> j), meets
+    /// it within its reach (`Node::reach`): the way from the node to the chord, against the
+    /// chord's normal on that side, lies within the node's angles (always, for a node whose
+    /// contacts hold in every direction).
+    pub(super) fn within_reach(&self, model: &Model, n: usize, side: f64) -> bool {
+        (model.nodes[n].reach).is_none_or(|r| r.holds([side * self.u[1], -side * self.u[0]]))
+    }
+
     /// (li/l, signed distance along the normal) of point `c`.
     pub(super) fn locate(&self, c: [f64; 2]) -> (f64, f64) {
         let v = [c[0] - self.p[0], c[1] - self.p[1]];

@@ -398,7 +398,11 @@ impl CrossingCheck {
             let same = f == e || fi == ej || fj == ei;
             let side_f = if same { side } else { -side };
             let depth = -side_f * h - chord.bulge() - TOUCH * chord.l - round;
-            let counts = self.reaches(n, b, f) && !self.excused(model, active, n, b, f);
+            // A node whose contacts hold only in some directions (a solid arc's centre) goes
+            // past an element freely where the element lies outside them.
+            let counts = self.reaches(n, b, f)
+                && !self.excused(model, active, n, b, f)
+                && chord.within_reach(model, n, side_f);
             ((0.0..=1.0).contains(&s) && depth > 0.0 && counts).then_some(Crossing {
                 node: n,
                 body: b,

@@ -5,7 +5,8 @@
 //! rotations allow (`Chord::bulge`), so a node is refused only where it overlaps whatever the shape
 //! between the nodes. Past a free end of a body that an obstacle carried by the node touches, the
 //! end's corner is left to the obstacle check: the end node's contact with the obstacle holds it
-//! there.
+//! there. A node whose contacts hold only in some directions (a solid arc's centre,
+//! `Node::reach`) is judged only where the way to the element lies within them.
 
 use super::chord::Chord;
 use super::crossing::Crossing;
@@ -82,6 +83,21 @@ pub fn rim_overlap(
                 s if s > 1.0 => end(1),
                 _ => h.abs(),
             };
+            // A node that touches only in some directions (a solid arc's centre) overlaps
+            // nothing where the way to the element's nearest point lies outside them.
+            let toward = |k: usize| {
+                let x = after[[model.beams[e].i, model.beams[e].j][k]];
+                [x[0] - c[0], x[1] - c[1]]
+            };
+            let within = match (s, model.nodes[n].reach) {
+                (_, None) => true,
+                (s, Some(r)) if s < 0.0 => r.holds(toward(0)),
+                (s, Some(r)) if s > 1.0 => r.holds(toward(1)),
+                _ => chord.within_reach(model, n, h.signum()),
+            };
+            if !within {
+                continue;
+            }
             let scale = c[0]
                 .abs()
                 .max(c[1].abs())

@@ -4,11 +4,14 @@
 //! least-index rule. Two nodes of different bodies that meet node on node each get a contact
 //! on the other's body when each is found through it: one of them alone would leave the other
 //! through the first body wherever their chords meet at an angle. A node that went through a
-//! body right at a convex mesh node, into the wedge outside it, cuts the increment back.
+//! body right at a convex mesh node, into the wedge outside it, cuts the increment back. A node
+//! that touches only in some directions (`Node::reach`: a solid arc's centre and ends) touches
+//! where the way from it to the beam lies within them, and a contact of it that leaves them is
+//! handed to the one whose reach it enters.
 
 use super::probe::{around, beside_a_convex_node, PassViews, Probe, FAR, SIDE};
 use super::set::ContactView;
-use super::set::{ActiveContact, ContactSet};
+use super::set::{way_to, within_reach, ActiveContact, ContactSet};
 use super::sides::THROUGH;
 use crate::solver::assembly::{current, Assembled};
 use crate::solver::index_map::IndexMap;
@@ -44,6 +47,7 @@ impl ContactSet {
         events: &mut Vec<Event>,
     ) -> usize {
         let mut changes = self.transfer(cv, d, increment, iteration, true, events);
+        changes += self.beyond_reach(cv, d, (increment, iteration), events);
         if changes > 0 {
             return changes;
         }
@@ -54,7 +58,9 @@ impl ContactSet {
         let near = self.near_inactive(cv, d);
         let views = PassViews::default();
         for &(n, b) in &near {
-            if let Some((p, side)) = self.crossing(cv, d, n, b, &views) {
+            // Out of a node's reach (a solid arc's centre beyond the arc), it touches nothing.
+            let crossing = self.crossing(cv, d, n, b, &views);
+            if let Some((p, side)) = crossing.filter(|&(p, s)| within_reach(cv, d, n, p.beam, s)) {
                 if -p.gap * side > cv.structure.params.max_penetration * p.length {
                     self.beams.too_deep = Some((n, b, -p.gap * side / p.length));
                 }
@@ -83,8 +89,14 @@ impl ContactSet {
             changes += self.activate(cv, d, &crossings, increment, iteration, events);
         }
         if self.beams.too_deep.is_none() {
+            // A node that touches only in some directions (a solid arc's centre) goes past the
+            // ends of a body and round its convex mesh nodes outside them freely, and within
+            // them is held off by its radius before it could.
+            let every_way =
+                |&(n, ..): &(usize, usize, f64)| cv.structure.model.nodes[n].reach.is_none();
             self.beams.too_deep = (self.passed_out_of_reach(cv, d, &views, &held))
-                .or_else(|| self.went_into_a_convex_wedge(cv, d, &near, &held));
+                .or_else(|| self.went_into_a_convex_wedge(cv, d, &near, &held))
+                .filter(every_way);
         }
         if changes > 0 {
             self.beams.guard.reached(self.pairs());
@@ -221,6 +233,86 @@ impl ContactSet {
 }
 
 impl ContactSet {
+    /// Largest penetration of an inactive candidate node through a body's deformed shape,
+    /// relative to the element length (0 if none), for a state `d` reached from the cv's
+    /// converged state (the sides are those of that state).
+    pub fn max_penetration(&self, cv: &ContactView<'_>, d: &[f64]) -> f64 {
+        let mut worst: f64 = 0.0;
+        let near = self.near_inactive(cv, d);
+        if near.is_empty() {
+            return worst;
+        }
+        let views = PassViews::default();
+        for (n, b) in near {
+            let crossing = self.crossing(cv, d, n, b, &views);
+            if let Some((p, side)) = crossing.filter(|&(p, s)| within_reach(cv, d, n, p.beam, s)) {
+                worst = worst.max(-p.gap * side / p.length);
+            }
+        }
+        worst
+    }
+
+    /// Let go of the contacts whose node touches only in some directions (a solid arc's
+    /// centre and ends, `Node::reach`) and whose way to the beam has left them at `d`, each
+    /// handed to the node whose reach it has entered (`reach_partner`): the contact slides off
+    /// the arc onto its end, or off the end back onto the arc. Returns the changes.
+    fn beyond_reach(
+        &mut self,
+        cv: &ContactView<'_>,
+        d: &[f64],
+        (increment, iteration): (usize, usize),
+        events: &mut Vec<Event>,
+    ) -> usize {
+        let gone: Vec<ActiveContact> = (self.beams.active.iter().copied())
+            .filter(|a| !within_reach(cv, d, a.node, a.beam, a.side))
+            .collect();
+        if gone.is_empty() {
+            return 0;
+        }
+        let mut changes = 0;
+        for a in gone {
+            self.beams
+                .active
+                .retain(|b| (b.node, b.body) != (a.node, a.body));
+            let xi = Self::chord_fraction(cv, d, a.node, a.beam);
+            let off = Self::event(
+                cv,
+                &a,
+                ContactChange::SlidOff,
+                increment,
+                iteration,
+                xi,
+                0.0,
+            );
+            events.push(off);
+            changes += 1;
+            let Some(k) = reach_partner(cv, d, &a) else {
+                continue;
+            };
+            if self.is_active(k, a.body) {
+                continue;
+            }
+            let xi = Self::chord_fraction(cv, d, k, a.beam);
+            let on = ActiveContact {
+                node: k,
+                stick: Self::stick_at(cv, d, (k, a.side), (a.body, a.beam), xi),
+                ..a
+            };
+            events.push(Self::event(
+                cv,
+                &on,
+                ContactChange::Activated,
+                increment,
+                iteration,
+                xi,
+                0.0,
+            ));
+            self.beams.active.push(on);
+            changes += 1;
+        }
+        changes
+    }
+
     /// Start in contact every candidate pair whose node rests on its body at the undeformed
     /// state (within the touching tolerance of the deformed shape) on the side the scene
     /// declares for it: a bar laid on a floor beam is held by it from the first iteration, as a
@@ -237,7 +329,8 @@ impl ContactSet {
             let Some(p) = self.probe_near(cv, cv.d, n, b, None) else {
                 continue;
             };
-            if p.gap.abs() > cv.structure.touching(SIDE, p.length) {
+            let touching = p.gap.abs() <= cv.structure.touching(SIDE, p.length);
+            if !touching || !within_reach(cv, cv.d, n, p.beam, side) {
                 continue;
             }
             let stick = Self::stick_at(cv, cv.d, (n, side), (b, p.beam), p.xi);
@@ -307,4 +400,42 @@ impl ContactSet {
             })
         })
     }
+}
+
+/// The node that takes over contact `a` once its way to the beam has left its node's reach
+/// at `d`: a candidate on the same body whose reach holds that way and shares the bound it
+/// crossed, standing the difference of their contact distances from `a`'s node (an arc's end
+/// for its centre, the centre for an end).
+fn reach_partner(cv: &ContactView<'_>, d: &[f64], a: &ActiveContact) -> Option<usize> {
+    let m = &cv.structure.model;
+    let reach = m.nodes[a.node].reach?;
+    let way = way_to(cv, d, a.node, a.beam, a.side);
+    let angle = way[1].atan2(way[0]);
+    let tau = std::f64::consts::TAU;
+    let apart = |x: f64, y: f64| {
+        let w = (x - y).rem_euclid(tau);
+        w.min(tau - w)
+    };
+    let bound = match apart(angle, reach.from) <= apart(angle, reach.to) {
+        true => reach.from,
+        false => reach.to,
+    };
+    let at = |n: usize| current(m, &cv.structure.dofs, d, n).0;
+    let c = at(a.node);
+    let size = m.nodes[a.node]
+        .clearance
+        .max(cv.structure.position_roundoff);
+    (ContactSet::candidates(cv).iter())
+        .filter(|&&(k, b)| b == a.body && k != a.node)
+        .map(|&(k, _)| k)
+        .find(|&k| {
+            let Some(r) = m.nodes[k].reach else {
+                return false;
+            };
+            let shares = apart(r.from, bound).min(apart(r.to, bound)) <= 1e-12;
+            let x = at(k);
+            let dist = (x[0] - c[0]).hypot(x[1] - c[1]);
+            let expected = (m.nodes[k].clearance - m.nodes[a.node].clearance).abs();
+            shares && r.holds(way) && (dist - expected).abs() <= 1e-9 * size
+        })
 }

@@ -249,6 +249,31 @@ pub(super) fn contact_reach(cv: &ContactView<'_>, n: usize, e: usize) -> f64 {
     }
 }
 
+/// Whether node `n`, on side `side` of beam `e` at displacements `d`, touches it within its
+/// reach (`Node::reach`): the way from the node to the beam, against the beam's surface normal
+/// where it presses (`rim_point`), lies within the node's angles (a solid arc's centre touches
+/// only within the arc, its ends only beyond it); always for a node whose contacts hold in
+/// every direction.
+pub(super) fn within_reach(cv: &ContactView<'_>, d: &[f64], n: usize, e: usize, side: f64) -> bool {
+    let Some(reach) = cv.structure.model.nodes[n].reach else {
+        return true;
+    };
+    reach.holds(way_to(cv, d, n, e, side))
+}
+
+/// The way from node `n`, on side `side` of beam `e` at displacements `d`, to the beam: against
+/// the beam's surface normal where the node presses on it (`rim_point`), a unit vector.
+pub(super) fn way_to(cv: &ContactView<'_>, d: &[f64], n: usize, e: usize, side: f64) -> [f64; 2] {
+    let m = &cv.structure.model;
+    let c = current(m, &cv.structure.dofs, d, n).0;
+    let (xi, pi) = current(m, &cv.structure.dofs, d, m.beams[e].i);
+    let (xj, pj) = current(m, &cv.structure.dofs, d, m.beams[e].j);
+    let r = contact_reach(cv, n, e);
+    let (_, _, t) = rim_point(&cv.structure.elements[e], (xi, xj), [pi, pj], c, side * r);
+    let a = (xj[1] - xi[1]).atan2(xj[0] - xi[0]) + t;
+    [side * a.sin(), -side * a.cos()]
+}
+
 /// Where node `n`, on side `side` of beam `e` and touching it, presses on the beam's axis at
 /// displacements `d`: the node itself, or for a node that stands off the axis
 /// (`Model::contact_distance`), the point of the axis under it along the surface normal

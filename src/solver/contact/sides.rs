@@ -478,22 +478,4 @@ impl ContactSet {
         }
         None
     }
-
-    /// Largest penetration of an inactive candidate node through a body's deformed shape,
-    /// relative to the element length (0 if none), for a state `d` reached from the cv's
-    /// converged state (the sides are those of that state).
-    pub fn max_penetration(&self, cv: &ContactView<'_>, d: &[f64]) -> f64 {
-        let mut worst: f64 = 0.0;
-        let near = self.near_inactive(cv, d);
-        if near.is_empty() {
-            return worst;
-        }
-        let views = PassViews::default();
-        for (n, b) in near {
-            if let Some((p, side)) = self.crossing(cv, d, n, b, &views) {
-                worst = worst.max(-p.gap * side / p.length);
-            }
-        }
-        worst
-    }
 }

@@ -88,6 +88,29 @@ pub struct Node {
     /// its dofs are the force on the obstacle there.
     #[serde(default)]
     pub moves_with: Option<usize>,
+    /// The directions its contacts with beams hold in, where they are bounded: a solid arc's
+    /// centre touches the elements of its bodies only where the way from it to the point
+    /// touched lies within the arc's angles. `None`: every direction (a pin, a roller).
+    #[serde(default)]
+    pub reach: Option<Reach>,
+}
+
+/// The polar angles a node's contacts hold within: from `from` counter-clockwise to `to`
+/// (rad), the angles of a solid arc about its centre.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Reach {
+    /// The first angle (rad).
+    pub from: f64,
+    /// The last angle (rad), counter-clockwise from `from`.
+    pub to: f64,
+}
+
+impl Reach {
+    /// Whether the direction `dir` (from the node towards the point it touches) lies within.
+    pub fn holds(&self, dir: [f64; 2]) -> bool {
+        let tau = std::f64::consts::TAU;
+        (dir[1].atan2(dir[0]) - self.from).rem_euclid(tau) <= (self.to - self.from).rem_euclid(tau)
+    }
 }
 
 /// Section and material of a beam, reduced to the stiffnesses the element force equation needs.

@@ -311,6 +311,22 @@ impl Shape {
         }
     }
 
+    /// The centre, radius and angles (rad, counter-clockwise from the first to the second) of
+    /// a solid arc (the part of a disk's rim nodes stay out of within those angles); `None` for
+    /// any other shape.
+    pub fn solid_arc(&self) -> Option<([f64; 2], f64, [f64; 2])> {
+        match self {
+            Shape::Arc {
+                centre,
+                radius,
+                from,
+                to,
+                hollow: false,
+            } => Some((*centre, *radius, [*from, *to])),
+            _ => None,
+        }
+    }
+
     /// How deep the straight segment from `p` to `q` (an element's chord at rest) runs into a
     /// solid circle between its two ends, both clear of it (by more than 1e-9 of the radius);
     /// `None` where it does not, or for any other shape. Ends resting on the disk (a band laid
