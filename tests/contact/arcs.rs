@@ -13,11 +13,17 @@ use tsm_contact::scene::{parse, Scene};
 use tsm_contact::solver::{ContactChange, Event, IncrementRecord, Silent};
 
 /// A 1 m cantilever of 10 elements (EI = 1, EA = 1e6) above an obstacle `shape` that touches
-/// its elements: its tip loaded 1 N down (`drive` "load") or driven down 0.02 m a step.
+/// its elements: its tip loaded 1 N down (`drive` "load"), driven down 0.02 m a step ("drag"),
+/// or ("down and up") driven 0.24 m down in 12 steps and back up in 12.
 fn cantilever_over(formulation: &str, shape: &str, drive: &str, steps: usize) -> Scene {
     let drive = match drive {
         "load" => "loads: [(node: 11, fy: -1.0)],",
-        _ => "prescribed: [(node: 11, dof: V, per_step: -0.02)],",
+        "drag" => "prescribed: [(node: 11, dof: V, per_step: -0.02)],",
+        _ => {
+            r#"prescribed: [(node: 11, dof: V, per_step: -0.02)],
+            stages: [(name: "down", steps: 12, prescribed: [(node: 11, dof: V, to: -0.24)]),
+                     (name: "up", steps: 12, prescribed: [(node: 11, dof: V, to: 0.0)])],"#
+        }
     };
     let text = format!(
         r#"(
@@ -180,5 +186,25 @@ fn a_beam_bent_round_an_arcs_end_is_handed_from_its_centre_to_the_end() {
             }
         }
         assert_eq!(holding(recs.last().unwrap()), Some(13), "{f}");
+    }
+}
+
+/// The same cantilever driven 0.24 m down round the arc's end in 12 steps and back up in 12
+/// (stages), both formulations: the run completes with every state audited, the arc's end
+/// holding the beam at the bottom and the arc's centre holding it again on the way up, and
+/// the tip back at rest at the end.
+#[test]
+fn a_beam_unwrapped_from_an_arcs_end_comes_back_onto_the_arc() {
+    for f in ["BernoulliEuler", "Timoshenko"] {
+        let arc = "Arc(centre: (0.65, -0.06), radius: 0.05, from_deg: 80.0, to_deg: 150.0)";
+        let scene = cantilever_over(f, arc, "down and up", 24);
+        let (recs, _) = solved(&scene);
+        let holding = |r: &IncrementRecord| r.contacts.first().map(|c| c.node);
+        let bottom = (recs.iter())
+            .position(|r| (r.prescribed[0] + 0.24).abs() < 1e-12)
+            .expect("the bottom of the drive");
+        assert_eq!(holding(&recs[bottom]), Some(13), "{f}");
+        assert!(recs[bottom..].iter().any(|r| holding(r) == Some(12)), "{f}");
+        assert!(recs.last().unwrap().prescribed[0].abs() < 1e-12, "{f}");
     }
 }
