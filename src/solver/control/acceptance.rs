@@ -190,9 +190,7 @@ impl Solver {
                 cutbacks,
                 node: self.structure.model.nodes[x.node].id,
                 body: self.structure.model.bodies[x.body].name.clone(),
-                element: (self.structure.model.bodies[x.body].elements.iter())
-                    .position(|&e| e == x.element)
-                    .map_or(x.element, |k| k + 1),
+                element: self.structure.model.element_place(x.element),
                 depth: x.depth,
             },
             AttemptError::InsideObstacle(x) => SolveError::ObstacleCrossing {
@@ -209,9 +207,7 @@ impl Solver {
                     cutbacks,
                     obstacle: self.structure.model.obstacles[x.obstacle].name.clone(),
                     body: self.structure.model.bodies[body].name.clone(),
-                    element: (self.structure.model.bodies[body].elements.iter())
-                        .position(|&e| e == x.element)
-                        .map_or(x.element, |k| k + 1),
+                    element: self.structure.model.element_place(x.element),
                     depth: x.depth,
                 }
             }
@@ -229,9 +225,7 @@ impl Solver {
                     increment,
                     cutbacks,
                     body: self.structure.model.bodies[body].name.clone(),
-                    element: (self.structure.model.bodies[body].elements.iter())
-                        .position(|&e| e == x.element)
-                        .map_or(x.element, |k| k + 1),
+                    element: self.structure.model.element_place(x.element),
                     turn: x.turn,
                     strain: x.strain,
                     max_turn: MAX_TURN_STEP,

@@ -233,9 +233,7 @@ impl Solver {
             cutbacks,
             snap_from: start,
             body: model.bodies[body].name.clone(),
-            element: (model.bodies[body].elements.iter())
-                .position(|&e| e == element)
-                .map_or(element, |k| k + 1),
+            element: model.element_place(element),
             turn,
             limit: MAX_BEND,
         }

@@ -108,8 +108,8 @@ pub struct Reach {
 impl Reach {
     /// Whether the direction `dir` (from the node towards the point it touches) lies within.
     pub fn holds(&self, dir: [f64; 2]) -> bool {
-        let tau = std::f64::consts::TAU;
-        (dir[1].atan2(dir[0]) - self.from).rem_euclid(tau) <= (self.to - self.from).rem_euclid(tau)
+        curves::angle_past(dir[1].atan2(dir[0]), self.from)
+            <= curves::angle_past(self.to, self.from)
     }
 }
 
@@ -428,10 +428,15 @@ impl Model {
     /// (what every message and panel calls an element).
     pub fn element_label(&self, e: usize) -> String {
         let b = self.beams[e].body;
-        let place = (self.bodies[b].elements.iter())
+        format!("{} element {}", self.bodies[b].name, self.element_place(e))
+    }
+
+    /// The place of beam element `e` in its body, from 1 (the numbering of the scene, the app
+    /// and the messages).
+    pub fn element_place(&self, e: usize) -> usize {
+        (self.bodies[self.beams[e].body].elements.iter())
             .position(|&x| x == e)
-            .map_or(e, |k| k + 1);
-        format!("{} element {place}", self.bodies[b].name)
+            .map_or(e, |k| k + 1)
     }
 
     /// "node N u": dof `offset` (0 u, 1 v, 2 phi) of node `n`, by the node's user id.
