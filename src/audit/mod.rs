@@ -80,7 +80,7 @@ fn audit_with(
     };
     let obstacle_tol =
         run.params.obstacle_gap * size + ROUNDOFF_ULPS * f64::EPSILON * size.max(1.0);
-    let mut sides = SideAudit::new(topology, &chains);
+    let mut sides = SideAudit::new(topology, &chains, run.params.xi_min);
     let mut found = Vec::new();
     // Where each contact presses on its element: the node, or for a node off the axis (a
     // radius, a thickness) the point of the axis it presses on.

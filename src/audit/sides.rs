@@ -64,11 +64,15 @@ pub struct SideAudit<'a> {
     topology: &'a Topology,
     pairs: Vec<Pair>,
     tracks: Vec<Track>,
+    /// The contact element's resolution along an element (the run's `xi_min`): within it of
+    /// a mesh node, a point is at that node.
+    resolution: f64,
 }
 
 impl<'a> SideAudit<'a> {
-    /// The audit of `topology`'s candidate pairs, every side open.
-    pub fn new(topology: &'a Topology, chains: &'a Chains) -> SideAudit<'a> {
+    /// The audit of `topology`'s candidate pairs, every side open; `resolution` is the run's
+    /// `xi_min`.
+    pub fn new(topology: &'a Topology, chains: &'a Chains, resolution: f64) -> SideAudit<'a> {
         let body_of = |name: &str| topology.bodies.iter().position(|b| b.name == name);
         let pairs: Vec<Pair> = (topology.candidates.iter())
             .filter_map(|c| {
@@ -107,6 +111,7 @@ impl<'a> SideAudit<'a> {
             topology,
             pairs,
             tracks,
+            resolution,
         }
     }
 
@@ -170,7 +175,11 @@ impl<'a> SideAudit<'a> {
             else {
                 continue;
             };
-            let verdict = judge(track, &now);
+            let run = (self.chains, self.topology, self.resolution);
+            let verdict = match vertex_on_vertex(run, pair, s1, &now, contacts) {
+                true => Verdict::Touching,
+                false => judge(track, &now),
+            };
             if let (Verdict::Touching, None, Some(s)) = (verdict, track.side, pair.declared) {
                 // Touching with no side yet: the side the scene declares.
                 track.side = Some((s, now.at));
@@ -400,6 +409,41 @@ enum Verdict {
     Reassign,
     /// Clear on the other side of the part of the body its side was measured over.
     Flipped,
+}
+
+/// Whether the pair's node, over place `now.at` of its body at state `s`, lies within the
+/// resolution of one of that element's nodes, and that node rests (a record of `contacts`)
+/// on an element that ends at the pair's node, within the resolution of it: two layers
+/// that lie on each other mesh node on mesh node touch vertex on vertex, where a side means
+/// nothing (each vertex lies off the other's element by their separation times the kink, less
+/// than the resolution).
+fn vertex_on_vertex(
+    (chains, topology, r): (&Chains, &Topology, f64),
+    pair: &Pair,
+    s: &[[f64; 3]],
+    now: &Place,
+    contacts: &[ContactState],
+) -> bool {
+    let Point::Node(slot) = pair.point else {
+        return false;
+    };
+    let chain = &chains.nodes[pair.body];
+    let (a, c) = (s[chain[now.at]], s[chain[now.at + 1]]);
+    let (dx, dy) = (c[0] - a[0], c[1] - a[1]);
+    let t = ((s[slot][0] - a[0]) * dx + (s[slot][1] - a[1]) * dy) / (dx * dx + dy * dy);
+    let vertex = match t {
+        t if t.abs() < r => chain[now.at],
+        t if (1.0 - t).abs() < r => chain[now.at + 1],
+        _ => return false,
+    };
+    contacts.iter().any(|k| {
+        let Some(e) = topology.elements.get(k.element) else {
+            return false;
+        };
+        chains.slot.get(&k.node) == Some(&vertex)
+            && ((e.i == pair.node && k.xi.abs() < r)
+                || (e.j == pair.node && (1.0 - k.xi).abs() < r))
+    })
 }
 
 fn judge(track: &Track, at: &Place) -> Verdict {

@@ -3,7 +3,8 @@
 //! which shares no code with the solver): every accepted state in equilibrium, on the right
 //! side of every beam, within the friction law.
 
-use tsm_contact::reports::robust::{cases, run, run_keeping, Case, Outcome};
+use tsm_contact::audit::audit_history;
+use tsm_contact::reports::robust::{cases, history, run, run_keeping, Case, Outcome};
 use tsm_contact::solver::IncrementStatus;
 
 /// Panics unless `outcome` accepted at least `least` increments and the oracle found nothing
@@ -366,4 +367,53 @@ fn a_frictional_coil_that_lets_go_of_its_own_turn_snaps_through_and_completes() 
 /// The Newton tolerance of the built-in scenes (`control.tolerance`'s default).
 fn case_tolerance() -> f64 {
     tsm_contact::solver::SolverParams::default().tolerance
+}
+
+/// Two turns of a coil that lie on each other mesh node on mesh node: in `rolled_past_a_turn`
+/// (Bernoulli-Euler, the scene's own mesh, friction 0.96, one step of 36.6 times the scene's,
+/// then back; drive 0x9e37_79b7_7f4a_7c14 of the campaign, seed 1), node 30 rests on element
+/// 11 within a millionth of its end node 12, and node 12 lies a millionth of element 30's
+/// length from node 30, a few 1e-10 m across element 30's chord: the layers kink by a
+/// hundredth of a radian there. A contact of node 12 as well pulls, and let go, node 12 is
+/// found across again: the two touch vertex on vertex, one contact holds them apart, and the
+/// drive completes with every state audited. Such states are found here from the records
+/// alone (a contact within 1e-6 of an element's end, that end node in no contact); with that
+/// contact taken out of the record, the oracle finds that end node through the layer, in
+/// every one of them.
+#[test]
+fn two_layers_of_a_coil_that_meet_node_on_node_are_held_apart_by_one_contact() {
+    let case = drawn(24, 1, 0x9e37_79b7_7f4a_7c14);
+    let outcome = run_keeping(&case, true);
+    assert_eq!(outcome.stop, None, "{case:?} stops");
+    audited_at_least(&outcome, 2);
+    let h = history(&case, &outcome);
+    let topology = h.topology.clone().expect("a topology");
+    // (record, contact) where the contact's node rests within 1e-6 of an end of its element
+    // and that end node is in no contact.
+    let mut met = Vec::new();
+    for (k, r) in h.increments.iter().enumerate() {
+        for (q, c) in r.contacts.iter().enumerate() {
+            let e = &topology.elements[c.element];
+            let end = match c.xi {
+                x if x < 1e-6 => e.i,
+                x if x > 1.0 - 1e-6 => e.j,
+                _ => continue,
+            };
+            if r.contacts.iter().all(|o| o.node != end) {
+                met.push((k, q, end));
+            }
+        }
+    }
+    assert!(met.len() >= 10, "{} states met vertex on vertex", met.len());
+    let caught = met.iter().filter(|&&(k, q, end)| {
+        let mut planted = h.clone();
+        planted.increments.truncate(k + 1);
+        planted.increments[k].contacts.remove(q);
+        let found = audit_history(&planted, None).expect("audited");
+        let at = h.increments[k].increment;
+        found
+            .iter()
+            .any(|f| f.increment == at && f.node == Some(end))
+    });
+    assert_eq!(caught.count(), met.len());
 }

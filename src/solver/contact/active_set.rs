@@ -67,7 +67,9 @@ impl ContactSet {
                 crossings.push((n, b, p, side));
             }
         }
-        crossings.retain(|&(n, b, p, _)| !self.met_by_a_tip(cv, n, b, &p));
+        crossings.retain(|&(n, b, p, _)| {
+            !self.met_by_a_tip(cv, n, b, &p) && !self.met_node_on_node(cv, d, n, &p)
+        });
         if self.beams.guard.one_at_a_time() {
             let tensile = self.tensile(asm).into_iter().map(|k| {
                 let a = self.beams.active[k];
@@ -129,6 +131,40 @@ impl ContactSet {
         (self.beams.active.iter()).any(|a| {
             let under = &m.beams[a.beam];
             a.node == tip && (under.i == n || under.j == n)
+        })
+    }
+
+    /// Whether node `n`, found through `p.beam` within `xi_min` of one of its end nodes, meets
+    /// that node node on node: the end node rests in contact on an element that ends at `n`,
+    /// within `xi_min` of `n`. Two layers that lie on each other mesh node on mesh node touch
+    /// vertex on vertex, where a side means nothing: each vertex lies within the contact
+    /// element's resolution (`xi_min` of an element) of the other's element, on one side of it
+    /// or the other by their separation times the kink between the layers, and the contact
+    /// of one holds them apart. A second contact there would take up part of the first's force
+    /// on a normal a kink away from it, and pull.
+    pub(super) fn met_node_on_node(
+        &self,
+        cv: &ContactView<'_>,
+        d: &[f64],
+        n: usize,
+        p: &Probe,
+    ) -> bool {
+        let m = &cv.structure.model;
+        let xi_min = cv.structure.params.xi_min;
+        let beam = &m.beams[p.beam];
+        if p.gap.abs() >= xi_min * p.length {
+            return false;
+        }
+        let vertex = match p.xi {
+            x if x < xi_min => beam.i,
+            x if x > 1.0 - xi_min => beam.j,
+            _ => return false,
+        };
+        (self.beams.active.iter()).any(|a| {
+            let under = &m.beams[a.beam];
+            let at = || Self::chord_fraction(cv, d, vertex, a.beam);
+            a.node == vertex
+                && ((under.i == n && at() < xi_min) || (under.j == n && at() > 1.0 - xi_min))
         })
     }
 
@@ -245,7 +281,10 @@ impl ContactSet {
         let views = PassViews::default();
         for (n, b) in near {
             let crossing = self.crossing(cv, d, n, b, &views);
-            if let Some((p, side)) = crossing.filter(|&(p, s)| within_reach(cv, d, n, p.beam, s)) {
+            let counts = |&(p, s): &(Probe, f64)| {
+                within_reach(cv, d, n, p.beam, s) && !self.met_node_on_node(cv, d, n, &p)
+            };
+            if let Some((p, side)) = crossing.filter(counts) {
                 worst = worst.max(-p.gap * side / p.length);
             }
         }

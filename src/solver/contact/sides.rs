@@ -154,6 +154,8 @@ impl ContactSet {
                 continue;
             }
             match self.probe_near(cv, d, n, b, Some(&view)) {
+                // Met node on node, it tells no side: the one it had is kept.
+                Some(p) if self.met_node_on_node(cv, d, n, &p) => {}
                 Some(p) if p.centre.abs() > cv.structure.touching(SIDE, p.length) => {
                     // Every crossing since the last converged state was caught by
                     // `after_convergence`, so the side now is the side to keep.
