@@ -431,6 +431,9 @@ fn vertex_on_vertex(
     let (a, c) = (s[chain[now.at]], s[chain[now.at + 1]]);
     let (dx, dy) = (c[0] - a[0], c[1] - a[1]);
     let t = ((s[slot][0] - a[0]) * dx + (s[slot][1] - a[1]) * dy) / (dx * dx + dy * dy);
+    if !now.beside || now.gap.abs() >= r * dx.hypot(dy) {
+        return false;
+    }
     let vertex = match t {
         t if t.abs() < r => chain[now.at],
         t if (1.0 - t).abs() < r => chain[now.at + 1],

@@ -379,7 +379,8 @@ fn case_tolerance() -> f64 {
 /// drive completes with every state audited. Such states are found here from the records
 /// alone (a contact within 1e-6 of an element's end, that end node in no contact); with that
 /// contact taken out of the record, the oracle finds that end node through the layer, in
-/// every one of them.
+/// every one of them; so it does with the end node moved 1e-4 element lengths across the
+/// other layer, the contact kept.
 #[test]
 fn two_layers_of_a_coil_that_meet_node_on_node_are_held_apart_by_one_contact() {
     let case = drawn(24, 1, 0x9e37_79b7_7f4a_7c14);
@@ -416,4 +417,25 @@ fn two_layers_of_a_coil_that_meet_node_on_node_are_held_apart_by_one_contact() {
             .any(|f| f.increment == at && f.node == Some(end))
     });
     assert_eq!(caught.count(), met.len());
+    // The end node moved 1e-4 element lengths along the normal of the element the contact
+    // rests on, the contact kept: one way it is clear, the other it is that far across the
+    // other layer, beyond what meeting vertex on vertex allows.
+    let slot = |id: u32| h.node_ids.iter().position(|&n| n == id).expect("a node");
+    let deeper = met.iter().filter(|&&(k, q, end)| {
+        let r = &h.increments[k];
+        let e = &topology.elements[r.contacts[q].element];
+        let (a, b) = (r.nodes[slot(e.i)], r.nodes[slot(e.j)]);
+        let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+        let normal = [-dy * 1e-4, dx * 1e-4];
+        [1.0, -1.0].iter().any(|&sign| {
+            let mut planted = h.clone();
+            planted.increments.truncate(k + 1);
+            let node = &mut planted.increments[k].nodes[slot(end)];
+            node[0] += sign * normal[0];
+            node[1] += sign * normal[1];
+            let found = audit_history(&planted, None).expect("audited");
+            (found.iter()).any(|f| f.increment == r.increment && f.node == Some(end))
+        })
+    });
+    assert_eq!(deeper.count(), met.len());
 }

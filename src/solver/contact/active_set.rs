@@ -3,8 +3,10 @@
 //! active set comes back within an attempt (cycling), one violation per pass, Murty's
 //! least-index rule. Two nodes of different bodies that meet node on node each get a contact
 //! on the other's body when each is found through it: one of them alone would leave the other
-//! through the first body wherever their chords meet at an angle. A node that went through a
-//! body right at a convex mesh node, into the wedge outside it, cuts the increment back. A node
+//! through the first body wherever their chords meet at an angle. Where one already rests on
+//! the other's element within `xi_min` of the other node (vertex on vertex), the other gets
+//! none (`met_node_on_node`). A node that went through a body right at a convex mesh node,
+//! into the wedge outside it, cuts the increment back. A node
 //! that touches only in some directions (`Node::reach`: a solid arc's centre and ends) touches
 //! where the way from it to the beam lies within them, and a contact of it that leaves them is
 //! handed to the one whose reach it enters.
@@ -134,7 +136,8 @@ impl ContactSet {
         })
     }
 
-    /// Whether node `n`, found through `p.beam` within `xi_min` of one of its end nodes, meets
+    /// Whether node `n`, found through `p.beam` within `xi_min` of one of its end nodes (either
+    /// way along the chord) and less than `xi_min` element lengths from it, meets
     /// that node node on node: the end node rests in contact on an element that ends at `n`,
     /// within `xi_min` of `n`. Two layers that lie on each other mesh node on mesh node touch
     /// vertex on vertex, where a side means nothing: each vertex lies within the contact
@@ -156,15 +159,16 @@ impl ContactSet {
             return false;
         }
         let vertex = match p.xi {
-            x if x < xi_min => beam.i,
-            x if x > 1.0 - xi_min => beam.j,
+            x if x.abs() < xi_min => beam.i,
+            x if (1.0 - x).abs() < xi_min => beam.j,
             _ => return false,
         };
         (self.beams.active.iter()).any(|a| {
             let under = &m.beams[a.beam];
             let at = || Self::chord_fraction(cv, d, vertex, a.beam);
             a.node == vertex
-                && ((under.i == n && at() < xi_min) || (under.j == n && at() > 1.0 - xi_min))
+                && ((under.i == n && at().abs() < xi_min)
+                    || (under.j == n && (1.0 - at()).abs() < xi_min))
         })
     }
 
