@@ -154,9 +154,11 @@ impl ContactSet {
                 continue;
             }
             match self.probe_near(cv, d, n, b, Some(&view)) {
-                // Met node on node, it tells no side: the one it had is kept.
-                Some(p) if self.met_node_on_node(cv, d, n, &p) => {}
-                Some(p) if p.centre.abs() > cv.structure.touching(SIDE, p.length) => {
+                // Met vertex on vertex (`met_node_on_node`), a node is touching: it tells no side.
+                Some(p)
+                    if p.centre.abs() > cv.structure.touching(SIDE, p.length)
+                        && !self.met_node_on_node(cv, d, n, &p) =>
+                {
                     // Every crossing since the last converged state was caught by
                     // `after_convergence`, so the side now is the side to keep.
                     self.beams.sides.insert((n, b), (p.centre.signum(), p.beam));
