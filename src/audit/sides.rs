@@ -430,22 +430,26 @@ fn vertex_on_vertex(
     let chain = &chains.nodes[pair.body];
     let (a, c) = (s[chain[now.at]], s[chain[now.at + 1]]);
     let (dx, dy) = (c[0] - a[0], c[1] - a[1]);
-    let t = ((s[slot][0] - a[0]) * dx + (s[slot][1] - a[1]) * dy) / (dx * dx + dy * dy);
     if !now.beside || now.gap.abs() >= r * dx.hypot(dy) {
         return false;
     }
-    let vertex = match t {
-        t if t.abs() < r => chain[now.at],
-        t if (1.0 - t).abs() < r => chain[now.at + 1],
-        _ => return false,
+    // Within the resolution of an element's first node (Some(false)) or last (Some(true)).
+    let at_end = |t: f64| match t {
+        t if t.abs() < r => Some(false),
+        t if (1.0 - t).abs() < r => Some(true),
+        _ => None,
     };
+    let t = ((s[slot][0] - a[0]) * dx + (s[slot][1] - a[1]) * dy) / (dx * dx + dy * dy);
+    let Some(last) = at_end(t) else {
+        return false;
+    };
+    let vertex = chain[now.at + usize::from(last)];
     contacts.iter().any(|k| {
         let Some(e) = topology.elements.get(k.element) else {
             return false;
         };
-        chains.slot.get(&k.node) == Some(&vertex)
-            && ((e.i == pair.node && k.xi.abs() < r)
-                || (e.j == pair.node && (1.0 - k.xi).abs() < r))
+        let end = at_end(k.xi).map(|last| if last { e.j } else { e.i });
+        chains.slot.get(&k.node) == Some(&vertex) && end == Some(pair.node)
     })
 }
 

@@ -154,21 +154,21 @@ impl ContactSet {
     ) -> bool {
         let m = &cv.structure.model;
         let xi_min = cv.structure.params.xi_min;
-        let beam = &m.beams[p.beam];
         if p.gap.abs() >= xi_min * p.length {
             return false;
         }
-        let vertex = match p.xi {
-            x if x.abs() < xi_min => beam.i,
-            x if (1.0 - x).abs() < xi_min => beam.j,
-            _ => return false,
+        // The end node of element `e` that li/l = `x` lies within `xi_min` of, if any.
+        let end_near = |e: usize, x: f64| match x {
+            x if x.abs() < xi_min => Some(m.beams[e].i),
+            x if (1.0 - x).abs() < xi_min => Some(m.beams[e].j),
+            _ => None,
+        };
+        let Some(vertex) = end_near(p.beam, p.xi) else {
+            return false;
         };
         (self.beams.active.iter()).any(|a| {
-            let under = &m.beams[a.beam];
-            let at = || Self::chord_fraction(cv, d, vertex, a.beam);
             a.node == vertex
-                && ((under.i == n && at().abs() < xi_min)
-                    || (under.j == n && (1.0 - at()).abs() < xi_min))
+                && end_near(a.beam, Self::chord_fraction(cv, d, vertex, a.beam)) == Some(n)
         })
     }
 
